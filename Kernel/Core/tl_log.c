@@ -1,0 +1,41 @@
+#include "tl_log.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int tl_log_level = -1; /* -1: not yet read from the environment */
+
+static const char *const tl_log_names[] = {"error", "warn", "info", "debug"};
+
+int tl_log_level_from_name(const char *name)
+{
+  for (int i = 0; i < 4; ++i)
+    if (strcmp(name, tl_log_names[i]) == 0) return i;
+  return -1;
+}
+
+TlLogLevel tl_log_get_level(void)
+{
+  if (tl_log_level < 0) {
+    const char *env = getenv("TALUS_LOG_LEVEL");
+    int level = env ? tl_log_level_from_name(env) : -1;
+    tl_log_level = level >= 0 ? level : TL_LOG_INFO;
+  }
+  return (TlLogLevel)tl_log_level;
+}
+
+void tl_log_set_level(TlLogLevel level) { tl_log_level = (int)level; }
+
+void tl_log(TlLogLevel level, const char *fmt, ...)
+{
+  if ((int)level > (int)tl_log_get_level()) return;
+  static const char *const prefix[] = {"error: ", "warning: ", "", "debug: "};
+  va_list ap;
+  va_start(ap, fmt);
+  fputs(prefix[level], stderr);
+  vfprintf(stderr, fmt, ap);
+  fputc('\n', stderr);
+  va_end(ap);
+}

@@ -1,0 +1,460 @@
+#include "tl_options.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tl_log.h"
+#include "tl_memory.h"
+
+typedef struct {
+  char *name;   /* with the leading '-' */
+  char *value;  /* NULL for a bare flag */
+  char *source; /* "command line" or "file:line" */
+  int used;
+} TlOptionEntry;
+
+typedef struct {
+  char *name, *kind, *def, *unit, *help;
+} TlOptionDoc;
+
+struct TlOptions {
+  TlOptionEntry *entry;
+  size_t n_entry, cap_entry;
+  TlOptionDoc *doc;
+  size_t n_doc, cap_doc;
+  char *program;
+  char *description;
+  char *command_line;
+  int help;
+};
+
+static char *tl_strdup(const char *s)
+{
+  if (!s) return NULL;
+  size_t n = strlen(s) + 1;
+  char *d = malloc(n);
+  if (d) memcpy(d, s, n);
+  return d;
+}
+
+/* An option name is '-' followed by a letter: "-0.5" and "-1e3" are values. */
+static int tl_is_option_name(const char *s)
+{
+  return s[0] == '-' && (isalpha((unsigned char)s[1]) || s[1] == '_');
+}
+
+static TlOptionEntry *tl_find(TlOptions *o, const char *name)
+{
+  for (size_t i = 0; i < o->n_entry; ++i)
+    if (strcmp(o->entry[i].name, name) == 0) return &o->entry[i];
+  return NULL;
+}
+
+static TlStatus tl_add_entry(TlOptions *o, const char *name, const char *value, const char *source,
+                             int override)
+{
+  TlOptionEntry *e = tl_find(o, name);
+  if (e) {
+    if (!override)
+      TL_ERROR(TL_ERR_ARG, "option %s given twice (%s and %s)", name, e->source, source);
+    tl_debug("option %s from %s overrides %s", name, source, e->source);
+    free(e->value);
+    free(e->source);
+    e->value = tl_strdup(value);
+    e->source = tl_strdup(source);
+    return TL_OK;
+  }
+  TL_CHECK(tl_array_reserve(&o->entry, &o->cap_entry, o->n_entry + 1, sizeof *o->entry));
+  e = &o->entry[o->n_entry++];
+  e->name = tl_strdup(name);
+  e->value = tl_strdup(value);
+  e->source = tl_strdup(source);
+  if (!e->name || (value && !e->value) || !e->source) TL_ERROR(TL_ERR_MEM, "out of memory storing option %s", name);
+  return TL_OK;
+}
+
+TlStatus tl_options_create(int argc, char **argv, const char *description, TlOptions **options)
+{
+  TlOptions *o;
+  TL_CHECK(TL_NEW(o));
+  *options = o;
+  const char *prog = argc > 0 ? argv[0] : "talus";
+  const char *slash = strrchr(prog, '/');
+  o->program = tl_strdup(slash ? slash + 1 : prog);
+  o->description = tl_strdup(description ? description : "");
+  size_t len = 1;
+  for (int i = 0; i < argc; ++i) len += strlen(argv[i]) + 1;
+  TL_CHECK(tl_calloc(&o->command_line, len, 1));
+  for (int i = 0; i < argc; ++i) {
+    strcat(o->command_line, argv[i]);
+    if (i + 1 < argc) strcat(o->command_line, " ");
+  }
+
+  const char *options_file = NULL;
+  for (int i = 1; i < argc; ++i) {
+    const char *name = argv[i];
+    if (!tl_is_option_name(name)) {
+      TlStatus s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                                "argument '%s' is not an option (options start with '-', e.g. -t_end 40)", name);
+      tl_options_destroy(options);
+      return s;
+    }
+    const char *value = NULL;
+    if (i + 1 < argc && !tl_is_option_name(argv[i + 1])) value = argv[++i];
+    if (strcmp(name, "-help") == 0 || strcmp(name, "-h") == 0 || strcmp(name, "--help") == 0) {
+      o->help = 1;
+      if (value) --i; /* -help takes no value */
+      continue;
+    }
+    if (strcmp(name, "-options_file") == 0) {
+      if (!value) {
+        tl_options_destroy(options);
+        TL_ERROR(TL_ERR_ARG, "option -options_file needs a file name");
+      }
+      options_file = value;
+      continue;
+    }
+    TlStatus s = tl_add_entry(o, name, value, "command line", 0);
+    if (s) {
+      tl_options_destroy(options);
+      return tl_error_trace(s, __FILE__, __LINE__);
+    }
+  }
+  if (options_file) {
+    TlStatus s = tl_options_insert_file(o, options_file);
+    if (s) {
+      tl_options_destroy(options);
+      return tl_error_trace(s, __FILE__, __LINE__);
+    }
+  }
+  return TL_OK;
+}
+
+void tl_options_destroy(TlOptions **options)
+{
+  TlOptions *o = *options;
+  if (!o) return;
+  for (size_t i = 0; i < o->n_entry; ++i) {
+    free(o->entry[i].name);
+    free(o->entry[i].value);
+    free(o->entry[i].source);
+  }
+  for (size_t i = 0; i < o->n_doc; ++i) {
+    free(o->doc[i].name);
+    free(o->doc[i].kind);
+    free(o->doc[i].def);
+    free(o->doc[i].unit);
+    free(o->doc[i].help);
+  }
+  free(o->entry);
+  free(o->doc);
+  free(o->program);
+  free(o->description);
+  free(o->command_line);
+  tl_free(options);
+}
+
+TlStatus tl_options_insert_file(TlOptions *o, const char *path)
+{
+  FILE *f = fopen(path, "r");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot open options file '%s': %s", path, strerror(errno));
+  /* File entries go in first-come; command-line entries already present win. */
+  char line[4096];
+  int lineno = 0;
+  TlStatus s = TL_OK;
+  char **seen = NULL;
+  size_t n_seen = 0, cap_seen = 0;
+  while (fgets(line, sizeof line, f)) {
+    ++lineno;
+    char *hash = strchr(line, '#');
+    if (hash) *hash = '\0';
+    char *name = strtok(line, " \t\r\n");
+    if (!name) continue;
+    char *value = strtok(NULL, " \t\r\n");
+    char *extra = strtok(NULL, " \t\r\n");
+    char source[600];
+    snprintf(source, sizeof source, "%.500s:%d", path, lineno);
+    if (!tl_is_option_name(name) || extra) {
+      s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                       "%s: expected '-name value', found '%s%s%s'", source, name, value ? " " : "",
+                       value ? value : "");
+      break;
+    }
+    for (size_t k = 0; k < n_seen; ++k)
+      if (strcmp(seen[k], name) == 0) {
+        s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "option %s given twice in %s", name, path);
+        goto done;
+      }
+    if ((s = tl_array_reserve(&seen, &cap_seen, n_seen + 1, sizeof *seen))) break;
+    seen[n_seen++] = tl_strdup(name);
+    TlOptionEntry *e = tl_find(o, name);
+    if (e && strcmp(e->source, "command line") == 0) {
+      tl_info("option %s: command-line value overrides %s", name, source);
+      continue;
+    }
+    if ((s = tl_add_entry(o, name, value, source, 0))) break;
+  }
+done:
+  for (size_t k = 0; k < n_seen; ++k) free(seen[k]);
+  free(seen);
+  fclose(f);
+  return s;
+}
+
+static TlStatus tl_document(TlOptions *o, const char *name, const char *kind, const char *def,
+                            const char *unit, const char *help)
+{
+  for (size_t i = 0; i < o->n_doc; ++i)
+    if (strcmp(o->doc[i].name, name) == 0) return TL_OK;
+  TL_CHECK(tl_array_reserve(&o->doc, &o->cap_doc, o->n_doc + 1, sizeof *o->doc));
+  TlOptionDoc *d = &o->doc[o->n_doc++];
+  d->name = tl_strdup(name);
+  d->kind = tl_strdup(kind);
+  d->def = tl_strdup(def ? def : "");
+  d->unit = tl_strdup(unit ? unit : "");
+  d->help = tl_strdup(help ? help : "");
+  return TL_OK;
+}
+
+/* The value of an option that was given, or NULL; marks it used. */
+static TlStatus tl_lookup(TlOptions *o, const char *name, int needs_value, const char **value, int *given)
+{
+  TlOptionEntry *e = tl_find(o, name);
+  *given = e != NULL;
+  *value = NULL;
+  if (!e) return TL_OK;
+  e->used = 1;
+  if (needs_value && !e->value)
+    TL_ERROR(TL_ERR_ARG, "option %s (%s) needs a value", name, e->source);
+  *value = e->value;
+  return TL_OK;
+}
+
+static TlStatus tl_parse_real(const char *name, const char *text, double *value)
+{
+  char *end;
+  errno = 0;
+  double v = strtod(text, &end);
+  if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v))
+    TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not a finite real number", name, text);
+  *value = v;
+  return TL_OK;
+}
+
+static TlStatus tl_check_range(const char *name, double v, double lo, double hi, const char *unit)
+{
+  if (v < lo || v > hi) {
+    if (hi == INFINITY)
+      TL_ERROR(TL_ERR_ARG, "option %s = %g %s is below its lower limit %g", name, v, unit ? unit : "", lo);
+    if (lo == -INFINITY)
+      TL_ERROR(TL_ERR_ARG, "option %s = %g %s is above its upper limit %g", name, v, unit ? unit : "", hi);
+    TL_ERROR(TL_ERR_ARG, "option %s = %g %s is outside [%g, %g]", name, v, unit ? unit : "", lo, hi);
+  }
+  return TL_OK;
+}
+
+TlStatus tl_options_get_real(TlOptions *o, const char *name, double def, double lo, double hi,
+                             const char *unit, const char *help, double *value)
+{
+  char buf[64];
+  snprintf(buf, sizeof buf, "%g", def);
+  TL_CHECK(tl_document(o, name, "<real>", buf, unit, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  *value = def;
+  if (given) TL_CHECK(tl_parse_real(name, text, value));
+  TL_CHECK(tl_check_range(name, *value, lo, hi, unit));
+  return TL_OK;
+}
+
+TlStatus tl_options_get_int(TlOptions *o, const char *name, long def, long lo, long hi, const char *help,
+                            long *value)
+{
+  char buf[64];
+  snprintf(buf, sizeof buf, "%ld", def);
+  TL_CHECK(tl_document(o, name, "<int>", buf, NULL, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  *value = def;
+  if (given) {
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (end == text || *end != '\0' || errno == ERANGE)
+      TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not an integer", name, text);
+    *value = v;
+  }
+  if (*value < lo || *value > hi)
+    TL_ERROR(TL_ERR_ARG, "option %s = %ld is outside [%ld, %ld]", name, *value, lo, hi);
+  return TL_OK;
+}
+
+TlStatus tl_options_get_bool(TlOptions *o, const char *name, int def, const char *help, int *value)
+{
+  TL_CHECK(tl_document(o, name, "[<bool>]", def ? "true" : "false", NULL, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 0, &text, &given));
+  *value = def;
+  if (!given) return TL_OK;
+  if (!text) {
+    *value = 1;
+    return TL_OK;
+  }
+  static const char *const yes[] = {"1", "true", "yes", "on"}, *const no[] = {"0", "false", "no", "off"};
+  for (int i = 0; i < 4; ++i) {
+    if (strcmp(text, yes[i]) == 0) return (*value = 1), TL_OK;
+    if (strcmp(text, no[i]) == 0) return (*value = 0), TL_OK;
+  }
+  TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not a boolean (true/false, yes/no, 1/0)", name, text);
+}
+
+TlStatus tl_options_get_string(TlOptions *o, const char *name, const char *def, const char *help,
+                               const char **value)
+{
+  TL_CHECK(tl_document(o, name, "<string>", def, NULL, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  *value = given ? text : def;
+  return TL_OK;
+}
+
+TlStatus tl_options_get_choice(TlOptions *o, const char *name, const char *def, const char *const *choices,
+                               const char *help, int *index)
+{
+  char kind[512] = "<";
+  for (int i = 0; choices[i]; ++i) {
+    if (i) strncat(kind, "|", sizeof kind - strlen(kind) - 1);
+    strncat(kind, choices[i], sizeof kind - strlen(kind) - 1);
+  }
+  strncat(kind, ">", sizeof kind - strlen(kind) - 1);
+  TL_CHECK(tl_document(o, name, kind, def, NULL, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  const char *v = given ? text : def;
+  for (int i = 0; choices[i]; ++i)
+    if (strcmp(v, choices[i]) == 0) return (*index = i), TL_OK;
+  TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not one of %s", name, v, kind);
+}
+
+static TlStatus tl_parse_scaled(const char *name, const char *text, const TlScale *scales, int n, double *value)
+{
+  char *end;
+  errno = 0;
+  double v = strtod(text, &end);
+  if (end == text || errno == ERANGE || !isfinite(v))
+    TL_ERROR(TL_ERR_ARG, "option %s: '%s' does not start with a finite real number", name, text);
+  if (*end == '\0') return (*value = v), TL_OK;
+  for (int i = 0; i < n; ++i)
+    if (strcmp(end, scales[i].suffix) == 0) return (*value = v * scales[i].factor), TL_OK;
+  char list[256] = "";
+  for (int i = 0; i < n; ++i) {
+    strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
+    strncat(list, scales[i].suffix, sizeof list - strlen(list) - 1);
+  }
+  TL_ERROR(TL_ERR_ARG, "option %s: unknown unit suffix '%s' in '%s' (known: %s)", name, end, text,
+           n ? list : "none");
+}
+
+TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, double lo, double hi,
+                               const char *unit, const TlScale *scales, int n, const char *help,
+                               double *value)
+{
+  char doc_unit[512];
+  int len = snprintf(doc_unit, sizeof doc_unit, "%s", unit ? unit : "");
+  for (int i = 0; i < n && len < (int)sizeof doc_unit; ++i)
+    len += snprintf(doc_unit + len, sizeof doc_unit - (size_t)len, ", or suffix %s = %s", scales[i].suffix,
+                    scales[i].meaning);
+  TL_CHECK(tl_document(o, name, "<real[suffix]>", def, doc_unit, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  TL_CHECK(tl_parse_scaled(name, given ? text : def, scales, n, value));
+  TL_CHECK(tl_check_range(name, *value, lo, hi, unit));
+  return TL_OK;
+}
+
+TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
+                                  const char *help, double *values, int max, int *count)
+{
+  TL_CHECK(tl_document(o, name, "<real,real,...>", def, unit, help));
+  const char *text;
+  int given;
+  TL_CHECK(tl_lookup(o, name, 1, &text, &given));
+  const char *src = given ? text : def;
+  char buf[1024];
+  snprintf(buf, sizeof buf, "%s", src ? src : "");
+  *count = 0;
+  char *save = NULL;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    if (*count >= max) TL_ERROR(TL_ERR_ARG, "option %s: more than %d values in '%s'", name, max, src);
+    TL_CHECK(tl_parse_real(name, tok, &values[(*count)++]));
+  }
+  return TL_OK;
+}
+
+int tl_options_has(TlOptions *o, const char *name)
+{
+  TlOptionEntry *e = tl_find(o, name);
+  if (e) e->used = 1;
+  return e != NULL;
+}
+
+/* Levenshtein distance, to suggest the intended name of a mistyped option. */
+static size_t tl_edit_distance(const char *a, const char *b)
+{
+  size_t na = strlen(a), nb = strlen(b);
+  if (na > 63 || nb > 63) return 64;
+  size_t d[64][64];
+  for (size_t i = 0; i <= na; ++i) d[i][0] = i;
+  for (size_t j = 0; j <= nb; ++j) d[0][j] = j;
+  for (size_t i = 1; i <= na; ++i)
+    for (size_t j = 1; j <= nb; ++j) {
+      size_t sub = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+      size_t del = d[i - 1][j] + 1, ins = d[i][j - 1] + 1;
+      d[i][j] = sub < del ? (sub < ins ? sub : ins) : (del < ins ? del : ins);
+    }
+  return d[na][nb];
+}
+
+TlStatus tl_options_finish(TlOptions *o, FILE *out)
+{
+  if (o->help) {
+    fprintf(out, "usage: %s [options]\n\n%s\n\nOptions:\n", o->program, o->description);
+    fprintf(out, "  %-24s %s\n", "-help", "print this help and exit");
+    fprintf(out, "  %-24s %s\n", "-options_file <path>", "read further options, one '-name value' a line");
+    for (size_t i = 0; i < o->n_doc; ++i) {
+      char head[160];
+      snprintf(head, sizeof head, "%s %s", o->doc[i].name, o->doc[i].kind);
+      fprintf(out, "  %-24s %s", head, o->doc[i].help);
+      if (o->doc[i].unit[0]) fprintf(out, " [%s]", o->doc[i].unit);
+      fprintf(out, " (default: %s)\n", o->doc[i].def[0] ? o->doc[i].def : "none");
+    }
+    return TL_HELP;
+  }
+  for (size_t i = 0; i < o->n_entry; ++i) {
+    if (o->entry[i].used) continue;
+    const char *best = NULL;
+    size_t best_d = 4;
+    for (size_t k = 0; k < o->n_doc; ++k) {
+      size_t d = tl_edit_distance(o->entry[i].name, o->doc[k].name);
+      if (d < best_d) best_d = d, best = o->doc[k].name;
+    }
+    if (best)
+      TL_ERROR(TL_ERR_ARG, "unknown option %s (%s); did you mean %s? (-help lists all)", o->entry[i].name,
+               o->entry[i].source, best);
+    TL_ERROR(TL_ERR_ARG, "unknown option %s (%s); -help lists the options of %s", o->entry[i].name,
+             o->entry[i].source, o->program);
+  }
+  return TL_OK;
+}
+
+const char *tl_options_program(const TlOptions *o) { return o->program; }
+const char *tl_options_command_line(const TlOptions *o) { return o->command_line; }

@@ -1,0 +1,65 @@
+/* The options database, in the manner of PETSc.
+ *
+ * A driver creates it from argv (which may name -options_file FILE), then asks
+ * for each option it uses through a typed getter that states the default, the
+ * unit and a one-line description.  tl_options_finish() then either prints the
+ * -help page built from those getters (and returns TL_HELP), or refuses any
+ * option that was given but never asked for, so a typo is never silently
+ * ignored.  Every value error names the option, the value and the limit. */
+#ifndef TL_OPTIONS_H
+#define TL_OPTIONS_H
+
+#include <stdio.h>
+#include "tl_error.h"
+
+typedef struct TlOptions TlOptions;
+
+/* A unit suffix accepted by tl_options_get_scaled: "10d" means 10 * factor
+ * of the suffix "d" (for instance the particle diameter). */
+typedef struct {
+  const char *suffix;
+  double factor;
+  const char *meaning; /* for -help: "particle diameter" */
+} TlScale;
+
+/* Parses argv[1..argc-1].  `description` is the first paragraph of -help. */
+TlStatus tl_options_create(int argc, char **argv, const char *description, TlOptions **options);
+void tl_options_destroy(TlOptions **options);
+/* Adds options from a file: one "-name value" per line, '#' starts a comment.
+ * A command-line value overrides a file value; a duplicate within one source
+ * is an error. */
+TlStatus tl_options_insert_file(TlOptions *options, const char *path);
+
+/* Typed getters: *value is the given value or the default. */
+TlStatus tl_options_get_real(TlOptions *o, const char *name, double def, double lo, double hi,
+                             const char *unit, const char *help, double *value);
+TlStatus tl_options_get_int(TlOptions *o, const char *name, long def, long lo, long hi,
+                            const char *help, long *value);
+/* "-flag" alone means true; "-flag 0|1|true|false|yes|no" also accepted. */
+TlStatus tl_options_get_bool(TlOptions *o, const char *name, int def, const char *help, int *value);
+/* *value points into the database (valid until destroy) or to def. */
+TlStatus tl_options_get_string(TlOptions *o, const char *name, const char *def, const char *help,
+                               const char **value);
+/* One of `choices` (NULL-terminated); *index is its position. */
+TlStatus tl_options_get_choice(TlOptions *o, const char *name, const char *def,
+                               const char *const *choices, const char *help, int *index);
+/* A real number with an optional unit suffix from `scales` (n entries):
+ * "-cg_width 10d" gives 10 * scales["d"].factor; a bare number is in `unit`. */
+TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, double lo, double hi,
+                               const char *unit, const TlScale *scales, int n, const char *help,
+                               double *value);
+/* Comma-separated reals ("-c_list 0,2,4"); up to max values, *count set. */
+TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
+                                  const char *help, double *values, int max, int *count);
+/* Whether the option was given (and marks it used). */
+int tl_options_has(TlOptions *o, const char *name);
+
+/* After every getter: TL_HELP (help printed to `out`) if -help was given;
+ * an error for any option given and never asked for; TL_OK otherwise. */
+TlStatus tl_options_finish(TlOptions *o, FILE *out);
+/* The program name (argv[0] without its folder). */
+const char *tl_options_program(const TlOptions *o);
+/* The whole command line, for provenance in output files. */
+const char *tl_options_command_line(const TlOptions *o);
+
+#endif

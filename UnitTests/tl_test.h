@@ -1,0 +1,46 @@
+/* A minimal test harness: each check prints what failed with its values; the
+ * program's exit code is the number of failed checks (capped), and its last
+ * line is "N passed, M failed". */
+#ifndef TL_TEST_H
+#define TL_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+
+static int tl_test_passed, tl_test_failed;
+
+#define TL_TEST_ASSERT(cond, ...)                                                      \
+  do {                                                                                 \
+    if (cond) {                                                                        \
+      ++tl_test_passed;                                                                \
+    } else {                                                                           \
+      ++tl_test_failed;                                                                \
+      fprintf(stderr, "FAIL %s:%d: %s: ", __FILE__, __LINE__, #cond);                  \
+      fprintf(stderr, __VA_ARGS__);                                                    \
+      fputc('\n', stderr);                                                             \
+    }                                                                                  \
+  } while (0)
+
+/* |a - b| <= tol * max(1, |b|) */
+#define TL_TEST_CLOSE(a, b, tol)                                                       \
+  do {                                                                                 \
+    double tl_a_ = (a), tl_b_ = (b);                                                   \
+    TL_TEST_ASSERT(fabs(tl_a_ - tl_b_) <= (tol) * fmax(1.0, fabs(tl_b_)),            \
+                   "%s = %.17g, expected %.17g (tol %g)", #a, tl_a_, tl_b_, (double)(tol)); \
+  } while (0)
+
+/* Asserts that a call returns the given status. */
+#define TL_TEST_STATUS(call, expected)                                                 \
+  do {                                                                                 \
+    TlStatus tl_s_ = (call);                                                           \
+    TL_TEST_ASSERT(tl_s_ == (expected), "status %d (%s), expected %d; message: %s",  \
+                   (int)tl_s_, tl_status_name(tl_s_), (int)(expected), tl_error_message()); \
+  } while (0)
+
+static inline int tl_test_report(void)
+{
+  printf("%d passed, %d failed\n", tl_test_passed, tl_test_failed);
+  return tl_test_failed > 100 ? 100 : tl_test_failed;
+}
+
+#endif
