@@ -1,0 +1,82 @@
+/* Error messages and traces, memory helpers, registry, timers, summary line. */
+#include <string.h>
+
+#include "talus.h"
+#include "tl_test.h"
+
+static TlStatus inner(double radius)
+{
+  if (radius <= 0) TL_ERROR(TL_ERR_ARG, "radius %g m must be positive", radius);
+  return TL_OK;
+}
+static TlStatus outer(double radius)
+{
+  TL_CHECK(inner(radius));
+  return TL_OK;
+}
+
+typedef struct {
+  TlOpsHeader header;
+  double (*eval)(double);
+} FakeOps;
+static double twice(double x) { return 2 * x; }
+static const FakeOps fake_a = {{"fake", "alpha", "doubles"}, twice};
+static const FakeOps fake_b = {{"fake", "beta", "doubles too"}, twice};
+static const FakeOps fake_dup = {{"fake", "alpha", "a second alpha"}, twice};
+
+int main(void)
+{
+  TL_TEST_STATUS(outer(1.0), TL_OK);
+  TL_TEST_STATUS(outer(-2.0), TL_ERR_ARG);
+  const char *m = tl_error_message();
+  TL_TEST_ASSERT(strstr(m, "radius -2 m must be positive") && strstr(m, "test_core.c"), "message: %s", m);
+  TL_TEST_ASSERT(strstr(m, "at test_core.c") && strchr(strchr(m, '\n') + 1, '\n'), "no two-level trace: %s", m);
+  tl_error_clear();
+  TL_TEST_ASSERT(tl_error_message()[0] == '\0', "clear left a message");
+
+  double *v = NULL;
+  size_t cap = 0;
+  TL_TEST_STATUS(tl_array_reserve(&v, &cap, 100, sizeof *v), TL_OK);
+  TL_TEST_ASSERT(cap >= 100 && v[99] == 0.0, "capacity %zu", cap);
+  size_t cap_before = cap;
+  TL_TEST_STATUS(tl_array_reserve(&v, &cap, 50, sizeof *v), TL_OK);
+  TL_TEST_ASSERT(cap == cap_before, "shrinking request reallocated");
+  tl_free(&v);
+  TL_TEST_ASSERT(v == NULL, "tl_free must null");
+  TL_TEST_STATUS(tl_calloc(&v, (size_t)-1 / 4, 16), TL_ERR_MEM);
+
+  TL_TEST_STATUS(tl_registry_add(&fake_a.header), TL_OK);
+  TL_TEST_STATUS(tl_registry_add(&fake_b.header), TL_OK);
+  TL_TEST_STATUS(tl_registry_add(&fake_a.header), TL_OK); /* idempotent */
+  TL_TEST_STATUS(tl_registry_add(&fake_dup.header), TL_ERR_ARG);
+  const TlOpsHeader *found;
+  TL_TEST_STATUS(tl_registry_find("fake", "beta", &found), TL_OK);
+  TL_TEST_ASSERT(found == &fake_b.header && ((const FakeOps *)found)->eval(2) == 4, "wrong ops found");
+  TL_TEST_STATUS(tl_registry_find("fake", "gamma", &found), TL_ERR_NOT_FOUND);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "known: alpha, beta") != NULL, "%s", tl_error_message());
+  const char *names[4];
+  TL_TEST_ASSERT(tl_registry_list("fake", names, 4) == 2, "list count");
+  const FakeOps *obj_ops = &fake_a;
+  TL_TEST_ASSERT(strcmp(tl_type_name(&obj_ops), "alpha") == 0, "type name");
+  tl_registry_clear();
+  TL_TEST_STATUS(tl_initialize(), TL_OK);
+
+  TlTimers t;
+  tl_timers_init(&t);
+  int p = tl_timers_phase(&t, "work");
+  TL_TEST_ASSERT(tl_timers_phase(&t, "work") == p, "phase looked up twice gives two slots");
+  tl_timers_start(&t, p);
+  volatile double s = 0;
+  for (int i = 0; i < 100000; ++i) s += i;
+  tl_timers_stop(&t, p);
+  TL_TEST_ASSERT(t.phase[p].count == 1 && t.phase[p].total >= 0, "timer");
+
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_real(&sum, "err_avg", 0.125);
+  tl_summary_int(&sum, "steps", 42);
+  tl_summary_string(&sum, "case", "1P");
+  TL_TEST_ASSERT(strcmp(sum.text, " err_avg=0.125 steps=42 case=1P") == 0, "summary '%s'", sum.text);
+  TL_TEST_ASSERT(tl_driver_exit(TL_HELP) == 0 && tl_driver_exit(TL_OK) == 0, "exit codes");
+  return tl_test_report();
+}
