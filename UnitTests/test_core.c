@@ -2,6 +2,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_parallel.h"
 #include "tl_test.h"
 
 static TlStatus inner(double radius)
@@ -78,5 +79,13 @@ int main(void)
   tl_summary_string(&sum, "case", "1P");
   TL_TEST_ASSERT(strcmp(sum.text, " err_avg=0.125 steps=42 case=1P") == 0, "summary '%s'", sum.text);
   TL_TEST_ASSERT(tl_driver_exit(TL_HELP) == 0 && tl_driver_exit(TL_OK) == 0, "exit codes");
+
+  int argc = 1;
+  char *args[] = {"test_core", NULL}, **argv = args;
+  TL_TEST_STATUS(tl_parallel_initialize(&argc, &argv), TL_OK);
+  TL_TEST_ASSERT(tl_parallel_rank() == 0 && tl_parallel_size() >= 1, "rank %d of %d", tl_parallel_rank(),
+                 tl_parallel_size());
+  TL_TEST_ASSERT(tl_parallel_threads() >= 1, "threads");
+  TL_TEST_STATUS(tl_parallel_finalize(), TL_OK);
   return tl_test_report();
 }

@@ -1,0 +1,17 @@
+/* Process-level parallelism: MPI when built with TALUS_WITH_MPI, one process
+ * otherwise.  Threads (OpenMP) are independent of this. */
+#ifndef TL_PARALLEL_H
+#define TL_PARALLEL_H
+
+#include "tl_error.h"
+
+/* Starts MPI (if built with it and not yet started). */
+TlStatus tl_parallel_initialize(int *argc, char ***argv);
+/* Stops MPI if tl_parallel_initialize started it. */
+TlStatus tl_parallel_finalize(void);
+int tl_parallel_rank(void);
+int tl_parallel_size(void);
+/* Number of OpenMP threads a parallel region will use. */
+int tl_parallel_threads(void);
+
+#endif
