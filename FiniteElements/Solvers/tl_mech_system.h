@@ -19,7 +19,7 @@
  *   one matrix with no copy.  A matrix routine is one call per batch of
  *   elements, never per element.
  * - symmetric = 1 promises that every matrix added is symmetric (then the
- *   pattern is stored as an upper triangle and CHOLMOD may be used);
+ *   stepper may ask for upper-triangle storage and use CHOLMOD);
  *   follower loads or non-symmetric damping need symmetric = 0.
  * - Material state: internal_force and internal_tangent evaluate TRIAL state
  *   from the last COMMITTED state (path-dependent materials, a DEM cell as a
@@ -47,9 +47,10 @@ typedef TlStatus (*TlMechStepHook)(void *ctx, double t, double dt, const double 
 typedef struct {
   TlOpsHeader header; /* kind "mech_system" */
   /* Required. */
-  /* *K = new matrix with the pattern of all the system's matrices
-   * (symmetric storage iff sys->symmetric), values zero. */
-  TlStatus (*create_matrix)(TlMechSystem *sys, TlSparse **K);
+  /* *K = new matrix with the pattern of all the system's matrices, values
+   * zero; upper-triangle storage when upper = 1 (asked only when
+   * sys->symmetric), full storage otherwise (KLU, UMFPACK). */
+  TlStatus (*create_matrix)(TlMechSystem *sys, int upper, TlSparse **K);
   /* f = f_int(u, v). */
   TlStatus (*internal_force)(TlMechSystem *sys, double t, const double *u, const double *v,
                              double *f);
