@@ -1,0 +1,149 @@
+/* The DEM world: particles, contact laws, the persistent contact list,
+ * walls, the domain and the hierarchical grid, and the time step.
+ *
+ * Life cycle:
+ *   tl_dem_create(&dem)                      open domain by default
+ *   tl_dem_set_domain / add species, particles, laws, walls, bonds
+ *   tl_dem_set_timestep(dem, dt, override)   checked at setup
+ *   tl_dem_setup(dem)                        allocates what the scene needs
+ *                                            (rotation, history), checks the
+ *                                            input, builds the grid
+ *   tl_dem_step(dem, n) ...                  n Velocity-Verlet steps
+ *   tl_dem_destroy(&dem)
+ * Particles may be added or removed after setup through tl_dem_add_particle /
+ * tl_dem_remove_particle (contacts and walls are kept consistent).
+ *
+ * Time step (seeds/001 Eqs. 1-2): Velocity-Verlet for translation; for
+ * rotation of spheres the angular velocity is integrated the same way and the
+ * orientation quaternion by the exact rotation of the half-step spin.
+ * Forces at t+dt use positions at t+dt and velocities at t+dt/2.
+ *
+ * Contacts: the neighbour list (pairs within r_i + r_j + skin, found with the
+ * hierarchical grid) is the contact list; each entry holds the law's history.
+ * It is rebuilt when some particle has moved more than skin/2 since the last
+ * build (or the cell has deformed by as much); history moves to the new list
+ * by a pair-keyed hash lookup.  Pairs of species are assigned laws with
+ * tl_dem_set_pair_law (default: law 0 for all).  Contacts of each law are
+ * evaluated in batches through its ops.
+ *
+ * Critical time step: the Velocity-Verlet stability limit 2/ω of the
+ * stiffest mode, with ω² = 16 k_max / m_min (the lightest particle held by up
+ * to eight contacts of the stiffest kind, its neighbours moving against it),
+ * reduced by (sqrt(1 + ζ²) - ζ) for the largest damping ratio ζ:
+ * dt_c = ½ sqrt(m_min / k_max) (sqrt(1 + ζ²) - ζ).  Hertz stiffness is taken
+ * at an overlap of 10 % of the smallest radius.  A dt above dt_c is refused
+ * with both
+ * numbers unless the override is set, in which case it is logged. */
+#ifndef TL_DEM_H
+#define TL_DEM_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "tl_contact_law.h"
+#include "tl_domain.h"
+#include "tl_error.h"
+#include "tl_hgrid.h"
+#include "tl_math.h"
+#include "tl_particles.h"
+#include "tl_wall.h"
+
+typedef struct TlDem TlDem;
+
+/* Energies and momenta of the current state (seeds/001 and DESIGN.md's
+ * "every energy term"). */
+typedef struct {
+  double kinetic_translational; /* Σ ½ m v² over free particles (affine part excluded) */
+  double kinetic_rotational;    /* Σ ½ I ω² */
+  double elastic;               /* stored in particle-particle and wall contacts */
+  double gravitational;         /* Σ -m g·x, free particles */
+  double work_external;         /* cumulative work of f_ext, prescribed particles and moving walls */
+  double dissipated;            /* cumulative: contact work - stored elastic energy */
+  double total;                 /* kinetic + elastic + gravitational - work_external + dissipated */
+  TlVec3 momentum;              /* Σ m v, free particles */
+  TlVec3 angular_momentum;      /* Σ (x × m v + I ω) about the origin */
+} TlDemEnergy;
+
+/* Timings and counts. */
+typedef struct {
+  long steps;
+  long rebuilds;
+  size_t n_contacts;   /* touching pairs at the last step */
+  size_t n_pairs;      /* neighbour-list pairs */
+} TlDemStats;
+
+TlStatus tl_dem_create(TlDem **dem);
+void tl_dem_destroy(TlDem **dem);
+
+TlParticles *tl_dem_particles(TlDem *dem);
+TlDomain *tl_dem_domain(TlDem *dem);
+const TlHGrid *tl_dem_grid(const TlDem *dem);
+TlStatus tl_dem_set_domain(TlDem *dem, const TlDomain *domain);
+void tl_dem_set_gravity(TlDem *dem, TlVec3 g);
+/* Verlet skin as a fraction of the mean diameter (default 0.1; 0 rebuilds
+ * every step). */
+TlStatus tl_dem_set_skin(TlDem *dem, double skin_over_diameter);
+/* Number of threads for the force loop (0: OpenMP default). */
+void tl_dem_set_threads(TlDem *dem, int threads);
+
+/* Takes ownership of the law; *index receives its number. */
+TlStatus tl_dem_add_law(TlDem *dem, TlContactLaw *law, int *index);
+/* Contacts between species a and b use law `law`. */
+TlStatus tl_dem_set_pair_law(TlDem *dem, int species_a, int species_b, int law);
+/* Takes ownership of the wall; its contacts use law `law`. */
+TlStatus tl_dem_add_wall(TlDem *dem, TlWall *wall, int law);
+size_t tl_dem_n_walls(const TlDem *dem);
+TlWall *tl_dem_wall(TlDem *dem, size_t k);
+/* A permanent bond between particles with ids a and b (its contact is kept
+ * and evaluated whatever the distance; the law decides about tension). */
+TlStatus tl_dem_add_bond(TlDem *dem, int64_t id_a, int64_t id_b);
+/* Pairs where both particles are fixed are never evaluated (default on). */
+void tl_dem_skip_fixed_pairs(TlDem *dem, int skip);
+
+/* Prescribed motion for the particles with the given ids (copied). */
+TlStatus tl_dem_prescribe(TlDem *dem, size_t n, const int64_t *ids, TlPrescribedEval eval, void *ctx);
+
+TlStatus tl_dem_set_timestep(TlDem *dem, double dt, int allow_above_critical);
+double tl_dem_timestep(const TlDem *dem);
+double tl_dem_time(const TlDem *dem);
+/* The critical time step estimate and what it was computed from. */
+TlStatus tl_dem_critical_timestep(TlDem *dem, double *dt_critical, double *k_max, double *m_min);
+
+/* Checks the scene (radii, densities, overlaps larger than a radius, dt)
+ * and allocates its state; must precede tl_dem_step. */
+TlStatus tl_dem_setup(TlDem *dem);
+/* n steps; stops with TL_ERR_UNSTABLE and a diagnosis (which particle, what
+ * value) when a position or velocity becomes non-finite or a particle moves
+ * more than its radius in one step. */
+TlStatus tl_dem_step(TlDem *dem, long n);
+/* Recomputes forces at the current state without moving (after edits). */
+TlStatus tl_dem_compute_forces(TlDem *dem);
+
+/* Insertion and removal at run time. */
+TlStatus tl_dem_add_particle(TlDem *dem, TlVec3 x, TlVec3 v, double radius, int species, size_t *index);
+TlStatus tl_dem_remove_particle(TlDem *dem, size_t index);
+
+/* ---- diagnostics ---- */
+/* Energies; energy bookkeeping (work, dissipation) is accumulated only after
+ * tl_dem_track_energy(dem, 1) (it costs a little per contact). */
+void tl_dem_track_energy(TlDem *dem, int on);
+TlStatus tl_dem_energy(TlDem *dem, TlDemEnergy *e);
+/* Cauchy-Poisson stress of the contacts (seeds/004 Eq. 27, walls excluded)
+ * and the kinetic part -Σ m v⊗v / V, both over the domain volume (the cell
+ * volume for periodic domains, the given h for open ones). */
+TlStatus tl_dem_stress(TlDem *dem, TlMat3 *contact_stress, TlMat3 *kinetic_stress);
+/* Mean number of touching contacts per free particle (walls excluded), and
+ * the same with rattlers (fewer than two contacts) removed. */
+TlStatus tl_dem_coordination(TlDem *dem, double *z, double *z_no_rattlers);
+/* Per-particle static balance Δ_n of seeds/004 Eq. 19, maximum over free
+ * particles with contacts. */
+TlStatus tl_dem_max_force_imbalance(TlDem *dem, double *delta);
+void tl_dem_stats(const TlDem *dem, TlDemStats *s);
+
+/* ---- contacts (read access, for tests, CG and output) ---- */
+/* Visits every touching particle-particle contact: i, j, force on i, branch
+ * vector from i to j, contact point. */
+typedef void (*TlContactVisitor)(void *ctx, size_t i, size_t j, TlVec3 force_on_i, TlVec3 branch,
+                                 TlVec3 contact_point);
+TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
+
+#endif
