@@ -1,0 +1,359 @@
+#include "tl_checkpoint.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_hdf5_util.h"
+#include "tl_memory.h"
+
+struct TlCheckpointWriter {
+  TlH5File file;
+};
+
+struct TlCheckpointReader {
+  TlH5File file;
+};
+
+enum { TL_CKPT_PATH_MAX = 1024 };
+
+/* "/group/name" into buf. */
+static TlStatus tl_ckpt_path(const char *file, const char *group, const char *name, char *buf)
+{
+  if (!name || !name[0]) TL_ERROR(TL_ERR_ARG, "checkpoint '%s': empty dataset name in group '%s'", file, group ? group : "");
+  while (group && *group == '/') ++group;
+  int n = (group && group[0]) ? snprintf(buf, TL_CKPT_PATH_MAX, "/%s/%s", group, name)
+                              : snprintf(buf, TL_CKPT_PATH_MAX, "/%s", name);
+  if (n < 0 || n >= TL_CKPT_PATH_MAX)
+    TL_ERROR(TL_ERR_ARG, "checkpoint '%s': path of '%s' longer than %d characters", file, name, TL_CKPT_PATH_MAX - 1);
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- writer */
+TlStatus tl_checkpoint_writer_open(const char *path, TlCheckpointWriter **writer)
+{
+  TlCheckpointWriter *w;
+  *writer = NULL;
+  TL_CHECK(TL_NEW(w));
+  TlStatus s;
+  TL_CHECK_GOTO(s, tl_h5_create(path, &w->file), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&w->file, "/", "talus_checkpoint_version", TL_CHECKPOINT_VERSION), fail);
+  *writer = w;
+  return TL_OK;
+fail:
+  tl_h5_abort(&w->file);
+  tl_free(&w);
+  return s;
+}
+
+TlStatus tl_checkpoint_writer_commit(TlCheckpointWriter **writer)
+{
+  if (!*writer) TL_ERROR(TL_ERR_STATE, "commit of a checkpoint writer that is not open");
+  TlStatus s = tl_h5_commit(&(*writer)->file);
+  tl_free(writer);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  return TL_OK;
+}
+
+void tl_checkpoint_writer_abort(TlCheckpointWriter **writer)
+{
+  if (!writer || !*writer) return;
+  tl_h5_abort(&(*writer)->file);
+  tl_free(writer);
+}
+
+static TlStatus tl_ckpt_write(TlCheckpointWriter *w, const char *group, const char *name, hid_t type, int rank,
+                              size_t n, const void *data)
+{
+  char path[TL_CKPT_PATH_MAX];
+  TL_CHECK(tl_ckpt_path(w->file.path, group, name, path));
+  hsize_t dim = n;
+  TL_CHECK(tl_h5_write(&w->file, path, type, rank, &dim, data));
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_write_doubles(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
+                                     const double *values)
+{
+  return tl_ckpt_write(w, group, name, H5T_NATIVE_DOUBLE, 1, n, values);
+}
+
+TlStatus tl_checkpoint_write_int64s(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
+                                    const int64_t *values)
+{
+  return tl_ckpt_write(w, group, name, H5T_NATIVE_INT64, 1, n, values);
+}
+
+TlStatus tl_checkpoint_write_bytes(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
+                                   const void *bytes)
+{
+  return tl_ckpt_write(w, group, name, H5T_NATIVE_UINT8, 1, n, bytes);
+}
+
+TlStatus tl_checkpoint_write_double(TlCheckpointWriter *w, const char *group, const char *name, double value)
+{
+  return tl_ckpt_write(w, group, name, H5T_NATIVE_DOUBLE, 0, 1, &value);
+}
+
+TlStatus tl_checkpoint_write_int64(TlCheckpointWriter *w, const char *group, const char *name, int64_t value)
+{
+  return tl_ckpt_write(w, group, name, H5T_NATIVE_INT64, 0, 1, &value);
+}
+
+TlStatus tl_checkpoint_write_string(TlCheckpointWriter *w, const char *group, const char *name, const char *value)
+{
+  char path[TL_CKPT_PATH_MAX];
+  TL_CHECK(tl_ckpt_path(w->file.path, group, name, path));
+  TL_CHECK(tl_h5_write_string(&w->file, path, value ? value : ""));
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- reader */
+TlStatus tl_checkpoint_reader_open(const char *path, TlCheckpointReader **reader)
+{
+  TlCheckpointReader *r;
+  *reader = NULL;
+  TL_CHECK(TL_NEW(r));
+  TlStatus s;
+  TL_CHECK_GOTO(s, tl_h5_open(path, &r->file), fail);
+  int64_t version = 0;
+  if (tl_h5_attr_read_int64(&r->file, "/", "talus_checkpoint_version", &version) != TL_OK) {
+    s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                     "'%s' is not a Talus checkpoint (no attribute talus_checkpoint_version)", path);
+    goto fail;
+  }
+  if (version != TL_CHECKPOINT_VERSION) {
+    s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "checkpoint '%s' has format version %lld; this build reads %d",
+                     path, (long long)version, TL_CHECKPOINT_VERSION);
+    goto fail;
+  }
+  *reader = r;
+  return TL_OK;
+fail:
+  tl_h5_close(&r->file);
+  tl_free(&r);
+  return s;
+}
+
+void tl_checkpoint_reader_close(TlCheckpointReader **reader)
+{
+  if (!reader || !*reader) return;
+  tl_h5_close(&(*reader)->file);
+  tl_free(reader);
+}
+
+const char *tl_checkpoint_reader_path(const TlCheckpointReader *r) { return r->file.path; }
+
+int tl_checkpoint_has(const TlCheckpointReader *r, const char *group, const char *name)
+{
+  char path[TL_CKPT_PATH_MAX];
+  if (tl_ckpt_path(r->file.path, group, name, path) != TL_OK) return 0;
+  return tl_h5_exists(&r->file, path);
+}
+
+/* Checks the stored element type: class and size must match what is asked. */
+static TlStatus tl_ckpt_check_type(const TlCheckpointReader *r, const char *path, H5T_class_t cls, size_t size,
+                                   const char *what)
+{
+  hid_t d = H5Dopen2(r->file.id, path, H5P_DEFAULT);
+  if (d < 0) TL_ERROR(TL_ERR_IO, "checkpoint '%s': cannot open dataset '%s'", r->file.path, path);
+  hid_t t = H5Dget_type(d);
+  H5T_class_t c = H5Tget_class(t);
+  size_t sz = H5Tget_size(t);
+  H5Tclose(t);
+  H5Dclose(d);
+  if (c != cls || sz != size)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': dataset '%s' does not hold %s (type class %d, %zu bytes)", r->file.path,
+             path, what, (int)c, sz);
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_length(const TlCheckpointReader *r, const char *group, const char *name, size_t *n)
+{
+  char path[TL_CKPT_PATH_MAX];
+  TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (!tl_h5_exists(&r->file, path))
+    TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s'", r->file.path, path);
+  int rank;
+  hsize_t dims[TL_H5_MAX_RANK];
+  TL_CHECK(tl_h5_dims(&r->file, path, &rank, dims));
+  *n = 1;
+  for (int i = 0; i < rank; ++i) *n *= (size_t)dims[i];
+  return TL_OK;
+}
+
+static TlStatus tl_ckpt_read(const TlCheckpointReader *r, const char *group, const char *name, hid_t memtype,
+                             H5T_class_t cls, const char *what, int rank, size_t n, void *data)
+{
+  char path[TL_CKPT_PATH_MAX];
+  TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (!tl_h5_exists(&r->file, path))
+    TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s' (expected %zu %s)", r->file.path, path, n, what);
+  TL_CHECK(tl_ckpt_check_type(r, path, cls, H5Tget_size(memtype), what));
+  int have_rank;
+  hsize_t dims[TL_H5_MAX_RANK];
+  TL_CHECK(tl_h5_dims(&r->file, path, &have_rank, dims));
+  if (have_rank != rank || (rank == 1 && dims[0] != n))
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': dataset '%s' holds %llu %s, expected %zu%s", r->file.path, path,
+             have_rank == 1 ? (unsigned long long)dims[0] : 1ULL, what, n,
+             have_rank != rank ? (rank == 0 ? " (a scalar)" : " (an array)") : "");
+  hsize_t dim = n;
+  TL_CHECK(tl_h5_read(&r->file, path, memtype, rank, &dim, data));
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_read_doubles(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                    double *values)
+{
+  return tl_ckpt_read(r, group, name, H5T_NATIVE_DOUBLE, H5T_FLOAT, "doubles", 1, n, values);
+}
+
+TlStatus tl_checkpoint_read_int64s(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                   int64_t *values)
+{
+  return tl_ckpt_read(r, group, name, H5T_NATIVE_INT64, H5T_INTEGER, "int64 values", 1, n, values);
+}
+
+TlStatus tl_checkpoint_read_bytes(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                  void *bytes)
+{
+  return tl_ckpt_read(r, group, name, H5T_NATIVE_UINT8, H5T_INTEGER, "bytes", 1, n, bytes);
+}
+
+TlStatus tl_checkpoint_read_double(const TlCheckpointReader *r, const char *group, const char *name, double *value)
+{
+  return tl_ckpt_read(r, group, name, H5T_NATIVE_DOUBLE, H5T_FLOAT, "double", 0, 1, value);
+}
+
+TlStatus tl_checkpoint_read_int64(const TlCheckpointReader *r, const char *group, const char *name, int64_t *value)
+{
+  return tl_ckpt_read(r, group, name, H5T_NATIVE_INT64, H5T_INTEGER, "int64", 0, 1, value);
+}
+
+TlStatus tl_checkpoint_read_string(const TlCheckpointReader *r, const char *group, const char *name, char **value)
+{
+  char path[TL_CKPT_PATH_MAX];
+  TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (!tl_h5_exists(&r->file, path))
+    TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no string '%s'", r->file.path, path);
+  TL_CHECK(tl_h5_read_string(&r->file, path, value));
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- sections */
+typedef struct {
+  char *name;
+  const TlCheckpointOps *ops;
+  void *object;
+} TlCheckpointSection;
+
+struct TlCheckpoint {
+  TlCheckpointSection *sections;
+  size_t n, capacity;
+};
+
+TlStatus tl_checkpoint_create(TlCheckpoint **checkpoint)
+{
+  TL_CHECK(TL_NEW(*checkpoint));
+  return TL_OK;
+}
+
+void tl_checkpoint_destroy(TlCheckpoint **checkpoint)
+{
+  if (!checkpoint || !*checkpoint) return;
+  for (size_t i = 0; i < (*checkpoint)->n; ++i) tl_free(&(*checkpoint)->sections[i].name);
+  tl_free(&(*checkpoint)->sections);
+  tl_free(checkpoint);
+}
+
+TlStatus tl_checkpoint_add(TlCheckpoint *cp, const char *name, const TlCheckpointOps *ops, void *object)
+{
+  if (!name || !name[0] || strchr(name, '/') || strlen(name) > 200)
+    TL_ERROR(TL_ERR_ARG, "checkpoint section name '%s' must be 1 to 200 characters without '/'", name ? name : "(null)");
+  if (!ops || !ops->save || !ops->load || !ops->header.name)
+    TL_ERROR(TL_ERR_ARG, "checkpoint section '%s': ops table needs a name, save and load", name);
+  for (size_t i = 0; i < cp->n; ++i)
+    if (strcmp(cp->sections[i].name, name) == 0) TL_ERROR(TL_ERR_ARG, "checkpoint section '%s' added twice", name);
+  TL_CHECK(tl_array_reserve(&cp->sections, &cp->capacity, cp->n + 1, sizeof *cp->sections));
+  TlCheckpointSection *s = &cp->sections[cp->n];
+  TL_CHECK(tl_calloc(&s->name, strlen(name) + 1, 1));
+  memcpy(s->name, name, strlen(name));
+  s->ops = ops;
+  s->object = object;
+  cp->n++;
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double time, int64_t step)
+{
+  TlCheckpointWriter *w;
+  TL_CHECK(tl_checkpoint_writer_open(path, &w));
+  TlStatus s;
+  const char **names = NULL;
+  TL_CHECK_GOTO(s, tl_calloc(&names, cp->n + 1, sizeof *names), fail);
+  for (size_t i = 0; i < cp->n; ++i) names[i] = cp->sections[i].name;
+  TL_CHECK_GOTO(s, tl_h5_attr_write_double(&w->file, "/", "time", time), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&w->file, "/", "step", step), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_strings(&w->file, "/", "sections", cp->n, names), fail);
+  for (size_t i = 0; i < cp->n; ++i) {
+    const TlCheckpointSection *sec = &cp->sections[i];
+    char group[256];
+    snprintf(group, sizeof group, "/%s", sec->name);
+    TL_CHECK_GOTO(s, tl_h5_group(&w->file, group), fail);
+    TL_CHECK_GOTO(s, tl_h5_attr_write_string(&w->file, group, "type", sec->ops->header.name), fail);
+    s = sec->ops->save(sec->object, w, sec->name);
+    if (s != TL_OK) {
+      tl_error_trace(s, __FILE__, __LINE__);
+      goto fail;
+    }
+  }
+  tl_free(&names);
+  TL_CHECK(tl_checkpoint_writer_commit(&w));
+  return TL_OK;
+fail:
+  tl_free(&names);
+  tl_checkpoint_writer_abort(&w);
+  return s;
+}
+
+TlStatus tl_checkpoint_load(TlCheckpoint *cp, const char *path, double *time, int64_t *step)
+{
+  TlCheckpointReader *r;
+  TL_CHECK(tl_checkpoint_reader_open(path, &r));
+  TlStatus s = TL_OK;
+  char *type = NULL;
+  double t = 0.0;
+  int64_t k = 0;
+  TL_CHECK_GOTO(s, tl_h5_attr_read_double(&r->file, "/", "time", &t), done);
+  TL_CHECK_GOTO(s, tl_h5_attr_read_int64(&r->file, "/", "step", &k), done);
+  /* all sections present with the right type before any state is touched */
+  for (size_t i = 0; i < cp->n; ++i) {
+    const TlCheckpointSection *sec = &cp->sections[i];
+    char group[256];
+    snprintf(group, sizeof group, "/%s", sec->name);
+    if (!tl_h5_exists(&r->file, group)) {
+      s = tl_error_set(TL_ERR_NOT_FOUND, __FILE__, __LINE__, "checkpoint '%s' has no section '%s'", path, sec->name);
+      goto done;
+    }
+    TL_CHECK_GOTO(s, tl_h5_attr_read_string(&r->file, group, "type", &type), done);
+    if (strcmp(type, sec->ops->header.name) != 0) {
+      s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "checkpoint '%s': section '%s' holds type '%s', expected '%s'",
+                       path, sec->name, type, sec->ops->header.name);
+      goto done;
+    }
+    tl_free(&type);
+  }
+  for (size_t i = 0; i < cp->n; ++i) {
+    const TlCheckpointSection *sec = &cp->sections[i];
+    s = sec->ops->load(sec->object, r, sec->name);
+    if (s != TL_OK) {
+      tl_error_trace(s, __FILE__, __LINE__);
+      goto done;
+    }
+  }
+  if (time) *time = t;
+  if (step) *step = k;
+done:
+  tl_free(&type);
+  tl_checkpoint_reader_close(&r);
+  return s;
+}

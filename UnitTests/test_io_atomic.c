@@ -1,0 +1,196 @@
+/* Atomic writes: a writer killed by SIGKILL in the middle of overwriting a
+ * file (text stream and HDF5 checkpoint) leaves the previous file intact and
+ * readable; a failing writer leaves no temporary file; a successful one
+ * replaces the content. */
+#include <dirent.h>
+#include <signal.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "talus.h"
+#include "tl_atomic_file.h"
+#include "tl_checkpoint.h"
+#include "tl_test.h"
+
+typedef struct {
+  const char *text;
+  int die_midway;
+  int fail;
+} Payload;
+
+static TlStatus write_payload(FILE *stream, void *context)
+{
+  const Payload *p = context;
+  size_t n = strlen(p->text);
+  /* a large write, so the kill lands with bytes already in the temporary */
+  for (int rep = 0; rep < 2000; ++rep) {
+    if (fwrite(p->text, 1, n, stream) != n) TL_ERROR(TL_ERR_IO, "short write");
+    if (rep == 1000) {
+      fflush(stream);
+      if (p->die_midway) raise(SIGKILL);
+      if (p->fail) TL_ERROR(TL_ERR_IO, "simulated failure after %d blocks", rep);
+    }
+  }
+  return TL_OK;
+}
+
+static int file_is(const char *path, const char *text, size_t reps)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  size_t n = strlen(text), total = 0;
+  char buf[256];
+  int ok = 1;
+  while (ok) {
+    size_t got = fread(buf, 1, n, f);
+    if (got == 0) break;
+    ok = got == n && memcmp(buf, text, n) == 0;
+    ++total;
+  }
+  fclose(f);
+  return ok && total == reps;
+}
+
+static int count_temporaries(void)
+{
+  DIR *d = opendir(".");
+  int n = 0;
+  struct dirent *e;
+  while ((e = readdir(d)))
+    if (strstr(e->d_name, ".tmp")) ++n;
+  closedir(d);
+  return n;
+}
+
+static void remove_temporaries(void)
+{
+  DIR *d = opendir(".");
+  struct dirent *e;
+  while ((e = readdir(d)))
+    if (strstr(e->d_name, ".tmp")) unlink(e->d_name);
+  closedir(d);
+}
+
+/* Runs fn in a child process and returns the signal that ended it (0 if it
+ * exited normally). */
+static int run_child(void (*fn)(void))
+{
+  fflush(NULL);
+  pid_t pid = fork();
+  if (pid == 0) {
+    fn();
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+}
+
+static void child_overwrite_text(void)
+{
+  Payload p = {"new content, never complete\n", 1, 0};
+  tl_atomic_write("data.txt", write_payload, &p);
+}
+
+static void test_text(void)
+{
+  Payload old = {"the previous, complete file\n", 0, 0};
+  TL_TEST_STATUS(tl_atomic_write("data.txt", write_payload, &old), TL_OK);
+  TL_TEST_ASSERT(file_is("data.txt", old.text, 2000), "first write incomplete");
+  TL_TEST_ASSERT(count_temporaries() == 0, "temporary left after success");
+
+  int sig = run_child(child_overwrite_text);
+  TL_TEST_ASSERT(sig == SIGKILL, "child ended by signal %d, expected SIGKILL", sig);
+  TL_TEST_ASSERT(file_is("data.txt", old.text, 2000), "previous file damaged by the killed writer");
+  /* the killed writer's temporary exists (it had written bytes) and is hidden */
+  TL_TEST_ASSERT(count_temporaries() == 1, "%d temporaries after the kill, expected 1", count_temporaries());
+  remove_temporaries();
+
+  Payload failing = {"failing writer\n", 0, 1};
+  TL_TEST_STATUS(tl_atomic_write("data.txt", write_payload, &failing), TL_ERR_IO);
+  TL_TEST_ASSERT(file_is("data.txt", old.text, 2000), "previous file damaged by the failing writer");
+  TL_TEST_ASSERT(count_temporaries() == 0, "temporary left after a failing writer");
+
+  Payload fresh = {"replacement\n", 0, 0};
+  TL_TEST_STATUS(tl_atomic_write("data.txt", write_payload, &fresh), TL_OK);
+  TL_TEST_ASSERT(file_is("data.txt", fresh.text, 2000), "replacement not in place");
+
+  /* a folder that does not exist is an error naming the path */
+  TL_TEST_STATUS(tl_atomic_write("no/such/folder/x.txt", write_payload, &fresh), TL_ERR_IO);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "no/such/folder") != NULL, "message: %s", tl_error_message());
+  TL_TEST_STATUS(tl_mkdir_p("made/deep/folder"), TL_OK);
+  TL_TEST_STATUS(tl_mkdir_p("made/deep/folder/"), TL_OK);
+  TL_TEST_STATUS(tl_atomic_write("made/deep/folder/x.txt", write_payload, &fresh), TL_OK);
+  TL_TEST_STATUS(tl_mkdir_p("data.txt"), TL_ERR_IO);
+}
+
+/* A checkpoint section that dies while being saved. */
+typedef struct {
+  double values[4096];
+  int die;
+} Big;
+
+static TlStatus big_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Big *b = object;
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "first", 4096, b->values));
+  if (b->die) raise(SIGKILL);
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "second", 4096, b->values));
+  return TL_OK;
+}
+
+static TlStatus big_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Big *b = object;
+  double second[4096];
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "first", 4096, b->values));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "second", 4096, second));
+  if (memcmp(second, b->values, sizeof second) != 0) TL_ERROR(TL_ERR_FORMAT, "halves differ");
+  return TL_OK;
+}
+
+static const TlCheckpointOps big_ops = {{"checkpoint", "big", "test"}, big_save, big_load};
+static Big big;
+
+static void child_overwrite_checkpoint(void)
+{
+  TlCheckpoint *cp;
+  if (tl_checkpoint_create(&cp) != TL_OK) return;
+  for (int i = 0; i < 4096; ++i) big.values[i] = -1.0;
+  big.die = 1;
+  tl_checkpoint_add(cp, "big", &big_ops, &big);
+  tl_checkpoint_save(cp, "restart.h5", 2.0, 2);
+}
+
+static void test_checkpoint(void)
+{
+  TlCheckpoint *cp;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  for (int i = 0; i < 4096; ++i) big.values[i] = i * 0.5;
+  big.die = 0;
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "big", &big_ops, &big), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_save(cp, "restart.h5", 1.0, 1), TL_OK);
+
+  int sig = run_child(child_overwrite_checkpoint);
+  TL_TEST_ASSERT(sig == SIGKILL, "child ended by signal %d, expected SIGKILL", sig);
+  TL_TEST_ASSERT(count_temporaries() == 1, "%d temporaries after the kill, expected 1", count_temporaries());
+  remove_temporaries();
+
+  for (int i = 0; i < 4096; ++i) big.values[i] = 0.0;
+  double t = 0;
+  int64_t step = 0;
+  TL_TEST_STATUS(tl_checkpoint_load(cp, "restart.h5", &t, &step), TL_OK);
+  TL_TEST_ASSERT(t == 1.0 && step == 1, "the previous checkpoint was not kept: time %g step %lld", t, (long long)step);
+  int same = 1;
+  for (int i = 0; i < 4096; ++i) same &= big.values[i] == i * 0.5;
+  TL_TEST_ASSERT(same, "previous checkpoint values damaged");
+  tl_checkpoint_destroy(&cp);
+}
+
+int main(void)
+{
+  test_text();
+  test_checkpoint();
+  return tl_test_report();
+}
