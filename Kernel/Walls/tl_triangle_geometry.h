@@ -1,0 +1,147 @@
+/* Geometry of one triangle against one sphere: the closest point, which
+ * feature of the triangle it lies on (face, one of three edges, one of three
+ * vertices), its barycentric coordinates, and the contact (point, unit normal
+ * from wall to sphere centre, overlap).  One contact per triangle: a triangle
+ * is convex, so the closest point is unique.
+ *
+ * Local numbering: vertex k is (a, b, c)[k]; edge k joins vertex k and
+ * vertex (k+1) mod 3, so edge 0 = ab, edge 1 = bc, edge 2 = ca.
+ *
+ * Header-only and inline: this sits in the wall-contact loop. */
+#ifndef TL_TRIANGLE_GEOMETRY_H
+#define TL_TRIANGLE_GEOMETRY_H
+
+#include <math.h>
+#include "tl_math.h"
+
+typedef enum {
+  TL_TRI_FACE = 0,
+  TL_TRI_EDGE0 = 1, /* a-b */
+  TL_TRI_EDGE1 = 2, /* b-c */
+  TL_TRI_EDGE2 = 3, /* c-a */
+  TL_TRI_VERTEX0 = 4,
+  TL_TRI_VERTEX1 = 5,
+  TL_TRI_VERTEX2 = 6
+} TlTriFeature;
+
+static inline int tl_tri_feature_is_edge(int f) { return f >= TL_TRI_EDGE0 && f <= TL_TRI_EDGE2; }
+static inline int tl_tri_feature_is_vertex(int f) { return f >= TL_TRI_VERTEX0; }
+
+/* Whether a point on feature f lies on local edge k (the edge itself or one
+ * of its two end vertices). */
+static inline int tl_tri_feature_on_edge(int f, int k)
+{
+  if (tl_tri_feature_is_edge(f)) return f - TL_TRI_EDGE0 == k;
+  if (tl_tri_feature_is_vertex(f)) {
+    int v = f - TL_TRI_VERTEX0;
+    return v == k || v == (k + 1) % 3;
+  }
+  return 0;
+}
+
+/* Closest point q of triangle (a, b, c) to p, with its barycentric
+ * coordinates (q = l0 a + l1 b + l2 c) and the feature it lies on.  Voronoi
+ * regions tested in turn (vertex, edge, face), so that every region decision
+ * is made from the same dot products and no point falls between regions.
+ * Valid for any triangle with edges of non-zero length; callers refuse
+ * degenerate triangles beforehand (tl_triangle_quality). */
+static inline TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p,
+                                                     TlVec3 *q, double bary[3])
+{
+  TlVec3 ab = tl_v3_sub(b, a), ac = tl_v3_sub(c, a), ap = tl_v3_sub(p, a);
+  double d1 = tl_v3_dot(ab, ap), d2 = tl_v3_dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) {
+    bary[0] = 1.0, bary[1] = 0.0, bary[2] = 0.0;
+    *q = a;
+    return TL_TRI_VERTEX0;
+  }
+  TlVec3 bp = tl_v3_sub(p, b);
+  double d3 = tl_v3_dot(ab, bp), d4 = tl_v3_dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) {
+    bary[0] = 0.0, bary[1] = 1.0, bary[2] = 0.0;
+    *q = b;
+    return TL_TRI_VERTEX1;
+  }
+  double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    double t = d1 / (d1 - d3);
+    bary[0] = 1.0 - t, bary[1] = t, bary[2] = 0.0;
+    *q = tl_v3_axpy(a, t, ab);
+    return TL_TRI_EDGE0;
+  }
+  TlVec3 cp = tl_v3_sub(p, c);
+  double d5 = tl_v3_dot(ab, cp), d6 = tl_v3_dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) {
+    bary[0] = 0.0, bary[1] = 0.0, bary[2] = 1.0;
+    *q = c;
+    return TL_TRI_VERTEX2;
+  }
+  double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    double t = d2 / (d2 - d6);
+    bary[0] = 1.0 - t, bary[1] = 0.0, bary[2] = t;
+    *q = tl_v3_axpy(a, t, ac);
+    return TL_TRI_EDGE2;
+  }
+  double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    bary[0] = 0.0, bary[1] = 1.0 - t, bary[2] = t;
+    *q = tl_v3_axpy(b, t, tl_v3_sub(c, b));
+    return TL_TRI_EDGE1;
+  }
+  double s = 1.0 / (va + vb + vc);
+  double v = vb * s, w = vc * s;
+  bary[0] = 1.0 - v - w, bary[1] = v, bary[2] = w;
+  *q = tl_v3_add(a, tl_v3_add(tl_v3_scale(ab, v), tl_v3_scale(ac, w)));
+  return TL_TRI_FACE;
+}
+
+/* Shape quality 4 sqrt(3) area / (sum of squared edge lengths): 1 for an
+ * equilateral triangle, tending to 0 for zero-area slivers and needles alike.
+ * Scale-free, so one tolerance serves every mesh size. */
+static inline double tl_triangle_quality(TlVec3 a, TlVec3 b, TlVec3 c)
+{
+  TlVec3 ab = tl_v3_sub(b, a), bc = tl_v3_sub(c, b), ca = tl_v3_sub(a, c);
+  double l2 = tl_v3_norm2(ab) + tl_v3_norm2(bc) + tl_v3_norm2(ca);
+  if (!(l2 > 0.0)) return 0.0;
+  double area = 0.5 * tl_v3_norm(tl_v3_cross(ab, tl_v3_sub(c, a)));
+  return 4.0 * sqrt(3.0) * area / l2;
+}
+
+/* Contact of a sphere with a triangle. */
+typedef struct {
+  TlVec3 point;    /* closest point of the triangle to the centre */
+  TlVec3 normal;   /* unit, from the wall towards the sphere centre */
+  double overlap;  /* radius minus distance; positive in contact */
+  double bary[3];  /* barycentric coordinates of point */
+  int feature;     /* TlTriFeature */
+} TlTriContact;
+
+/* Fills *c and returns 1 when the sphere (centre x, radius r) overlaps the
+ * triangle (a, b, c) with unit face normal n; returns 0 otherwise.  A centre
+ * lying on the triangle itself takes the face normal, so the normal is never
+ * NaN. */
+static inline int tl_triangle_sphere_contact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 n, TlVec3 x,
+                                             double r, TlTriContact *con)
+{
+  TlVec3 q;
+  double bary[3];
+  int f = (int)tl_triangle_closest_point(a, b, c, x, &q, bary);
+  TlVec3 d = tl_v3_sub(x, q);
+  double dist2 = tl_v3_norm2(d);
+  if (dist2 >= r * r) return 0;
+  double dist = sqrt(dist2);
+  con->point = q;
+  con->overlap = r - dist;
+  con->bary[0] = bary[0], con->bary[1] = bary[1], con->bary[2] = bary[2];
+  con->feature = f;
+  if (dist > 1e-12 * r) {
+    con->normal = tl_v3_scale(d, 1.0 / dist);
+  } else {
+    con->normal = tl_v3_dot(d, n) < 0.0 ? tl_v3_neg(n) : n;
+  }
+  return 1;
+}
+
+#endif

@@ -1,0 +1,257 @@
+#include "tl_trisurface_contacts.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include "tl_memory.h"
+
+TlStatus tl_tricontacts_create(TlTriContactSet **set)
+{
+  if (!set) TL_ERROR(TL_ERR_ARG, "tl_tricontacts_create: NULL pointer");
+  TL_CHECK(TL_NEW(*set));
+  return TL_OK;
+}
+
+void tl_tricontacts_destroy(TlTriContactSet **set)
+{
+  if (!set || !*set) return;
+  tl_free(&(*set)->c);
+  tl_free(&(*set)->group);
+  tl_free(&(*set)->history);
+  tl_free(&(*set)->link);
+  tl_free(&(*set)->used);
+  tl_free(set);
+}
+
+void tl_tricontacts_clear(TlTriContactSet *set)
+{
+  set->count = 0;
+  set->n_groups = 0;
+}
+
+void tl_tricontacts_swap(TlTriContactSet *a, TlTriContactSet *b)
+{
+  TlTriContactSet t = *a;
+  *a = *b;
+  *b = t;
+}
+
+TlStatus tl_tricontacts_append(TlTriContactSet *set, const TlTriContactRecord *r)
+{
+  TL_CHECK(tl_array_reserve(&set->c, &set->capacity, set->count + 1, sizeof *set->c));
+  set->c[set->count++] = *r;
+  return TL_OK;
+}
+
+TlStatus tl_tricontacts_test(TlTriContactSet *set, const TlTriSurface *s, const TlDomain *domain,
+                             int32_t t, int32_t p, TlVec3 x, double r)
+{
+  if (domain && domain->any_periodic) {
+    TlVec3 anchor = s->x[s->tri[3 * (size_t)t]];
+    x = tl_v3_add(anchor, tl_domain_branch(domain, anchor, x));
+  }
+  TlTriContact con;
+  if (!tl_trisurface_sphere_contact(s, t, x, r, &con)) return TL_OK;
+  TlTriContactRecord rec = {.particle = p, .triangle = t, .feature = con.feature, .active = 1,
+                            .point = con.point, .normal = con.normal, .overlap = con.overlap,
+                            .bary = {con.bary[0], con.bary[1], con.bary[2]}, .center = x,
+                            .radius = r, .weight = 1.0};
+  TL_CHECK(tl_tricontacts_append(set, &rec));
+  return TL_OK;
+}
+
+TlStatus tl_tricontacts_detect_brute(TlTriContactSet *set, const TlTriSurface *s,
+                                     const TlDomain *domain, size_t n, const TlVec3 *x,
+                                     const double *radius)
+{
+  for (size_t t = 0; t < s->n_triangles; ++t)
+    for (size_t p = 0; p < n; ++p)
+      TL_CHECK(tl_tricontacts_test(set, s, domain, (int32_t)t, (int32_t)p, x[p], radius[p]));
+  return TL_OK;
+}
+
+static int tl_record_compare(const void *pa, const void *pb)
+{
+  const TlTriContactRecord *a = pa, *b = pb;
+  if (a->particle != b->particle) return a->particle < b->particle ? -1 : 1;
+  return (a->triangle > b->triangle) - (a->triangle < b->triangle);
+}
+
+static TlStatus tl_tricontacts_build_groups(TlTriContactSet *set)
+{
+  size_t ng = 0;
+  for (size_t i = 0; i < set->count; ++i)
+    if (i == 0 || set->c[i].particle != set->c[i - 1].particle) ++ng;
+  TL_CHECK(tl_array_reserve(&set->group, &set->group_capacity, ng + 1, sizeof *set->group));
+  ng = 0;
+  for (size_t i = 0; i < set->count; ++i)
+    if (i == 0 || set->c[i].particle != set->c[i - 1].particle) set->group[ng++] = i;
+  set->group[ng] = set->count;
+  set->n_groups = ng;
+  return TL_OK;
+}
+
+TlStatus tl_tricontacts_sort(TlTriContactSet *set)
+{
+  /* Detection order depends on the grid and the threads; sorting makes every
+   * later decision (ties included) independent of both. */
+  if (set->count > 1) qsort(set->c, set->count, sizeof *set->c, tl_record_compare);
+  TL_CHECK(tl_tricontacts_build_groups(set));
+  return TL_OK;
+}
+
+/* Record index of triangle t within c[lo, hi) (sorted by triangle), or -1. */
+static long tl_find_triangle(const TlTriContactRecord *c, size_t lo, size_t end, int32_t t)
+{
+  size_t hi = end;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (c[mid].triangle < t) lo = mid + 1;
+    else hi = mid;
+  }
+  return (lo < end && c[lo].triangle == t) ? (long)lo : -1;
+}
+
+static int32_t tl_root(int32_t *link, int32_t i)
+{
+  while (link[i] != i) {
+    link[i] = link[link[i]];
+    i = link[i];
+  }
+  return i;
+}
+
+/* Whether record a should be kept over record b. */
+static int tl_record_better(const TlTriContactRecord *a, const TlTriContactRecord *b)
+{
+  if (a->overlap != b->overlap) return a->overlap > b->overlap;
+  return a->triangle < b->triangle;
+}
+
+TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurface *s)
+{
+  size_t n = set->count;
+  if (n == 0) return TL_OK;
+  if (n > (size_t)INT32_MAX) TL_ERROR(TL_ERR_ARG, "%zu wall contacts exceed the limit %d", n, INT32_MAX);
+  TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, n, sizeof *set->link));
+  TlTriContactRecord *c = set->c;
+  int32_t *link = set->link;
+  long ng = (long)set->n_groups;
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+  for (long g = 0; g < ng; ++g) {
+    size_t g0 = set->group[g], g1 = set->group[g + 1];
+    for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
+    if (g1 - g0 < 2) continue;
+    for (size_t i = g0; i < g1; ++i) {
+      int32_t t = c[i].triangle;
+      for (int k = 0; k < 3; ++k) {
+        int32_t nb = s->tri_nbr[3 * (size_t)t + k];
+        if (nb <= t) continue; /* each pair once, from its lower triangle */
+        long j = tl_find_triangle(c, g0, g1, nb);
+        if (j < 0) continue;
+        int e = s->tri_edge[3 * (size_t)t + k];
+        int kb = 0;
+        while (kb < 2 && s->tri_edge[3 * (size_t)nb + kb] != e) ++kb;
+        if (!tl_tri_feature_on_edge(c[i].feature, k) && !tl_tri_feature_on_edge(c[j].feature, kb))
+          continue;
+        TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center);
+        if (shape == TL_EDGE_CONCAVE) continue;
+        int32_t ri = tl_root(link, (int32_t)i), rj = tl_root(link, (int32_t)j);
+        if (ri == rj) continue;
+        /* the root of a cluster is always its best contact */
+        if (tl_record_better(&c[ri], &c[rj])) link[rj] = ri;
+        else link[ri] = rj;
+      }
+    }
+    for (size_t i = g0; i < g1; ++i) c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
+  }
+  /* compact */
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i)
+    if (c[i].active) c[m++] = c[i];
+  set->count = m;
+  TL_CHECK(tl_tricontacts_build_groups(set));
+  return TL_OK;
+}
+
+/* Group of particle p in set, or -1. */
+static long tl_find_group(const TlTriContactSet *set, int32_t p)
+{
+  size_t lo = 0, hi = set->n_groups;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (set->c[set->group[mid]].particle < p) lo = mid + 1;
+    else hi = mid;
+  }
+  return (lo < set->n_groups && set->c[set->group[lo]].particle == p) ? (long)lo : -1;
+}
+
+TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSet *prev,
+                                      size_t history_doubles)
+{
+  size_t n = set->count, hd = history_doubles;
+  set->history_doubles = hd;
+  if (hd == 0) return TL_OK;
+  TL_CHECK(tl_array_reserve(&set->history, &set->history_capacity, n * hd, sizeof *set->history));
+  memset(set->history, 0, n * hd * sizeof *set->history);
+  if (!prev || prev->count == 0 || prev->history_doubles != hd) return TL_OK;
+  TL_CHECK(tl_array_reserve(&set->used, &set->used_capacity, prev->count, 1));
+  TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, n, sizeof *set->link));
+  memset(set->used, 0, prev->count);
+  const TlTriContactRecord *c = set->c, *pc = prev->c;
+  unsigned char *used = set->used;
+  int32_t *done = set->link;
+  long ng = (long)set->n_groups;
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+  for (long g = 0; g < ng; ++g) {
+    size_t g0 = set->group[g], g1 = set->group[g + 1];
+    long h = tl_find_group(prev, c[g0].particle);
+    if (h < 0) continue;
+    size_t h0 = prev->group[h], h1 = prev->group[h + 1];
+    /* the same triangle first */
+    for (size_t i = g0; i < g1; ++i) {
+      long j = tl_find_triangle(pc, h0, h1, c[i].triangle);
+      done[i] = j >= 0;
+      if (j < 0) continue;
+      used[j] = 1;
+      memcpy(set->history + i * hd, prev->history + (size_t)j * hd, hd * sizeof(double));
+    }
+    /* then contacts that moved to another triangle take over the nearest
+     * contact that ended */
+    for (size_t i = g0; i < g1; ++i) {
+      if (done[i]) continue;
+      long best = -1;
+      double best_d2 = INFINITY;
+      for (size_t j = h0; j < h1; ++j) {
+        if (used[j]) continue;
+        double d2 = tl_v3_norm2(tl_v3_sub(c[i].point, pc[j].point));
+        if (d2 < best_d2) best_d2 = d2, best = (long)j;
+      }
+      if (best < 0) continue;
+      used[best] = 1;
+      memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
+    }
+  }
+  return TL_OK;
+}
+
+void tl_tricontacts_apply_weights(TlTriContactSet *set)
+{
+  TlTriContactRecord *c = set->c;
+  long ng = (long)set->n_groups;
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+  for (long g = 0; g < ng; ++g) {
+    size_t g0 = set->group[g], g1 = set->group[g + 1];
+    if (g1 - g0 == 1) {
+      c[g0].weight = 1.0;
+      continue;
+    }
+    double sum = 0.0;
+    for (size_t i = g0; i < g1; ++i) sum += tl_v3_norm(c[i].force);
+    for (size_t i = g0; i < g1; ++i) {
+      double w = sum > 0.0 ? tl_v3_norm(c[i].force) / sum : 1.0 / (double)(g1 - g0);
+      c[i].weight = w;
+      c[i].force = tl_v3_scale(c[i].force, w);
+      c[i].torque = tl_v3_scale(c[i].torque, w);
+    }
+  }
+}
