@@ -6,7 +6,11 @@
  * adds it to its own tl_<module>_register_all(); a new module adds one line
  * here. */
 typedef TlStatus (*TlRegisterAll)(void);
+TlStatus tl_cg_register_all(void);
+TlStatus tl_fem_register_all(void);
 static const TlRegisterAll tl_modules[] = {
+    tl_cg_register_all,
+    tl_fem_register_all,
     NULL, /* keeps the table non-empty before any module registers */
 };
 

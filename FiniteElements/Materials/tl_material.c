@@ -1,0 +1,202 @@
+#include "tl_material.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "tl_memory.h"
+#include "tl_registry.h"
+
+extern const TlMaterialOps tl_material_hooke_ops, tl_material_hooke_covariant_ops,
+    tl_material_neo_hookean_ops;
+
+TlStatus tl_material_register_all(void)
+{
+  TL_CHECK(tl_registry_add(&tl_material_hooke_ops.header));
+  TL_CHECK(tl_registry_add(&tl_material_hooke_covariant_ops.header));
+  TL_CHECK(tl_registry_add(&tl_material_neo_hookean_ops.header));
+  return TL_OK;
+}
+
+static const double density_default = 1000.0;
+
+TlStatus tl_material_create(const char *name, TlMaterial **m)
+{
+  if (!name || !m) TL_ERROR(TL_ERR_ARG, "tl_material_create: NULL argument");
+  const TlOpsHeader *h = NULL;
+  TL_CHECK(tl_registry_find("material", name, &h));
+  const TlMaterialOps *ops = (const TlMaterialOps *)h;
+  if (ops->size < sizeof(TlMaterial))
+    TL_ERROR(TL_ERR_ARG, "material type %s declares size %zu, below the base size %zu", name,
+             ops->size, sizeof(TlMaterial));
+  char *mem = NULL;
+  TL_CHECK(tl_calloc(&mem, 1, ops->size));
+  TlMaterial *mat = (TlMaterial *)mem;
+  mat->ops = ops;
+  mat->density = density_default;
+  mat->eigenstrain = tl_m3_zero();
+  mat->initial_stress = tl_m3_zero();
+  for (int i = 0; i < ops->n_params; ++i)
+    *(double *)(mem + ops->params[i].offset) = ops->params[i].def;
+  *m = mat;
+  return TL_OK;
+}
+
+void tl_material_destroy(TlMaterial **m)
+{
+  if (!m || !*m) return;
+  if ((*m)->ops->destroy) (*m)->ops->destroy(*m);
+  tl_free(m);
+}
+
+TlStatus tl_material_set(TlMaterial *m, const char *param, double value)
+{
+  if (!m || !param) TL_ERROR(TL_ERR_ARG, "tl_material_set: NULL argument");
+  if (!isfinite(value))
+    TL_ERROR(TL_ERR_ARG, "material %s: parameter %s = %g is not finite", m->ops->header.name,
+             param, value);
+  if (!strcmp(param, "density")) {
+    if (!(value > 0.0))
+      TL_ERROR(TL_ERR_ARG, "material %s: density = %g kg/m^3 must be > 0", m->ops->header.name,
+               value);
+    m->density = value;
+    m->ready = 0;
+    return TL_OK;
+  }
+  for (int i = 0; i < m->ops->n_params; ++i) {
+    const TlMaterialParam *p = &m->ops->params[i];
+    if (strcmp(p->name, param)) continue;
+    if (value < p->lo || value > p->hi)
+      TL_ERROR(TL_ERR_ARG, "material %s: %s = %g %s outside [%g, %g]", m->ops->header.name, param,
+               value, p->unit, p->lo, p->hi);
+    *(double *)((char *)m + p->offset) = value;
+    m->ready = 0;
+    return TL_OK;
+  }
+  TL_ERROR(TL_ERR_NOT_FOUND, "material %s has no parameter '%s'", m->ops->header.name, param);
+}
+
+TlStatus tl_material_get(const TlMaterial *m, const char *param, double *value)
+{
+  if (!strcmp(param, "density")) {
+    *value = m->density;
+    return TL_OK;
+  }
+  for (int i = 0; i < m->ops->n_params; ++i)
+    if (!strcmp(m->ops->params[i].name, param)) {
+      *value = *(const double *)((const char *)m + m->ops->params[i].offset);
+      return TL_OK;
+    }
+  TL_ERROR(TL_ERR_NOT_FOUND, "material %s has no parameter '%s'", m->ops->header.name, param);
+}
+
+static TlStatus check_symmetric(const TlMaterial *m, TlMat3 a, const char *what)
+{
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if (!isfinite(a.m[i][j]))
+        TL_ERROR(TL_ERR_ARG, "material %s: %s[%d][%d] = %g is not finite", m->ops->header.name,
+                 what, i, j, a.m[i][j]);
+      scale = fmax(scale, fabs(a.m[i][j]));
+    }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < i; ++j)
+      if (fabs(a.m[i][j] - a.m[j][i]) > 1e-12 * scale)
+        TL_ERROR(TL_ERR_ARG, "material %s: %s is not symmetric ([%d][%d] = %g, [%d][%d] = %g)",
+                 m->ops->header.name, what, i, j, a.m[i][j], j, i, a.m[j][i]);
+  return TL_OK;
+}
+
+TlStatus tl_material_set_eigenstrain(TlMaterial *m, TlMat3 E0)
+{
+  TL_CHECK(check_symmetric(m, E0, "eigenstrain"));
+  m->eigenstrain = E0;
+  m->has_eigenstrain = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (E0.m[i][j] != 0.0) m->has_eigenstrain = 1;
+  m->ready = 0;
+  return TL_OK;
+}
+
+TlStatus tl_material_set_initial_stress(TlMaterial *m, TlMat3 S0)
+{
+  TL_CHECK(check_symmetric(m, S0, "initial stress"));
+  m->initial_stress = S0;
+  m->has_initial_stress = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (S0.m[i][j] != 0.0) m->has_initial_stress = 1;
+  return TL_OK;
+}
+
+TlStatus tl_material_setup(TlMaterial *m)
+{
+  if (!m) TL_ERROR(TL_ERR_ARG, "tl_material_setup: NULL material");
+  if (m->ops->setup) TL_CHECK(m->ops->setup(m));
+  m->ready = 1;
+  return TL_OK;
+}
+
+TlStatus tl_material_create_hooke(double E, double nu, double density, TlMaterial **m)
+{
+  TlMaterial *mat = NULL;
+  TL_CHECK(tl_material_create("hooke", &mat));
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_material_set(mat, "E", E), fail);
+  TL_CHECK_GOTO(s, tl_material_set(mat, "nu", nu), fail);
+  TL_CHECK_GOTO(s, tl_material_set(mat, "density", density), fail);
+  TL_CHECK_GOTO(s, tl_material_setup(mat), fail);
+  *m = mat;
+  return TL_OK;
+fail:
+  tl_material_destroy(&mat);
+  return s;
+}
+
+int tl_material_symmetric_tangent(const TlMaterial *m)
+{
+  return m->ops->symmetric_tangent ? m->ops->symmetric_tangent(m) : 0;
+}
+
+/* Points per internal batch: gamma is computed into a stack buffer. */
+#define TL_MATERIAL_CHUNK 64
+
+TlStatus tl_material_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F,
+                              const double *state_old, double *state_new, TlMat3 *S, double *D,
+                              double *W)
+{
+  if (!m->ready) TL_ERROR(TL_ERR_STATE, "material %s used before setup", m->ops->header.name);
+  TlMat3 gamma[TL_MATERIAL_CHUNK];
+  for (size_t p0 = 0; p0 < npts; p0 += TL_MATERIAL_CHUNK) {
+    size_t n = npts - p0 < TL_MATERIAL_CHUNK ? npts - p0 : TL_MATERIAL_CHUNK;
+    for (size_t k = 0; k < n; ++k) {
+      TlMat3 f = F[p0 + k];
+      double J = tl_m3_det(f);
+      if (!(J > 0.0))
+        TL_ERROR(TL_ERR_NUMERIC,
+                 "material %s: det F = %g at point %zu is not positive (inverted element)",
+                 m->ops->header.name, J, p0 + k);
+      TlMat3 C = tl_m3_mul(tl_m3_transpose(f), f);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          gamma[k].m[i][j] = 0.5 * (C.m[i][j] - (i == j)) - m->eigenstrain.m[i][j];
+    }
+    size_t ss = m->state_size;
+    TL_CHECK(m->ops->evaluate(m, n, F + p0, gamma, state_old ? state_old + p0 * ss : NULL,
+                              state_new ? state_new + p0 * ss : NULL, S + p0,
+                              D ? D + 36 * p0 : NULL, W ? W + p0 : NULL));
+    for (size_t k = 0; k < n; ++k) {
+      if (m->has_initial_stress) {
+        S[p0 + k] = tl_m3_add(S[p0 + k], m->initial_stress);
+        if (W) W[p0 + k] += tl_m3_ddot(m->initial_stress, gamma[k]);
+      }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (!isfinite(S[p0 + k].m[i][j]))
+            TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d][%d] = %g at point %zu",
+                     m->ops->header.name, i, j, S[p0 + k].m[i][j], p0 + k);
+    }
+  }
+  return TL_OK;
+}
