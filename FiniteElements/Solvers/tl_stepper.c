@@ -1,0 +1,313 @@
+#include "tl_stepper.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_linear_solver.h"
+#include "tl_memory.h"
+#include "tl_registry.h"
+#include "tl_timer.h"
+
+void tl_stepper_options_default(TlStepperOptions *o)
+{
+  memset(o, 0, sizeof *o);
+  o->solver = NULL;
+  o->beta = 0.25;
+  o->gamma = 0.5;
+  o->rtol = 1e-10;
+  o->atol = 1e-14;
+  o->max_iterations = 30;
+  o->reuse = 1;
+  o->keep_factors = 0;
+  o->line_search = 1;
+  o->lumped = 0;
+  o->allow_unstable = 0;
+  o->blowup = 1e6;
+  o->ramp_time = 0.0;
+  o->max_cuts = 10;
+}
+
+TlStatus tl_stepper_register_all(void)
+{
+  TL_CHECK(tl_registry_add(&tl_stepper_newmark_ops.header));
+  TL_CHECK(tl_registry_add(&tl_stepper_central_difference_ops.header));
+  TL_CHECK(tl_registry_add(&tl_stepper_quasi_static_ops.header));
+  TL_CHECK(tl_linear_solver_register_all());
+  return TL_OK;
+}
+
+static TlStatus check_options(const TlStepperOptions *o)
+{
+  if (!(o->beta > 0.0 && o->beta <= 0.5))
+    TL_ERROR(TL_ERR_ARG, "Newmark beta = %g outside (0, 0.5]", o->beta);
+  if (!(o->gamma >= 0.0 && o->gamma <= 1.0))
+    TL_ERROR(TL_ERR_ARG, "Newmark gamma = %g outside [0, 1]", o->gamma);
+  if (!(o->rtol > 0.0) || !(o->atol >= 0.0))
+    TL_ERROR(TL_ERR_ARG, "Newton tolerances rtol = %g (> 0), atol = %g (>= 0)", o->rtol, o->atol);
+  if (o->max_iterations < 1 || o->reuse < 1)
+    TL_ERROR(TL_ERR_ARG, "max_iterations = %ld and reuse = %ld must be >= 1", o->max_iterations,
+             o->reuse);
+  if (!(o->blowup > 1.0)) TL_ERROR(TL_ERR_ARG, "blow-up factor %g must exceed 1", o->blowup);
+  if (!(o->ramp_time >= 0.0)) TL_ERROR(TL_ERR_ARG, "ramp_time = %g must be >= 0", o->ramp_time);
+  if (o->max_cuts < 0 || o->max_cuts > 60)
+    TL_ERROR(TL_ERR_ARG, "max_cuts = %d outside [0, 60]", o->max_cuts);
+  return TL_OK;
+}
+
+TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperOptions *options,
+                           TlStepper **out)
+{
+  const TlOpsHeader *h = NULL;
+  TlStepper *st = NULL;
+  TlStatus s = TL_OK;
+  *out = NULL;
+  TL_CHECK(tl_stepper_register_all());
+  TL_CHECK(tl_registry_find("stepper", type, &h));
+  if (!sys || sys->ndof <= 0) TL_ERROR(TL_ERR_ARG, "mechanical system missing or without dofs");
+  const TlMechSystemOps *so = sys->ops;
+  if (!so->create_matrix || !so->internal_force || !so->internal_tangent || !so->external_force ||
+      !so->lumped_mass)
+    TL_ERROR(TL_ERR_ARG, "system '%s' lacks a required op", so->header.name);
+  TL_CHECK(TL_NEW(st));
+  st->ops = (const TlStepperOps *)h;
+  st->sys = sys;
+  st->n = sys->ndof;
+  if (options) st->opt = *options;
+  else tl_stepper_options_default(&st->opt);
+  TL_CHECK_GOTO(s, check_options(&st->opt), fail);
+  size_t n = (size_t)st->n;
+  double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
+                     &st->f_ext, &st->f_ext0, &st->f_hook, &st->f_int, &st->work};
+  for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k)
+    TL_CHECK_GOTO(s, tl_calloc(vecs[k], n, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, so->lumped_mass(sys, st->m), fail);
+  for (TlSparseIndex i = 0; i < st->n; ++i)
+    if (!(st->m[i] > 0.0) || !isfinite(st->m[i])) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "lumped mass at dof %lld is %g; it must be positive", (long long)i, st->m[i]);
+      goto fail;
+    }
+  TL_CHECK_GOTO(s, st->ops->setup(st), fail);
+  *out = st;
+  return TL_OK;
+fail:
+  tl_stepper_destroy(&st);
+  return s;
+}
+
+void tl_stepper_mass_times(const TlStepper *st, const double *x, double *y)
+{
+  if (st->M) {
+    tl_sparse_matvec(st->M, x, y);
+    return;
+  }
+  for (TlSparseIndex i = 0; i < st->n; ++i) y[i] = st->m[i] * x[i];
+}
+
+TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const double *v)
+{
+  size_t bytes = (size_t)st->n * sizeof(double);
+  if (u) memcpy(st->u, u, bytes);
+  else memset(st->u, 0, bytes);
+  if (v) memcpy(st->v, v, bytes);
+  else memset(st->v, 0, bytes);
+  memset(st->a, 0, bytes);
+  st->t = t;
+  TlMechSystem *sys = st->sys;
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) {
+    TlSparseIndex i = sys->dirichlet_dofs[k];
+    st->u[i] = st->v[i] = 0.0;
+  }
+  if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, t, st->u, st->v, st->a));
+  st->W_ext = 0.0;
+  TL_CHECK(st->ops->initialise(st));
+  TL_CHECK(sys->ops->external_force(sys, t, st->u, st->f_ext));
+  return TL_OK;
+}
+
+TlStatus tl_stepper_step(TlStepper *st, double dt)
+{
+  if (!(dt > 0.0) || !isfinite(dt)) TL_ERROR(TL_ERR_ARG, "time step dt = %g must be positive", dt);
+  double t0 = tl_wtime();
+  TlStatus s = st->ops->step(st, dt);
+  st->stats.t_step += tl_wtime() - t0;
+  if (s != TL_OK) {
+    st->stats.rejected++;
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  st->stats.steps++;
+  return TL_OK;
+}
+
+TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e)
+{
+  tl_stepper_mass_times(st, st->v, st->work);
+  double k = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) k += st->v[i] * st->work[i];
+  e->kinetic = 0.5 * k;
+  e->strain = 0.0;
+  if (st->sys->ops->strain_energy) TL_CHECK(st->sys->ops->strain_energy(st->sys, st->u, &e->strain));
+  e->external_work = st->W_ext;
+  e->total = e->kinetic + e->strain - e->external_work;
+  return TL_OK;
+}
+
+void tl_stepper_get_stats(const TlStepper *st, TlStepperStats *stats)
+{
+  *stats = st->stats;
+  if (st->newton) {
+    TlNewtonStats ns;
+    tl_newton_get_stats(st->newton, &ns);
+    stats->newton_iterations = ns.iterations;
+    stats->factorisations = ns.linear.n_numeric;
+    stats->linear_solves = ns.linear.n_solve;
+    stats->t_factor = ns.linear.t_numeric + ns.linear.t_symbolic;
+    stats->t_solve = ns.linear.t_solve;
+    stats->t_residual = ns.t_residual;
+    stats->t_jacobian = ns.t_jacobian;
+  }
+}
+
+void tl_stepper_destroy(TlStepper **stp)
+{
+  if (!stp || !*stp) return;
+  TlStepper *st = *stp;
+  if (st->ops && st->ops->destroy) st->ops->destroy(st);
+  tl_newton_destroy(&st->newton);
+  tl_sparse_destroy(&st->J);
+  tl_sparse_destroy(&st->M);
+  double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
+                     &st->f_ext, &st->f_ext0, &st->f_hook, &st->f_int, &st->work};
+  for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k) tl_free(vecs[k]);
+  tl_free(stp);
+}
+
+/* ------------------------------------------------ implicit helpers */
+static const char *solver_name(const TlStepper *st)
+{
+  if (st->opt.solver) return st->opt.solver;
+  return st->sys->symmetric ? "cholmod" : "klu";
+}
+
+TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
+                                   TlNewtonJacobian jacobian)
+{
+  const char *name = solver_name(st);
+  int upper = 0;
+  TL_CHECK(tl_linear_solver_needs_upper(name, &upper));
+  if (upper && !st->sys->symmetric)
+    TL_ERROR(TL_ERR_ARG, "solver '%s' needs a symmetric tangent; system '%s' is not symmetric",
+             name, st->sys->ops->header.name);
+  TL_CHECK(st->sys->ops->create_matrix(st->sys, upper, &st->J));
+  if (st->J->n != st->n)
+    TL_ERROR(TL_ERR_ARG, "system matrix has %lld rows for %lld dofs", (long long)st->J->n,
+             (long long)st->n);
+  /* The consistent mass shares the Jacobian's pattern (one matrix, one axpy). */
+  if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops == &tl_stepper_newmark_ops) {
+    TL_CHECK(tl_sparse_duplicate(st->J, &st->M));
+    TL_CHECK(st->sys->ops->consistent_mass(st->sys, 1.0, st->M));
+  }
+  TlNewtonOptions no;
+  tl_newton_options_default(&no);
+  no.max_iterations = st->opt.max_iterations;
+  no.max_setup_calls = st->opt.reuse;
+  no.keep_factors = st->opt.keep_factors;
+  no.line_search = st->opt.line_search;
+  TL_CHECK(tl_newton_create(st->n, st->J, name, &no, residual, jacobian, st, &st->newton));
+  return TL_OK;
+}
+
+/* Solves with the tolerance max(atol, rtol * force_scale). */
+TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
+{
+  TlNewtonOptions no;
+  tl_newton_options_default(&no);
+  no.ftol = fmax(st->opt.atol, st->opt.rtol * st->force_scale);
+  if (!(no.ftol > 0.0)) no.ftol = 1e-300;
+  no.max_iterations = st->opt.max_iterations;
+  no.max_setup_calls = st->opt.reuse;
+  no.keep_factors = st->opt.keep_factors;
+  no.line_search = st->opt.line_search;
+  TL_CHECK(tl_newton_set_options(st->newton, &no));
+  TL_CHECK(tl_newton_solve(st->newton, x));
+  return TL_OK;
+}
+
+/* ----------------------------------------- largest eigenvalue of M^-1 K */
+TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2)
+{
+  TlMechSystem *sys = st->sys;
+  if (sys->ops->max_frequency_squared) {
+    TL_CHECK(sys->ops->max_frequency_squared(sys, st->u, omega2));
+    return TL_OK;
+  }
+  /* Power iteration on the symmetric form D^-1/2 K D^-1/2 (D = lumped
+   * mass), Dirichlet dofs removed; the Rayleigh quotient converges to the
+   * largest eigenvalue from below. */
+  TlSparse *K = NULL;
+  TlStatus s = TL_OK;
+  double *x = NULL, *y = NULL;
+  TL_CHECK(sys->ops->create_matrix(sys, sys->symmetric, &K));
+  TL_CHECK_GOTO(s, sys->ops->internal_tangent(sys, st->t, st->u, st->v, 1.0, 0.0, K), done);
+  if (sys->ops->external_tangent)
+    TL_CHECK_GOTO(s, sys->ops->external_tangent(sys, st->t, st->u, -1.0, K), done);
+  tl_sparse_constrain(K, sys->n_dirichlet, sys->dirichlet_dofs, 0.0);
+  TL_CHECK_GOTO(s, tl_calloc(&x, (size_t)st->n, sizeof *x), done);
+  TL_CHECK_GOTO(s, tl_calloc(&y, (size_t)st->n, sizeof *y), done);
+  /* A deterministic, non-smooth start vector reaches the high modes. */
+  for (TlSparseIndex i = 0; i < st->n; ++i) x[i] = (i % 2 ? 1.0 : -1.0) * (1.0 + 0.37 * (double)(i % 7));
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) x[sys->dirichlet_dofs[k]] = 0.0;
+  double lambda = 0.0, prev = -1.0;
+  for (int it = 0; it < 20000; ++it) {
+    double nx = 0.0;
+    for (TlSparseIndex i = 0; i < st->n; ++i) nx += x[i] * x[i];
+    nx = sqrt(nx);
+    if (!(nx > 0.0)) break;
+    for (TlSparseIndex i = 0; i < st->n; ++i) x[i] /= nx * sqrt(st->m[i]);
+    tl_sparse_matvec(K, x, y);
+    double rq = 0.0;
+    for (TlSparseIndex i = 0; i < st->n; ++i) {
+      x[i] *= sqrt(st->m[i]);
+      y[i] /= sqrt(st->m[i]);
+      rq += x[i] * y[i];
+    }
+    lambda = rq;
+    memcpy(x, y, (size_t)st->n * sizeof *x);
+    if (it > 10 && fabs(lambda - prev) <= 1e-12 * fabs(lambda)) break;
+    prev = lambda;
+  }
+  if (!(lambda > 0.0) || !isfinite(lambda)) {
+    s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                     "largest eigenvalue of M^-1 K is %g; the stiffness is not positive", lambda);
+    goto done;
+  }
+  *omega2 = lambda;
+done:
+  tl_free(&x);
+  tl_free(&y);
+  tl_sparse_destroy(&K);
+  return s;
+}
+
+TlStatus tl_stepper_critical_dt(TlStepper *st, double *dt_crit)
+{
+  double w2 = 0.0;
+  TL_CHECK(tl_stepper_max_omega2(st, &w2));
+  *dt_crit = 2.0 / sqrt(w2);
+  return TL_OK;
+}
+
+TlStatus tl_stepper_reject(TlStepper *st, TlStatus s, const char *what, double dt)
+{
+  size_t bytes = (size_t)st->n * sizeof(double);
+  memcpy(st->u, st->u0, bytes);
+  memcpy(st->v, st->v0, bytes);
+  memcpy(st->a, st->a0, bytes);
+  memcpy(st->f_ext, st->f_ext0, bytes);
+  if (st->sys->ops->rollback) st->sys->ops->rollback(st->sys);
+  char why[3072];
+  snprintf(why, sizeof why, "%s", tl_error_message());
+  return tl_error_set(s, __FILE__, __LINE__, "%s\n  %s step t = %.9g -> %.9g (dt = %.3g) rejected",
+                      why, what, st->t, st->t + dt, dt);
+}

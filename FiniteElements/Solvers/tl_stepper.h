@@ -1,0 +1,120 @@
+/* Time steppers for a TlMechSystem (M a + f_int(u, v) = f_ext(t, u) + f_hook),
+ * as ops types found by name:
+ *
+ *  "newmark"            implicit Newmark-beta (any beta, gamma; default the
+ *                       average-acceleration rule 1/4, 1/2), Newton through
+ *                       KINSOL at each step, consistent mass when the system
+ *                       has one;
+ *  "central_difference" explicit, lumped mass, one force evaluation per step;
+ *                       a step above the critical one 2/omega_max is refused
+ *                       (both numbers in the message) unless allow_unstable;
+ *                       a run that blows up stops with TL_ERR_UNSTABLE;
+ *  "quasi_static"       f_int(u) = lambda(t) f_ext(t, u) by Newton with load
+ *                       stepping: lambda = min(t / ramp_time, 1) (1 when
+ *                       ramp_time = 0), a failed step is halved up to
+ *                       max_cuts times.
+ *
+ * Life cycle: tl_stepper_create(type, sys, options) -> set_state(t, u, v)
+ * (computes a consistent initial acceleration) -> step(dt) ... -> destroy.
+ * A failed step leaves the state and the material state at the last
+ * accepted step (rollback) and returns the error with Newton's residual
+ * history.  Energies: kinetic 1/2 v.M v, strain from the system, external
+ * work integrated by the trapezoidal rule over the accepted steps
+ * (prescribed-displacement reactions excluded). */
+#ifndef TL_STEPPER_H
+#define TL_STEPPER_H
+
+#include "tl_error.h"
+#include "tl_mech_system.h"
+#include "tl_newton.h"
+#include "tl_object.h"
+
+typedef struct {
+  const char *solver;  /* "cholmod", "klu", "umfpack"; NULL: cholmod if symmetric, else klu */
+  double beta, gamma;  /* Newmark [0.25, 0.5] */
+  double rtol;         /* Newton: ||R||_inf <= max(atol, rtol * force scale) [1e-10] */
+  double atol;         /* [1e-14] */
+  long max_iterations; /* Newton [30] */
+  long reuse;          /* Newton: refactorise every `reuse` iterations (1 = full Newton) [1] */
+  int keep_factors;    /* keep the factors across steps (modified Newton) [0] */
+  int line_search;     /* [1] */
+  int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
+  int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
+  double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
+  double ramp_time;    /* quasi-static load ramp [0] */
+  int max_cuts;        /* quasi-static step halvings [10] */
+} TlStepperOptions;
+
+typedef struct {
+  double kinetic, strain, external_work, total; /* total = kinetic + strain - external_work */
+} TlEnergies;
+
+typedef struct {
+  long steps, rejected, newton_iterations, factorisations, linear_solves;
+  double t_step, t_factor, t_solve, t_residual, t_jacobian; /* seconds */
+} TlStepperStats;
+
+typedef struct TlStepper TlStepper;
+
+typedef struct {
+  TlOpsHeader header; /* kind "stepper" */
+  int implicit;
+  TlStatus (*setup)(TlStepper *st);               /* allocate, analyse */
+  TlStatus (*initialise)(TlStepper *st);          /* a at t from u, v */
+  TlStatus (*step)(TlStepper *st, double dt);     /* t -> t + dt */
+  void (*destroy)(TlStepper *st);
+} TlStepperOps;
+
+struct TlStepper {
+  const TlStepperOps *ops;
+  TlMechSystem *sys;
+  TlStepperOptions opt;
+  TlSparseIndex n;
+  double t;
+  double *u, *v, *a;             /* state at t */
+  double *u0, *v0, *a0;          /* state at the start of the step (rollback) */
+  double *m;                     /* lumped mass */
+  double *f_ext, *f_ext0, *f_hook, *f_int, *work;
+  TlSparse *M;                   /* consistent mass, NULL when lumped */
+  TlSparse *J;                   /* Jacobian (implicit) */
+  TlNewton *newton;              /* implicit */
+  double W_ext;
+  double dt_crit;                /* explicit: 2 / omega_max at the initial state */
+  double energy_budget;          /* explicit blow-up test */
+  /* Current implicit step: */
+  double t_new, dt, lambda;
+  double force_scale;
+  TlStepperStats stats;
+  void *impl;
+};
+
+void tl_stepper_options_default(TlStepperOptions *o);
+/* Registers the three steppers (kind "stepper"). */
+TlStatus tl_stepper_register_all(void);
+TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperOptions *options,
+                           TlStepper **st);
+/* Sets t, u, v (NULL = zero); Dirichlet values are applied; computes a. */
+TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const double *v);
+TlStatus tl_stepper_step(TlStepper *st, double dt);
+TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e);
+/* Explicit: the critical step 2 / omega_max (power iteration on M^-1 K at
+ * the current state, or the system's own bound). */
+TlStatus tl_stepper_critical_dt(TlStepper *st, double *dt_crit);
+void tl_stepper_get_stats(const TlStepper *st, TlStepperStats *stats);
+void tl_stepper_destroy(TlStepper **st);
+
+extern const TlStepperOps tl_stepper_newmark_ops;
+extern const TlStepperOps tl_stepper_central_difference_ops;
+extern const TlStepperOps tl_stepper_quasi_static_ops;
+
+/* Shared by the implementations. */
+TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
+                                   TlNewtonJacobian jacobian);
+TlStatus tl_stepper_newton_solve(TlStepper *st, double *x);
+TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2);
+void tl_stepper_mass_times(const TlStepper *st, const double *x, double *y);
+/* Restores the state saved at the start of the step (u0, v0, a0, f_ext0),
+ * rolls the material state back and appends what failed to the message. */
+TlStatus tl_stepper_reject(TlStepper *st, TlStatus s, const char *what, double dt);
+
+#endif

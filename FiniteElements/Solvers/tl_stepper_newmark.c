@@ -1,0 +1,180 @@
+/* Implicit Newmark-beta.  The unknown of each step is u = u_{n+1}:
+ *
+ *   a(u) = (u - u_n - dt v_n) / (beta dt^2) - (1/(2 beta) - 1) a_n
+ *   v(u) = v_n + dt ((1 - gamma) a_n + gamma a(u))
+ *   R(u) = M a(u) + f_int(u, v(u)) - f_ext(t_{n+1}, u) - f_hook = 0
+ *   dR/du = M / (beta dt^2) + gamma / (beta dt) C + K - K_ext
+ *
+ * Prescribed dofs carry R = u - u_prescribed(t_{n+1}) and identity rows and
+ * columns (the predictor already holds the prescribed value, so the Newton
+ * correction there is zero and symmetric elimination is exact). */
+#include <math.h>
+#include <string.h>
+
+#include "tl_linear_solver.h"
+#include "tl_memory.h"
+#include "tl_stepper.h"
+
+static void newmark_kinematics(const TlStepper *st, const double *u, double *a, double *v)
+{
+  const double b = st->opt.beta, g = st->opt.gamma, dt = st->dt;
+  const double c0 = 1.0 / (b * dt * dt), c1 = 1.0 / (b * dt), c2 = 0.5 / b - 1.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) {
+    a[i] = c0 * (u[i] - st->u0[i]) - c1 * st->v0[i] - c2 * st->a0[i];
+    v[i] = st->v0[i] + dt * ((1.0 - g) * st->a0[i] + g * a[i]);
+  }
+}
+
+static TlStatus newmark_residual(void *ctx, const double *x, double *r)
+{
+  TlStepper *st = ctx;
+  TlMechSystem *sys = st->sys;
+  newmark_kinematics(st, x, st->a, st->v);
+  TL_CHECK(sys->ops->internal_force(sys, st->t_new, x, st->v, st->f_int));
+  TL_CHECK(sys->ops->external_force(sys, st->t_new, x, st->f_ext));
+  tl_stepper_mass_times(st, st->a, r);
+  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] += st->f_int[i] - st->f_ext[i] - st->f_hook[i];
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) {
+    TlSparseIndex i = sys->dirichlet_dofs[k];
+    r[i] = x[i] - st->u[i]; /* st->u holds the prescribed values during the step */
+  }
+  return TL_OK;
+}
+
+static TlStatus newmark_jacobian(void *ctx, const double *x, TlSparse *J)
+{
+  TlStepper *st = ctx;
+  TlMechSystem *sys = st->sys;
+  const double b = st->opt.beta, g = st->opt.gamma, dt = st->dt;
+  const double c0 = 1.0 / (b * dt * dt);
+  newmark_kinematics(st, x, st->a, st->v);
+  TL_CHECK(sys->ops->internal_tangent(sys, st->t_new, x, st->v, 1.0, g / (b * dt), J));
+  if (sys->ops->external_tangent) TL_CHECK(sys->ops->external_tangent(sys, st->t_new, x, -1.0, J));
+  if (st->M) {
+    TL_CHECK(tl_sparse_axpy(c0, st->M, J));
+  } else {
+    for (TlSparseIndex i = 0; i < st->n; ++i) J->values[J->diag[i]] += c0 * st->m[i];
+  }
+  tl_sparse_constrain(J, sys->n_dirichlet, sys->dirichlet_dofs, 1.0);
+  return TL_OK;
+}
+
+typedef struct {
+  double *x; /* Newton unknown */
+} Newmark;
+
+static TlStatus newmark_setup(TlStepper *st)
+{
+  Newmark *nm = NULL;
+  TL_CHECK(TL_NEW(nm));
+  st->impl = nm;
+  TL_CHECK(tl_calloc(&nm->x, (size_t)st->n, sizeof *nm->x));
+  TL_CHECK(tl_stepper_implicit_setup(st, newmark_residual, newmark_jacobian));
+  return TL_OK;
+}
+
+/* M a = f_ext - f_int at t (prescribed accelerations at Dirichlet dofs). */
+static TlStatus newmark_initialise(TlStepper *st)
+{
+  TlMechSystem *sys = st->sys;
+  double *r = st->work;
+  TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, st->v, st->f_int));
+  TL_CHECK(sys->ops->external_force(sys, st->t, st->u, st->f_ext));
+  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] = st->f_ext[i] - st->f_int[i];
+  if (!st->M) {
+    for (TlSparseIndex i = 0; i < st->n; ++i) st->a[i] = r[i] / st->m[i];
+  } else {
+    /* Known accelerations move to the right-hand side, then the constrained
+     * mass is factorised once. */
+    double *ab = st->f_int;
+    memset(ab, 0, (size_t)st->n * sizeof *ab);
+    for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k)
+      ab[sys->dirichlet_dofs[k]] = st->a[sys->dirichlet_dofs[k]];
+    tl_sparse_matvec(st->M, ab, st->f_ext0);
+    for (TlSparseIndex i = 0; i < st->n; ++i) r[i] -= st->f_ext0[i];
+    for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k)
+      r[sys->dirichlet_dofs[k]] = ab[sys->dirichlet_dofs[k]];
+    TlSparse *Mc = NULL;
+    TlLinearSolver *ls = NULL;
+    TlStatus s = TL_OK;
+    TL_CHECK_GOTO(s, tl_sparse_duplicate(st->M, &Mc), done);
+    memcpy(Mc->values, st->M->values, (size_t)Mc->nnz * sizeof *Mc->values);
+    tl_sparse_constrain(Mc, sys->n_dirichlet, sys->dirichlet_dofs, 1.0);
+    TL_CHECK_GOTO(s, tl_linear_solver_create(Mc->symmetric ? "cholmod" : "klu", Mc, &ls), done);
+    TL_CHECK_GOTO(s, tl_linear_solver_factor(ls, Mc), done);
+    TL_CHECK_GOTO(s, tl_linear_solver_solve(ls, r, st->a), done);
+  done:
+    tl_linear_solver_destroy(&ls);
+    tl_sparse_destroy(&Mc);
+    if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) {
+    TlSparseIndex i = sys->dirichlet_dofs[k];
+    if (!st->M) st->a[i] = 0.0;
+  }
+  if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t, NULL, NULL, st->a));
+  return TL_OK;
+}
+
+static double max_abs(const double *x, TlSparseIndex n)
+{
+  double m = 0.0;
+  for (TlSparseIndex i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
+  return m;
+}
+
+static TlStatus newmark_step(TlStepper *st, double dt)
+{
+  TlMechSystem *sys = st->sys;
+  Newmark *nm = st->impl;
+  size_t bytes = (size_t)st->n * sizeof(double);
+  memcpy(st->u0, st->u, bytes);
+  memcpy(st->v0, st->v, bytes);
+  memcpy(st->a0, st->a, bytes);
+  memcpy(st->f_ext0, st->f_ext, bytes);
+  st->dt = dt;
+  st->t_new = st->t + dt;
+  memset(st->f_hook, 0, bytes);
+  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
+  /* Force scale for the tolerance: inertia, internal and applied forces at
+   * the start of the step. */
+  tl_stepper_mass_times(st, st->a0, st->work);
+  TL_CHECK(sys->ops->internal_force(sys, st->t, st->u0, st->v0, st->f_int));
+  st->force_scale = fmax(fmax(max_abs(st->work, st->n), max_abs(st->f_int, st->n)),
+                         max_abs(st->f_ext0, st->n) + max_abs(st->f_hook, st->n));
+  TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u0, st->f_ext));
+  st->force_scale = fmax(st->force_scale, max_abs(st->f_ext, st->n));
+  /* Predictor: constant acceleration; prescribed values at t_{n+1}. */
+  for (TlSparseIndex i = 0; i < st->n; ++i)
+    nm->x[i] = st->u0[i] + dt * st->v0[i] + 0.5 * dt * dt * st->a0[i];
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) nm->x[sys->dirichlet_dofs[k]] = st->u0[sys->dirichlet_dofs[k]];
+  if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
+  memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
+  TlStatus s = tl_stepper_newton_solve(st, nm->x);
+  if (s != TL_OK) return tl_stepper_reject(st, s, "Newmark", dt);
+  memcpy(st->u, nm->x, bytes);
+  newmark_kinematics(st, st->u, st->a, st->v);
+  TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
+  for (TlSparseIndex i = 0; i < st->n; ++i)
+    st->W_ext += (st->u[i] - st->u0[i]) * (0.5 * (st->f_ext0[i] + st->f_ext[i]) + st->f_hook[i]);
+  if (sys->ops->commit) TL_CHECK(sys->ops->commit(sys));
+  st->t = st->t_new;
+  return TL_OK;
+}
+
+static void newmark_destroy(TlStepper *st)
+{
+  Newmark *nm = st->impl;
+  if (!nm) return;
+  tl_free(&nm->x);
+  tl_free(&st->impl);
+}
+
+const TlStepperOps tl_stepper_newmark_ops = {
+    .header = {"stepper", "newmark", "implicit Newmark-beta with Newton (KINSOL) iterations"},
+    .implicit = 1,
+    .setup = newmark_setup,
+    .initialise = newmark_initialise,
+    .step = newmark_step,
+    .destroy = newmark_destroy,
+};
