@@ -255,3 +255,61 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
     }
   }
 }
+
+TlStatus tl_tricontacts_append_all(TlTriContactSet *dst, const TlTriContactSet *src)
+{
+  if (src->count == 0) return TL_OK;
+  TL_CHECK(tl_array_reserve(&dst->c, &dst->capacity, dst->count + src->count, sizeof *dst->c));
+  memcpy(dst->c + dst->count, src->c, src->count * sizeof *src->c);
+  dst->count += src->count;
+  return TL_OK;
+}
+
+TlStatus tl_tricontacts_remap(TlTriContactSet *set, const size_t *old_to_new, size_t n_old)
+{
+  size_t hd = set->history_doubles, m = 0;
+  for (size_t i = 0; i < set->count; ++i) {
+    size_t p = (size_t)set->c[i].particle;
+    if (p >= n_old)
+      TL_ERROR(TL_ERR_ARG, "wall contact %zu refers to particle %zu, beyond the %zu remapped", i, p, n_old);
+    size_t q = old_to_new[p];
+    if (q == SIZE_MAX) continue;
+    if (q > (size_t)INT32_MAX) TL_ERROR(TL_ERR_ARG, "particle index %zu exceeds %d", q, INT32_MAX);
+    set->c[m] = set->c[i];
+    set->c[m].particle = (int32_t)q;
+    if (hd) memmove(set->history + m * hd, set->history + i * hd, hd * sizeof(double));
+    ++m;
+  }
+  set->count = m;
+  /* re-sort records and history together: insertion order by key through
+   * a permutation kept in the scratch link array */
+  TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, m, sizeof *set->link));
+  int sorted = 1;
+  for (size_t i = 1; i < m; ++i)
+    if (tl_record_compare(&set->c[i - 1], &set->c[i]) > 0) sorted = 0;
+  if (!sorted) {
+    TlTriContactRecord *c = NULL;
+    double *h = NULL;
+    TlStatus status = TL_OK;
+    TL_CHECK_GOTO(status, tl_calloc(&c, m, sizeof *c), fail);
+    if (hd) TL_CHECK_GOTO(status, tl_calloc(&h, m * hd, sizeof *h), fail);
+    /* tag each record with its position through `active`, sort, gather */
+    for (size_t i = 0; i < m; ++i) {
+      c[i] = set->c[i];
+      c[i].active = (int32_t)i;
+    }
+    qsort(c, m, sizeof *c, tl_record_compare);
+    for (size_t i = 0; i < m; ++i) {
+      if (hd) memcpy(h + i * hd, set->history + (size_t)c[i].active * hd, hd * sizeof(double));
+      c[i].active = 1;
+    }
+    memcpy(set->c, c, m * sizeof *c);
+    if (hd) memcpy(set->history, h, m * hd * sizeof *h);
+  fail:
+    tl_free(&c);
+    tl_free(&h);
+    if (status != TL_OK) return status;
+  }
+  TL_CHECK(tl_tricontacts_build_groups(set));
+  return TL_OK;
+}

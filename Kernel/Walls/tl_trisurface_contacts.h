@@ -94,6 +94,12 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
                                       size_t history_doubles);
 /* Modification 2 on the force and torque of every record; sets weight. */
 void tl_tricontacts_apply_weights(TlTriContactSet *set);
+/* Appends every record of src to dst. */
+TlStatus tl_tricontacts_append_all(TlTriContactSet *dst, const TlTriContactSet *src);
+/* Particle indices changed: the particle at old index k is now at
+ * old_to_new[k] (SIZE_MAX: removed).  Records of removed particles are
+ * dropped, the rest re-sorted with their history. */
+TlStatus tl_tricontacts_remap(TlTriContactSet *set, const size_t *old_to_new, size_t n_old);
 /* Swaps the contents of two sets (current becomes previous without copying). */
 void tl_tricontacts_swap(TlTriContactSet *a, TlTriContactSet *b);
 

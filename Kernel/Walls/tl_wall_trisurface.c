@@ -1,0 +1,379 @@
+#include "tl_wall_trisurface.h"
+
+#include <omp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include "tl_memory.h"
+#include "tl_registry.h"
+
+/* Per-thread detection buffers, so that candidate lists grow without locks
+ * and are reused from step to step. */
+typedef struct {
+  TlTriContactSet *found;
+  size_t *candidates;
+  size_t candidate_capacity, n_candidates;
+} TlTriThread;
+
+typedef struct {
+  TlWall base;
+  TlTriSurface *surface;
+  TlTriContactSet *current, *previous;
+  int corrections, brute_force, drift;
+  int n_threads;
+  TlTriThread *thread;
+  /* law input and output, aligned with current->c */
+  TlContactGeometry *geometry;
+  TlContactResult *result;
+  size_t geometry_capacity, result_capacity;
+} TlWallTriSurface;
+
+static const TlWallOps tl_wall_trisurface_ops;
+
+static TlWallTriSurface *tl_as_trisurface(TlWall *w) { return (TlWallTriSurface *)w; }
+
+int tl_wall_is_trisurface(const TlWall *w) { return w && w->ops == &tl_wall_trisurface_ops; }
+
+TlTriSurface *tl_wall_trisurface_surface(TlWall *w)
+{
+  return tl_wall_is_trisurface(w) ? tl_as_trisurface(w)->surface : NULL;
+}
+
+const TlTriContactSet *tl_wall_trisurface_contacts(const TlWall *w)
+{
+  return tl_wall_is_trisurface(w) ? ((const TlWallTriSurface *)w)->current : NULL;
+}
+
+#define TL_REQUIRE_TRISURFACE(w)                                                              \
+  do {                                                                                        \
+    if (!tl_wall_is_trisurface(w))                                                            \
+      TL_ERROR(TL_ERR_ARG, "wall '%s' is not a triangulated surface",                         \
+               (w) ? tl_type_name(w) : "(null)");                                             \
+  } while (0)
+
+TlStatus tl_wall_trisurface_set_corrections(TlWall *w, int on)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  tl_as_trisurface(w)->corrections = on != 0;
+  return TL_OK;
+}
+
+TlStatus tl_wall_trisurface_set_brute_force(TlWall *w, int on)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  tl_as_trisurface(w)->brute_force = on != 0;
+  return TL_OK;
+}
+
+TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  tl_as_trisurface(w)->drift = on != 0;
+  return TL_OK;
+}
+
+static void tl_wall_trisurface_destroy_impl(TlWall *w)
+{
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  tl_trisurface_destroy(&t->surface);
+  tl_tricontacts_destroy(&t->current);
+  tl_tricontacts_destroy(&t->previous);
+  if (t->thread)
+    for (int k = 0; k < t->n_threads; ++k) {
+      tl_tricontacts_destroy(&t->thread[k].found);
+      tl_free(&t->thread[k].candidates);
+    }
+  tl_free(&t->thread);
+  tl_free(&t->geometry);
+  tl_free(&t->result);
+  tl_free(&t);
+}
+
+TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w)
+{
+  if (!w) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL wall pointer");
+  *w = NULL;
+  if (!surface) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL surface");
+  TlWallTriSurface *t = NULL;
+  TlStatus status = TL_NEW(t);
+  if (status != TL_OK) {
+    tl_trisurface_destroy(&surface);
+    return tl_error_trace(status, __FILE__, __LINE__);
+  }
+  t->base.ops = &tl_wall_trisurface_ops;
+  snprintf(t->base.name, sizeof t->base.name, "%s", surface->n_triangles == 1 ? "triangle" : "trisurface");
+  t->surface = surface;
+  t->corrections = 1;
+  t->n_threads = omp_get_max_threads();
+  if (t->n_threads < 1) t->n_threads = 1;
+  TL_CHECK_GOTO(status, tl_tricontacts_create(&t->current), fail);
+  TL_CHECK_GOTO(status, tl_tricontacts_create(&t->previous), fail);
+  TL_CHECK_GOTO(status, tl_calloc(&t->thread, (size_t)t->n_threads, sizeof *t->thread), fail);
+  for (int k = 0; k < t->n_threads; ++k)
+    TL_CHECK_GOTO(status, tl_tricontacts_create(&t->thread[k].found), fail);
+  *w = &t->base;
+  return TL_OK;
+fail:
+  tl_wall_trisurface_destroy_impl(&t->base);
+  return status;
+}
+
+TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w)
+{
+  double x[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+  int tri[3] = {0, 1, 2};
+  TlTriSurface *s = NULL;
+  TL_CHECK(tl_trisurface_create(3, x, 1, tri, &s));
+  TL_CHECK(tl_wall_trisurface_create(s, w));
+  return TL_OK;
+}
+
+static void tl_wall_trisurface_bounding_box(const TlWall *w, TlVec3 *lo, TlVec3 *hi)
+{
+  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
+  *lo = t->surface->surface_lo;
+  *hi = t->surface->surface_hi;
+}
+
+/* Candidate contacts of this step into t->current (unsorted). */
+static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep *step)
+{
+  const TlTriSurface *s = t->surface;
+  const TlParticles *p = step->particles;
+  const TlDomain *domain = step->domain;
+  int use_grid = step->grid && !t->brute_force;
+  long nt = (long)s->n_triangles;
+  TlStatus status = TL_OK;
+  for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
+#pragma omp parallel num_threads(t->n_threads) if (nt > 64)
+  {
+    TlTriThread *th = &t->thread[omp_get_thread_num()];
+    TlStatus local = TL_OK;
+#pragma omp for schedule(dynamic, 32)
+    for (long tri = 0; tri < nt; ++tri) {
+      if (local != TL_OK) continue;
+      if (use_grid) {
+        /* Algorithm 2: only the particles in cells near the triangle's box */
+        local = tl_hgrid_query_box(step->grid, s->box_lo[tri], s->box_hi[tri], &th->candidates,
+                                   &th->candidate_capacity, &th->n_candidates);
+        for (size_t m = 0; local == TL_OK && m < th->n_candidates; ++m) {
+          size_t i = th->candidates[m];
+          local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
+        }
+      } else {
+        for (size_t i = 0; local == TL_OK && i < p->n; ++i)
+          local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
+      }
+    }
+    if (local != TL_OK) {
+#pragma omp critical(tl_wall_trisurface_error)
+      status = local;
+    }
+  }
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  for (int k = 0; k < t->n_threads; ++k) TL_CHECK(tl_tricontacts_append_all(t->current, t->thread[k].found));
+  return TL_OK;
+}
+
+static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
+{
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  TlParticles *p = step->particles;
+  const TlContactLaw *law = step->law;
+  if (!p || !law) TL_ERROR(TL_ERR_ARG, "wall '%s': interact needs particles and a contact law", w->name);
+  if (p->n > (size_t)INT32_MAX) TL_ERROR(TL_ERR_ARG, "%zu particles exceed the wall limit %d", p->n, INT32_MAX);
+
+  /* last step's kept contacts (with history) become `previous` */
+  tl_tricontacts_swap(t->current, t->previous);
+  tl_tricontacts_clear(t->current);
+  TL_CHECK(tl_wall_trisurface_detect(t, step));
+  TL_CHECK(tl_tricontacts_sort(t->current));
+  if (t->corrections) TL_CHECK(tl_tricontacts_merge_shared_edges(t->current, t->surface));
+  TL_CHECK(tl_tricontacts_carry_history(t->current, t->previous, law->history_doubles));
+
+  TlTriContactSet *set = t->current;
+  size_t n = set->count, hd = law->history_doubles;
+  TL_CHECK(tl_array_reserve(&t->geometry, &t->geometry_capacity, n, sizeof *t->geometry));
+  TL_CHECK(tl_array_reserve(&t->result, &t->result_capacity, n, sizeof *t->result));
+  const TlTriSurface *s = t->surface;
+  const int rot = p->w != NULL;
+  /* geometry records, i = particle, j = wall (tl_contact_law.h) */
+  long nl = (long)n;
+#pragma omp parallel for schedule(static) if (nl > 2048)
+  for (long k = 0; k < nl; ++k) {
+    const TlTriContactRecord *r = &set->c[k];
+    size_t i = (size_t)r->particle;
+    TlContactGeometry *g = &t->geometry[k];
+    TlVec3 branch = tl_v3_sub(r->point, r->center);
+    TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
+    TlVec3 v_part = p->v[i];
+    if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
+    g->normal = tl_v3_neg(r->normal);
+    g->overlap = r->overlap;
+    g->branch_i = branch;
+    g->branch_j = tl_v3(0, 0, 0);
+    g->vrel = tl_v3_sub(v_wall, v_part);
+    g->spin_mean = rot ? tl_v3_scale(p->w[i], 0.5) : tl_v3(0, 0, 0);
+    g->spin_rel = rot ? tl_v3_neg(p->w[i]) : tl_v3(0, 0, 0);
+    g->meff = p->mass[i];
+    g->reff = p->radius[i];
+    g->history = hd ? set->history + (size_t)k * hd : NULL;
+    g->bonded = 0;
+  }
+  /* the law: one batch per thread */
+  TlStatus status = TL_OK;
+  int nb = n > 4096 ? t->n_threads : 1;
+#pragma omp parallel for num_threads(nb) schedule(static) if (nb > 1)
+  for (int b = 0; b < nb; ++b) {
+    size_t lo = n * (size_t)b / (size_t)nb, hi = n * (size_t)(b + 1) / (size_t)nb;
+    TlContactBatch batch = {.n = hi - lo, .geometry = t->geometry + lo, .result = t->result + lo,
+                            .dt = step->dt, .want_energy = step->want_energy};
+    TlStatus local = hi > lo ? law->ops->evaluate(law, &batch) : TL_OK;
+    if (local != TL_OK) {
+#pragma omp critical(tl_wall_trisurface_error)
+      status = local;
+    }
+  }
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  for (size_t k = 0; k < n; ++k) {
+    set->c[k].force = t->result[k].force;
+    set->c[k].torque = tl_v3_add(tl_v3_cross(t->geometry[k].branch_i, t->result[k].force), t->result[k].couple);
+    set->c[k].weight = 1.0;
+  }
+  if (t->corrections) tl_tricontacts_apply_weights(set);
+
+  /* forces on the particles, one group (particle) per iteration: race-free */
+  long ng = (long)set->n_groups;
+#pragma omp parallel for schedule(static) if (ng > 2048)
+  for (long g = 0; g < ng; ++g) {
+    size_t g0 = set->group[g], g1 = set->group[g + 1], i = (size_t)set->c[g0].particle;
+    TlVec3 f = tl_v3(0, 0, 0), tq = tl_v3(0, 0, 0);
+    for (size_t k = g0; k < g1; ++k) {
+      f = tl_v3_add(f, set->c[k].force);
+      tq = tl_v3_add(tq, set->c[k].torque);
+    }
+    p->f[i] = tl_v3_add(p->f[i], f);
+    if (rot) p->torque[i] = tl_v3_add(p->torque[i], tq);
+  }
+  /* accounting */
+  TlVec3 fw = tl_v3(0, 0, 0), tw = tl_v3(0, 0, 0);
+  double energy = 0.0, power = 0.0, wall_power = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    const TlTriContactRecord *r = &set->c[k];
+    double wgt = r->weight;
+    TlVec3 couple = tl_v3_scale(t->result[k].couple, wgt);
+    fw = tl_v3_sub(fw, r->force);
+    tw = tl_v3_sub(tw, tl_v3_add(tl_v3_cross(r->point, r->force), couple));
+    if (step->want_energy) {
+      energy += wgt * t->result[k].elastic_energy;
+      power += wgt * t->result[k].power;
+      wall_power += tl_v3_dot(r->force, tl_trisurface_velocity_at(s, r->triangle, r->bary));
+    }
+  }
+  w->force = fw;
+  w->torque = tw;
+  w->n_contacts = n;
+  if (step->want_energy) {
+    w->elastic_energy = energy;
+    w->contact_work += step->dt * power;
+    w->work += step->dt * wall_power;
+  }
+  return TL_OK;
+}
+
+static TlStatus tl_wall_trisurface_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
+{
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  /* `current` holds the contacts whose history the next step will read */
+  TL_CHECK(tl_tricontacts_remap(t->current, old_to_new, n_old));
+  return TL_OK;
+}
+
+static TlStatus tl_wall_trisurface_advance(TlWall *w, double time, double dt)
+{
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  if (!t->drift) return TL_OK;
+  TlTriSurface *s = t->surface;
+  for (size_t i = 0; i < s->n_vertices; ++i) s->x[i] = tl_v3_axpy(s->x[i], dt, s->v[i]);
+  TL_CHECK(tl_trisurface_update(s));
+  return TL_OK;
+}
+
+/* Checkpoint: vertex positions and velocities, then the kept contacts and
+ * their history, as raw bytes (bit-exact restart). */
+typedef struct {
+  uint64_t n_vertices, n_contacts, history_doubles;
+} TlTriCheckpointHeader;
+
+static size_t tl_wall_trisurface_checkpoint_size(const TlWall *w)
+{
+  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
+  const TlTriContactSet *c = t->current;
+  return sizeof(TlTriCheckpointHeader) + 2 * t->surface->n_vertices * sizeof(TlVec3) +
+         c->count * sizeof(TlTriContactRecord) + c->count * c->history_doubles * sizeof(double);
+}
+
+static TlStatus tl_wall_trisurface_checkpoint_save(const TlWall *w, void *buffer, size_t size)
+{
+  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
+  const TlTriContactSet *c = t->current;
+  size_t need = tl_wall_trisurface_checkpoint_size(w);
+  if (size < need) TL_ERROR(TL_ERR_ARG, "wall '%s' checkpoint buffer of %zu bytes, need %zu", w->name, size, need);
+  char *b = buffer;
+  TlTriCheckpointHeader h = {t->surface->n_vertices, c->count, c->history_doubles};
+  memcpy(b, &h, sizeof h), b += sizeof h;
+  memcpy(b, t->surface->x, t->surface->n_vertices * sizeof(TlVec3)), b += t->surface->n_vertices * sizeof(TlVec3);
+  memcpy(b, t->surface->v, t->surface->n_vertices * sizeof(TlVec3)), b += t->surface->n_vertices * sizeof(TlVec3);
+  if (c->count) memcpy(b, c->c, c->count * sizeof *c->c), b += c->count * sizeof *c->c;
+  if (c->count && c->history_doubles) memcpy(b, c->history, c->count * c->history_doubles * sizeof(double));
+  return TL_OK;
+}
+
+static TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer, size_t size)
+{
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  TlTriContactSet *c = t->current;
+  const char *b = buffer;
+  TlTriCheckpointHeader h;
+  if (size < sizeof h) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint of %zu bytes is truncated", w->name, size);
+  memcpy(&h, b, sizeof h), b += sizeof h;
+  if (h.n_vertices != t->surface->n_vertices)
+    TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %llu vertices, the surface %zu", w->name,
+             (unsigned long long)h.n_vertices, t->surface->n_vertices);
+  size_t need = sizeof h + 2 * h.n_vertices * sizeof(TlVec3) + h.n_contacts * sizeof(TlTriContactRecord) +
+                h.n_contacts * h.history_doubles * sizeof(double);
+  if (size != need) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %zu bytes, expected %zu", w->name, size, need);
+  memcpy(t->surface->x, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
+  memcpy(t->surface->v, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
+  TL_CHECK(tl_trisurface_update(t->surface));
+  tl_tricontacts_clear(c);
+  TL_CHECK(tl_array_reserve(&c->c, &c->capacity, h.n_contacts, sizeof *c->c));
+  if (h.n_contacts) memcpy(c->c, b, h.n_contacts * sizeof *c->c), b += h.n_contacts * sizeof *c->c;
+  c->count = h.n_contacts;
+  c->history_doubles = h.history_doubles;
+  if (h.n_contacts && h.history_doubles) {
+    TL_CHECK(tl_array_reserve(&c->history, &c->history_capacity, h.n_contacts * h.history_doubles, sizeof(double)));
+    memcpy(c->history, b, h.n_contacts * h.history_doubles * sizeof(double));
+  }
+  TL_CHECK(tl_tricontacts_sort(c));
+  return TL_OK;
+}
+
+static const TlWallOps tl_wall_trisurface_ops = {
+    .header = {"wall", "trisurface",
+               "triangulated surface (triangle walls sharing vertices) with the triangle-edge corrections"},
+    .bounding_box = tl_wall_trisurface_bounding_box,
+    .interact = tl_wall_trisurface_interact,
+    .remap = tl_wall_trisurface_remap,
+    .advance = tl_wall_trisurface_advance,
+    .checkpoint_size = tl_wall_trisurface_checkpoint_size,
+    .checkpoint_save = tl_wall_trisurface_checkpoint_save,
+    .checkpoint_load = tl_wall_trisurface_checkpoint_load,
+    .destroy = tl_wall_trisurface_destroy_impl,
+};
+
+TlStatus tl_wall_register_trisurface(void)
+{
+  TL_CHECK(tl_registry_add(&tl_wall_trisurface_ops.header));
+  return TL_OK;
+}
