@@ -1,0 +1,312 @@
+#include "tl_particle_snapshot.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_atomic_file.h"
+#include "tl_hdf5_util.h"
+#include "tl_memory.h"
+
+_Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
+
+struct TlParticleWriter {
+  char *dir, *name, *xmf_path;
+  char last_path[4096];
+  size_t count;
+  TlXdmfSeries *series;
+  TlText grid; /* reused for each step's XML */
+};
+
+static TlStatus tl_pw_strdup(const char *s, char **out)
+{
+  size_t n = strlen(s);
+  TL_CHECK(tl_calloc(out, n + 1, 1));
+  memcpy(*out, s, n);
+  return TL_OK;
+}
+
+static int tl_valid_base_name(const char *name)
+{
+  if (!name || !name[0]) return 0;
+  for (const char *c = name; *c; ++c)
+    if (*c == '/' || *c == '"' || *c == '<' || *c == '>' || *c == '&' || *c == ':' || *c == ' ') return 0;
+  return 1;
+}
+
+void tl_particle_writer_destroy(TlParticleWriter **writer)
+{
+  if (!writer || !*writer) return;
+  TlParticleWriter *w = *writer;
+  tl_xdmf_series_destroy(&w->series);
+  tl_text_free(&w->grid);
+  tl_free(&w->dir);
+  tl_free(&w->name);
+  tl_free(&w->xmf_path);
+  tl_free(writer);
+}
+
+TlStatus tl_particle_writer_create(const char *dir, const char *name, TlParticleWriter **writer)
+{
+  *writer = NULL;
+  if (!tl_valid_base_name(name))
+    TL_ERROR(TL_ERR_ARG, "particle output name '%s' must be non-empty without '/', ':', space, quotes or <>&",
+             name ? name : "(null)");
+  if (dir && dir[0]) TL_CHECK(tl_mkdir_p(dir));
+  TlParticleWriter *w;
+  TL_CHECK(TL_NEW(w));
+  TlStatus s;
+  char xmf[1024];
+  snprintf(xmf, sizeof xmf, "%s.xmf", name);
+  TL_CHECK_GOTO(s, tl_pw_strdup(dir ? dir : "", &w->dir), fail);
+  TL_CHECK_GOTO(s, tl_pw_strdup(name, &w->name), fail);
+  TL_CHECK_GOTO(s, tl_path_join(dir, xmf, &w->xmf_path), fail);
+  TL_CHECK_GOTO(s, tl_xdmf_series_create(w->xmf_path, &w->series), fail);
+  *writer = w;
+  return TL_OK;
+fail:
+  tl_particle_writer_destroy(&w);
+  return s;
+}
+
+size_t tl_particle_writer_count(const TlParticleWriter *writer) { return writer->count; }
+const char *tl_particle_writer_last_path(const TlParticleWriter *writer) { return writer->last_path; }
+
+static TlStatus tl_pw_vec3(TlH5File *f, const char *path, size_t n, const TlVec3 *v)
+{
+  hsize_t dims[2] = {n, 3};
+  TL_CHECK(tl_h5_write(f, path, H5T_NATIVE_DOUBLE, 2, dims, v));
+  return TL_OK;
+}
+
+static TlStatus tl_pw_write_h5(const char *path, int64_t step, double time, const TlParticleView *v)
+{
+  TlH5File f;
+  TL_CHECK(tl_h5_create(path, &f));
+  TlStatus s;
+  hsize_t n = v->n;
+  const char **names = NULL;
+  TL_CHECK_GOTO(s, tl_h5_attr_write_string(&f, "/", "format", "talus-particles"), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&f, "/", "format_version", TL_PARTICLE_FORMAT_VERSION), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_double(&f, "/", "time", time), fail);
+  TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&f, "/", "step", step), fail);
+  TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/position", v->n, v->position), fail);
+  TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/radius", H5T_NATIVE_DOUBLE, 1, &n, v->radius), fail);
+  if (v->velocity) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/velocity", v->n, v->velocity), fail);
+  if (v->angular_velocity) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/angular_velocity", v->n, v->angular_velocity), fail);
+  if (v->force) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/force", v->n, v->force), fail);
+  if (v->torque) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/torque", v->n, v->torque), fail);
+  if (v->species) TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/species", H5T_NATIVE_INT, 1, &n, v->species), fail);
+  if (v->n_fields > 0) {
+    TL_CHECK_GOTO(s, tl_calloc(&names, v->n_fields, sizeof *names), fail);
+    for (size_t i = 0; i < v->n_fields; ++i) {
+      const TlField *fd = &v->fields[i];
+      char dset[512];
+      snprintf(dset, sizeof dset, "/particles/fields/%s", fd->name);
+      hsize_t dims[2] = {v->n, (hsize_t)fd->components};
+      TL_CHECK_GOTO(s, tl_h5_write(&f, dset, H5T_NATIVE_DOUBLE, fd->components == 1 ? 1 : 2, dims, fd->data), fail);
+      names[i] = fd->name;
+    }
+    TL_CHECK_GOTO(s, tl_h5_attr_write_strings(&f, "/particles/fields", "names", v->n_fields, names), fail);
+    tl_free(&names);
+  }
+  TL_CHECK(tl_h5_commit(&f));
+  return TL_OK;
+fail:
+  tl_free(&names);
+  tl_h5_abort(&f);
+  return s;
+}
+
+static TlStatus tl_pw_grid(TlText *x, const char *file, size_t count, double time, const TlParticleView *v)
+{
+  const char *in = "        ";
+  tl_text_clear(x);
+  TL_CHECK(tl_text_printf(x, "      <Grid Name=\"step_%06zu\" GridType=\"Uniform\">\n", count));
+  TL_CHECK(tl_text_printf(x, "        <Time Value=\"%.17g\"/>\n", time));
+  TL_CHECK(tl_text_printf(x, "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" NodesPerElement=\"1\"/>\n", v->n));
+  TL_CHECK(tl_text_printf(x, "        <Geometry GeometryType=\"XYZ\">\n"));
+  TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 3, "Float", 8, file, "/particles/position"));
+  TL_CHECK(tl_text_printf(x, "        </Geometry>\n"));
+  TL_CHECK(tl_xdmf_attribute(x, in, "radius", 1, "Node", v->n, file, "/particles/radius"));
+  if (v->velocity) TL_CHECK(tl_xdmf_attribute(x, in, "velocity", 3, "Node", v->n, file, "/particles/velocity"));
+  if (v->angular_velocity)
+    TL_CHECK(tl_xdmf_attribute(x, in, "angular_velocity", 3, "Node", v->n, file, "/particles/angular_velocity"));
+  if (v->force) TL_CHECK(tl_xdmf_attribute(x, in, "force", 3, "Node", v->n, file, "/particles/force"));
+  if (v->torque) TL_CHECK(tl_xdmf_attribute(x, in, "torque", 3, "Node", v->n, file, "/particles/torque"));
+  if (v->species) {
+    TL_CHECK(tl_text_printf(x, "        <Attribute Name=\"species\" AttributeType=\"Scalar\" Center=\"Node\">\n"));
+    TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 0, "Int", (int)sizeof(int), file, "/particles/species"));
+    TL_CHECK(tl_text_printf(x, "        </Attribute>\n"));
+  }
+  for (size_t i = 0; i < v->n_fields; ++i) {
+    char dset[512];
+    snprintf(dset, sizeof dset, "/particles/fields/%s", v->fields[i].name);
+    TL_CHECK(tl_xdmf_attribute(x, in, v->fields[i].name, v->fields[i].components, "Node", v->n, file, dset));
+  }
+  TL_CHECK(tl_text_printf(x, "      </Grid>\n"));
+  return TL_OK;
+}
+
+static TlStatus tl_pw_check(const TlParticleWriter *w, const TlParticleView *v)
+{
+  if (!v) TL_ERROR(TL_ERR_ARG, "particle output '%s': no view given", w->name);
+  if (v->n > ((size_t)1 << 40)) TL_ERROR(TL_ERR_ARG, "particle output '%s': n = %zu particles exceeds 2^40", w->name, v->n);
+  if (v->n > 0 && (!v->position || !v->radius))
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': position and radius are required (got %s, %s)", w->name,
+             v->position ? "position" : "no position", v->radius ? "radius" : "no radius");
+  if (v->n_fields > 0 && !v->fields)
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': %zu fields announced, none given", w->name, v->n_fields);
+  static const char *const reserved[] = {"radius", "velocity", "angular_velocity", "force", "torque", "species"};
+  for (size_t i = 0; i < v->n_fields; ++i) {
+    TL_CHECK(tl_field_check(&v->fields[i], w->name));
+    if (v->n > 0 && !v->fields[i].data)
+      TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' has no data", w->name, v->fields[i].name);
+    for (size_t k = 0; k < sizeof reserved / sizeof *reserved; ++k)
+      if (strcmp(v->fields[i].name, reserved[k]) == 0)
+        TL_ERROR(TL_ERR_ARG, "particle output '%s': extra field name '%s' is reserved", w->name, reserved[k]);
+    for (size_t k = 0; k < i; ++k)
+      if (strcmp(v->fields[i].name, v->fields[k].name) == 0)
+        TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' given twice", w->name, v->fields[i].name);
+  }
+  return TL_OK;
+}
+
+TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double time, const TlParticleView *view)
+{
+  TL_CHECK(tl_pw_check(writer, view));
+  char file[1100];
+  snprintf(file, sizeof file, "%s_%06zu.h5", writer->name, writer->count);
+  char *path;
+  TL_CHECK(tl_path_join(writer->dir, file, &path));
+  TlStatus s = tl_pw_write_h5(path, step, time, view);
+  if (s == TL_OK) snprintf(writer->last_path, sizeof writer->last_path, "%s", path);
+  tl_free(&path);
+  TL_CHECK(s);
+  TL_CHECK(tl_pw_grid(&writer->grid, file, writer->count, time, view));
+  TL_CHECK(tl_xdmf_series_add(writer->series, writer->grid.text));
+  writer->count++;
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- checkpoint */
+static TlStatus tl_pw_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlParticleWriter *pw = object;
+  char sub[512];
+  snprintf(sub, sizeof sub, "%s/series", group);
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "count", (int64_t)pw->count));
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.save(pw->series, w, sub));
+  return TL_OK;
+}
+
+static TlStatus tl_pw_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlParticleWriter *pw = object;
+  char sub[512];
+  snprintf(sub, sizeof sub, "%s/series", group);
+  int64_t count;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "count", &count));
+  if (count < 0) TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': %s/count = %lld", tl_checkpoint_reader_path(r), group, (long long)count);
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.load(pw->series, r, sub));
+  pw->count = (size_t)count;
+  return TL_OK;
+}
+
+const TlCheckpointOps tl_particle_writer_checkpoint_ops = {
+    {"checkpoint", "particle_writer_v1", "snapshot counter and XDMF series of a particle writer"}, tl_pw_save, tl_pw_load};
+
+/* ---------------------------------------------------------------- reading */
+void tl_particle_snapshot_free(TlParticleSnapshot *p)
+{
+  tl_free(&p->position);
+  tl_free(&p->radius);
+  tl_free(&p->velocity);
+  tl_free(&p->angular_velocity);
+  tl_free(&p->force);
+  tl_free(&p->torque);
+  tl_free(&p->species);
+  for (size_t i = 0; i < p->n_fields; ++i) {
+    if (p->field_names) tl_free(&p->field_names[i]);
+    if (p->field_data) tl_free(&p->field_data[i]);
+  }
+  tl_free(&p->field_names);
+  tl_free(&p->field_data);
+  tl_free(&p->field_components);
+  memset(p, 0, sizeof *p);
+}
+
+static TlStatus tl_pr_vec3(const TlH5File *f, const char *path, size_t n, int required, TlVec3 **v)
+{
+  if (!required && !tl_h5_exists(f, path)) return TL_OK;
+  TL_CHECK(tl_calloc(v, n ? n : 1, sizeof **v));
+  hsize_t dims[2] = {n, 3};
+  TL_CHECK(tl_h5_read(f, path, H5T_NATIVE_DOUBLE, 2, dims, *v));
+  return TL_OK;
+}
+
+static TlStatus tl_pr_read(const TlH5File *f, TlParticleSnapshot *p)
+{
+  char *format = NULL;
+  TL_CHECK(tl_h5_attr_read_string(f, "/", "format", &format));
+  int ok = strcmp(format, "talus-particles") == 0;
+  tl_free(&format);
+  if (!ok) TL_ERROR(TL_ERR_FORMAT, "'%s' is not a particle snapshot (attribute format)", f->path);
+  int64_t version;
+  TL_CHECK(tl_h5_attr_read_int64(f, "/", "format_version", &version));
+  if (version != TL_PARTICLE_FORMAT_VERSION)
+    TL_ERROR(TL_ERR_FORMAT, "'%s' has particle format version %lld; this build reads %d", f->path, (long long)version,
+             TL_PARTICLE_FORMAT_VERSION);
+  TL_CHECK(tl_h5_attr_read_double(f, "/", "time", &p->time));
+  TL_CHECK(tl_h5_attr_read_int64(f, "/", "step", &p->step));
+  int rank;
+  hsize_t dims[TL_H5_MAX_RANK];
+  TL_CHECK(tl_h5_dims(f, "/particles/radius", &rank, dims));
+  if (rank != 1) TL_ERROR(TL_ERR_FORMAT, "'%s': /particles/radius has rank %d, expected 1", f->path, rank);
+  size_t n = p->n = (size_t)dims[0];
+  hsize_t hn = n;
+  TL_CHECK(tl_calloc(&p->radius, n ? n : 1, sizeof *p->radius));
+  TL_CHECK(tl_h5_read(f, "/particles/radius", H5T_NATIVE_DOUBLE, 1, &hn, p->radius));
+  TL_CHECK(tl_pr_vec3(f, "/particles/position", n, 1, &p->position));
+  TL_CHECK(tl_pr_vec3(f, "/particles/velocity", n, 0, &p->velocity));
+  TL_CHECK(tl_pr_vec3(f, "/particles/angular_velocity", n, 0, &p->angular_velocity));
+  TL_CHECK(tl_pr_vec3(f, "/particles/force", n, 0, &p->force));
+  TL_CHECK(tl_pr_vec3(f, "/particles/torque", n, 0, &p->torque));
+  if (tl_h5_exists(f, "/particles/species")) {
+    TL_CHECK(tl_calloc(&p->species, n ? n : 1, sizeof *p->species));
+    TL_CHECK(tl_h5_read(f, "/particles/species", H5T_NATIVE_INT, 1, &hn, p->species));
+  }
+  if (tl_h5_exists(f, "/particles/fields")) {
+    size_t k;
+    TL_CHECK(tl_h5_attr_read_strings(f, "/particles/fields", "names", &k, &p->field_names));
+    p->n_fields = k;
+    TL_CHECK(tl_calloc(&p->field_components, k, sizeof *p->field_components));
+    TL_CHECK(tl_calloc(&p->field_data, k, sizeof *p->field_data));
+    for (size_t i = 0; i < k; ++i) {
+      char dset[512];
+      snprintf(dset, sizeof dset, "/particles/fields/%s", p->field_names[i]);
+      TL_CHECK(tl_h5_dims(f, dset, &rank, dims));
+      if (rank < 1 || rank > 2 || dims[0] != n)
+        TL_ERROR(TL_ERR_FORMAT, "'%s': %s has rank %d and %llu rows, expected %zu rows", f->path, dset, rank,
+                 (unsigned long long)dims[0], n);
+      size_t c = rank == 2 ? (size_t)dims[1] : 1;
+      p->field_components[i] = (int)c;
+      TL_CHECK(tl_calloc(&p->field_data[i], n * c > 0 ? n * c : 1, sizeof(double)));
+      TL_CHECK(tl_h5_read(f, dset, H5T_NATIVE_DOUBLE, rank, dims, p->field_data[i]));
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_particle_snapshot_read(const char *path, TlParticleSnapshot *snapshot)
+{
+  memset(snapshot, 0, sizeof *snapshot);
+  TlH5File f;
+  TL_CHECK(tl_h5_open(path, &f));
+  TlStatus s = tl_pr_read(&f, snapshot);
+  tl_h5_close(&f);
+  if (s != TL_OK) {
+    tl_particle_snapshot_free(snapshot);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  return TL_OK;
+}

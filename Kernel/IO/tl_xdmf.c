@@ -1,0 +1,182 @@
+#include "tl_xdmf.h"
+
+#include <ctype.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_atomic_file.h"
+#include "tl_memory.h"
+
+/* ---------------------------------------------------------------- text */
+TlStatus tl_text_printf(TlText *t, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  int n = vsnprintf(NULL, 0, fmt, ap);
+  va_end(ap);
+  if (n < 0) TL_ERROR(TL_ERR_ARG, "cannot format '%s'", fmt);
+  TL_CHECK(tl_array_reserve(&t->text, &t->capacity, t->length + (size_t)n + 1, 1));
+  va_start(ap, fmt);
+  vsnprintf(t->text + t->length, (size_t)n + 1, fmt, ap);
+  va_end(ap);
+  t->length += (size_t)n;
+  return TL_OK;
+}
+
+void tl_text_clear(TlText *t)
+{
+  t->length = 0;
+  if (t->text) t->text[0] = '\0';
+}
+
+void tl_text_free(TlText *t)
+{
+  tl_free(&t->text);
+  t->length = t->capacity = 0;
+}
+
+/* ---------------------------------------------------------------- fields */
+TlStatus tl_field_check(const TlField *field, const char *owner)
+{
+  const char *name = field->name;
+  int ok = name && name[0];
+  for (const char *c = name; ok && *c; ++c) ok = isalnum((unsigned char)*c) || *c == '_' || *c == '.' || *c == '-';
+  if (!ok)
+    TL_ERROR(TL_ERR_ARG, "%s: field name '%s' must be letters, digits, '_', '.', '-'", owner, name ? name : "(null)");
+  if (field->components < 1 || field->components > 64)
+    TL_ERROR(TL_ERR_ARG, "%s: field '%s' has %d components, expected 1 to 64", owner, name, field->components);
+  return TL_OK;
+}
+
+const char *tl_xdmf_attribute_type(int components)
+{
+  switch (components) {
+  case 1: return "Scalar";
+  case 3: return "Vector";
+  case 6: return "Tensor6";
+  case 9: return "Tensor";
+  default: return "Matrix";
+  }
+}
+
+TlStatus tl_xdmf_data_item(TlText *xml, const char *indent, size_t n, size_t cols, const char *number_type,
+                           int precision, const char *h5file, const char *dataset)
+{
+  if (cols > 0)
+    TL_CHECK(tl_text_printf(xml, "%s<DataItem Dimensions=\"%zu %zu\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s</DataItem>\n",
+                            indent, n, cols, number_type, precision, h5file, dataset));
+  else
+    TL_CHECK(tl_text_printf(xml, "%s<DataItem Dimensions=\"%zu\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">%s:%s</DataItem>\n",
+                            indent, n, number_type, precision, h5file, dataset));
+  return TL_OK;
+}
+
+TlStatus tl_xdmf_attribute(TlText *xml, const char *indent, const char *name, int components, const char *center,
+                           size_t n, const char *h5file, const char *dataset)
+{
+  char inner[64];
+  snprintf(inner, sizeof inner, "%s  ", indent);
+  TL_CHECK(tl_text_printf(xml, "%s<Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"%s\">\n", indent, name,
+                          tl_xdmf_attribute_type(components), center));
+  TL_CHECK(tl_xdmf_data_item(xml, inner, n, components == 1 ? 0 : (size_t)components, "Float", 8, h5file, dataset));
+  TL_CHECK(tl_text_printf(xml, "%s</Attribute>\n", indent));
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- series */
+struct TlXdmfSeries {
+  char *path;
+  TlText grids; /* every step's <Grid> element, in order */
+  size_t steps;
+};
+
+TlStatus tl_xdmf_series_create(const char *path, TlXdmfSeries **series)
+{
+  TlXdmfSeries *s;
+  *series = NULL;
+  TL_CHECK(TL_NEW(s));
+  size_t n = strlen(path);
+  TlStatus st = tl_calloc(&s->path, n + 1, 1);
+  if (st != TL_OK) {
+    tl_free(&s);
+    return tl_error_trace(st, __FILE__, __LINE__);
+  }
+  memcpy(s->path, path, n);
+  *series = s;
+  return TL_OK;
+}
+
+void tl_xdmf_series_destroy(TlXdmfSeries **series)
+{
+  if (!series || !*series) return;
+  tl_text_free(&(*series)->grids);
+  tl_free(&(*series)->path);
+  tl_free(series);
+}
+
+static TlStatus tl_xdmf_series_write_stream(FILE *f, void *context)
+{
+  const TlXdmfSeries *s = context;
+  fputs("<?xml version=\"1.0\" ?>\n"
+        "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+        "<Xdmf Version=\"2.0\">\n"
+        "  <Domain>\n"
+        "    <Grid Name=\"series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+        f);
+  if (s->grids.length) fwrite(s->grids.text, 1, s->grids.length, f);
+  if (fputs("    </Grid>\n  </Domain>\n</Xdmf>\n", f) == EOF) TL_ERROR(TL_ERR_IO, "write error");
+  return TL_OK;
+}
+
+static TlStatus tl_xdmf_series_write(TlXdmfSeries *s)
+{
+  TL_CHECK(tl_atomic_write(s->path, tl_xdmf_series_write_stream, s));
+  return TL_OK;
+}
+
+TlStatus tl_xdmf_series_add(TlXdmfSeries *series, const char *grid)
+{
+  size_t before = series->grids.length;
+  TL_CHECK(tl_text_printf(&series->grids, "%s", grid));
+  series->steps++;
+  TlStatus s = tl_xdmf_series_write(series);
+  if (s != TL_OK) { /* the file keeps the previous steps; so does the list */
+    series->grids.length = before;
+    series->grids.text[before] = '\0';
+    series->steps--;
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  return TL_OK;
+}
+
+size_t tl_xdmf_series_steps(const TlXdmfSeries *series) { return series->steps; }
+
+static TlStatus tl_xdmf_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlXdmfSeries *s = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "steps", (int64_t)s->steps));
+  TL_CHECK(tl_checkpoint_write_bytes(w, group, "grids", s->grids.length, s->grids.text));
+  return TL_OK;
+}
+
+static TlStatus tl_xdmf_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlXdmfSeries *s = object;
+  int64_t steps;
+  size_t n;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "steps", &steps));
+  TL_CHECK(tl_checkpoint_length(r, group, "grids", &n));
+  if (steps < 0) TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': series '%s' has %lld steps", tl_checkpoint_reader_path(r), group, (long long)steps);
+  TL_CHECK(tl_array_reserve(&s->grids.text, &s->grids.capacity, n + 1, 1));
+  TL_CHECK(tl_checkpoint_read_bytes(r, group, "grids", n, s->grids.text));
+  s->grids.text[n] = '\0';
+  s->grids.length = n;
+  s->steps = (size_t)steps;
+  TL_CHECK(tl_xdmf_series_write(s));
+  return TL_OK;
+}
+
+const TlCheckpointOps tl_xdmf_series_checkpoint_ops = {
+    {"checkpoint", "xdmf_series_v1", "the steps listed in an XDMF time series"}, tl_xdmf_save, tl_xdmf_load};
