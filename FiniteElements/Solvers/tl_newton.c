@@ -183,6 +183,9 @@ static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)
   f |= KINSetScaledStepTol(nw->kin, o->step_tol);
   f |= KINSetNumMaxIters(nw->kin, o->max_iterations);
   f |= KINSetMaxSetupCalls(nw->kin, o->max_setup_calls);
+  /* KINSOL caps a step at 1000 |u0| (1 when u0 = 0), which would throttle
+   * Newton from a zero start: no cap, the line search guards instead. */
+  f |= KINSetMaxNewtonStep(nw->kin, 1e300);
   if (f) TL_ERROR(TL_ERR_ARG, "KINSOL rejected the Newton options");
   return TL_OK;
 }

@@ -223,7 +223,7 @@ TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
 {
   TlNewtonOptions no;
   tl_newton_options_default(&no);
-  no.ftol = fmax(st->opt.atol, st->opt.rtol * st->force_scale);
+  no.ftol = fmax(fmax(st->opt.atol, st->opt.rtol * st->force_scale), st->force_floor);
   if (!(no.ftol > 0.0)) no.ftol = 1e-300;
   no.max_iterations = st->opt.max_iterations;
   no.max_setup_calls = st->opt.reuse;

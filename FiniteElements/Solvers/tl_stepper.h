@@ -84,6 +84,7 @@ struct TlStepper {
   /* Current implicit step: */
   double t_new, dt, lambda;
   double force_scale;
+  double force_floor; /* round-off level of the residual (inertia terms) */
   TlStepperStats stats;
   void *impl;
 };

@@ -8,6 +8,7 @@
  * Prescribed dofs carry R = u - u_prescribed(t_{n+1}) and identity rows and
  * columns (the predictor already holds the prescribed value, so the Newton
  * correction there is zero and symmetric elimination is exact). */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -144,6 +145,12 @@ static TlStatus newmark_step(TlStepper *st, double dt)
                          max_abs(st->f_ext0, st->n) + max_abs(st->f_hook, st->n));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u0, st->f_ext));
   st->force_scale = fmax(st->force_scale, max_abs(st->f_ext, st->n));
+  /* The residual cannot be resolved below the round-off of its inertia term
+   * M (u - u_pred) / (beta dt^2), whose parts are of size m |u| / (beta dt^2). */
+  double mmax = max_abs(st->m, st->n), umax = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i)
+    umax = fmax(umax, fabs(st->u0[i]) + dt * fabs(st->v0[i]) + dt * dt * fabs(st->a0[i]));
+  st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);
   /* Predictor: constant acceleration; prescribed values at t_{n+1}. */
   for (TlSparseIndex i = 0; i < st->n; ++i)
     nm->x[i] = st->u0[i] + dt * st->v0[i] + 0.5 * dt * dt * st->a0[i];
