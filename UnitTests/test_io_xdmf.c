@@ -383,11 +383,11 @@ int main(void)
   }
   static const char *const particles[] = {
       "/@format", "/@format_version", "/@step", "/@time",
-      "/particles/position ( 5, 3 )", "/particles/radius ( 5 )", "/particles/velocity ( 5, 3 )",
+      "/particles/position ( 5, 3 )", "/particles/radius ( 5 )", "/particles/vertices ( 5 )", "/particles/velocity ( 5, 3 )",
       "/particles/angular_velocity ( 5, 3 )", "/particles/force ( 5, 3 )", "/particles/torque ( 5, 3 )",
       "/particles/species ( 5 )", "/particles/fields@names", "/particles/fields/overlap ( 5 )",
       "/particles/fields/stress ( 5, 6 )"};
-  expect_structure("out/grains_000002.h5", particles, sizeof particles / sizeof *particles, 9);
+  expect_structure("out/grains_000002.h5", particles, sizeof particles / sizeof *particles, 10);
   static const char *const mesh[] = {
       "/@format", "/@format_version", "/mesh/reference_coordinates ( 30, 3 )", "/mesh/blocks@names",
       "/mesh/blocks/body@cell_type", "/mesh/blocks/body/connectivity ( 1, 27 )", "/mesh/blocks/skin/connectivity ( 1, 6 )"};

@@ -15,6 +15,8 @@ struct TlParticleWriter {
   size_t count;
   TlXdmfSeries *series;
   TlText grid; /* reused for each step's XML */
+  int *vertices; /* 0..n-1, the vertex cells; grown, never shrunk */
+  size_t vertices_capacity;
 };
 
 static TlStatus tl_pw_strdup(const char *s, char **out)
@@ -39,6 +41,7 @@ void tl_particle_writer_destroy(TlParticleWriter **writer)
   TlParticleWriter *w = *writer;
   tl_xdmf_series_destroy(&w->series);
   tl_text_free(&w->grid);
+  tl_free(&w->vertices);
   tl_free(&w->dir);
   tl_free(&w->name);
   tl_free(&w->xmf_path);
@@ -78,7 +81,7 @@ static TlStatus tl_pw_vec3(TlH5File *f, const char *path, size_t n, const TlVec3
   return TL_OK;
 }
 
-static TlStatus tl_pw_write_h5(const char *path, int64_t step, double time, const TlParticleView *v)
+static TlStatus tl_pw_write_h5(const char *path, int64_t step, double time, const TlParticleView *v, const int *vertices)
 {
   TlH5File f;
   TL_CHECK(tl_h5_create(path, &f));
@@ -91,6 +94,7 @@ static TlStatus tl_pw_write_h5(const char *path, int64_t step, double time, cons
   TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&f, "/", "step", step), fail);
   TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/position", v->n, v->position), fail);
   TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/radius", H5T_NATIVE_DOUBLE, 1, &n, v->radius), fail);
+  TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/vertices", H5T_NATIVE_INT, 1, &n, vertices), fail);
   if (v->velocity) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/velocity", v->n, v->velocity), fail);
   if (v->angular_velocity) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/angular_velocity", v->n, v->angular_velocity), fail);
   if (v->force) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/force", v->n, v->force), fail);
@@ -123,7 +127,10 @@ static TlStatus tl_pw_grid(TlText *x, const char *file, size_t count, double tim
   tl_text_clear(x);
   TL_CHECK(tl_text_printf(x, "      <Grid Name=\"step_%06zu\" GridType=\"Uniform\">\n", count));
   TL_CHECK(tl_text_printf(x, "        <Time Value=\"%.17g\"/>\n", time));
-  TL_CHECK(tl_text_printf(x, "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" NodesPerElement=\"1\"/>\n", v->n));
+  /* explicit vertex list: without it some XDMF readers make points but no cells */
+  TL_CHECK(tl_text_printf(x, "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%zu\" NodesPerElement=\"1\">\n", v->n));
+  TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 0, "Int", (int)sizeof(int), file, "/particles/vertices"));
+  TL_CHECK(tl_text_printf(x, "        </Topology>\n"));
   TL_CHECK(tl_text_printf(x, "        <Geometry GeometryType=\"XYZ\">\n"));
   TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 3, "Float", 8, file, "/particles/position"));
   TL_CHECK(tl_text_printf(x, "        </Geometry>\n"));
@@ -150,7 +157,8 @@ static TlStatus tl_pw_grid(TlText *x, const char *file, size_t count, double tim
 static TlStatus tl_pw_check(const TlParticleWriter *w, const TlParticleView *v)
 {
   if (!v) TL_ERROR(TL_ERR_ARG, "particle output '%s': no view given", w->name);
-  if (v->n > ((size_t)1 << 40)) TL_ERROR(TL_ERR_ARG, "particle output '%s': n = %zu particles exceeds 2^40", w->name, v->n);
+  if (v->n > (size_t)0x7fffffff)
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': n = %zu particles exceeds 2^31-1 per file", w->name, v->n);
   if (v->n > 0 && (!v->position || !v->radius))
     TL_ERROR(TL_ERR_ARG, "particle output '%s': position and radius are required (got %s, %s)", w->name,
              v->position ? "position" : "no position", v->radius ? "radius" : "no radius");
@@ -176,9 +184,14 @@ TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double
   TL_CHECK(tl_pw_check(writer, view));
   char file[1100];
   snprintf(file, sizeof file, "%s_%06zu.h5", writer->name, writer->count);
+  if (view->n > writer->vertices_capacity) {
+    TL_CHECK(tl_realloc(&writer->vertices, view->n, sizeof *writer->vertices));
+    for (size_t i = writer->vertices_capacity; i < view->n; ++i) writer->vertices[i] = (int)i;
+    writer->vertices_capacity = view->n;
+  }
   char *path;
   TL_CHECK(tl_path_join(writer->dir, file, &path));
-  TlStatus s = tl_pw_write_h5(path, step, time, view);
+  TlStatus s = tl_pw_write_h5(path, step, time, view, writer->vertices);
   if (s == TL_OK) snprintf(writer->last_path, sizeof writer->last_path, "%s", path);
   tl_free(&path);
   TL_CHECK(s);

@@ -12,6 +12,7 @@
  *                          format_version, time (double), step (int64)
  *   /particles/position          n x 3
  *   /particles/radius            n
+ *   /particles/vertices          n       int32 0..n-1 (the vertex cells of the XDMF topology)
  *   /particles/velocity          n x 3   (optional)
  *   /particles/angular_velocity  n x 3   (optional)
  *   /particles/force             n x 3   (optional)
