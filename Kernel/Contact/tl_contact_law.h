@@ -19,11 +19,14 @@
  *     rotations included (seeds/004 Eq. 6, Eq. 21 in a deforming cell);
  *   - `spin_mean` is (ω_i + ω_j)/2, the mean spin that carries the tangential
  *     history with the contact plane (seeds/004 Eqs. 9, 24-25); zero vectors
- *     when the scene has no rotation;
+ *     when the scene has no rotation; `spin_rel` is ω_j - ω_i (rolling);
  *   - `meff` = m_i m_j / (m_i + m_j) (m_i for a wall or a fixed partner),
  *     `reff` = r_i r_j / (r_i + r_j) (r_i for a flat wall);
  *   - `history` points at the law's per-contact state (history_doubles
  *     doubles, zero at the first touch), owned by the contact list or wall.
+ *     It must be odd under exchange of i and j (a tangential force, a
+ *     normal): when the world reorders a pair it negates every history
+ *     double.
  *
  * Output, per contact: `force` is the force ON i (the action of j on i,
  * applied at the contact point); j receives its opposite.  `couple` is a pure
@@ -52,6 +55,7 @@ typedef struct {
   TlVec3 branch_i, branch_j;
   TlVec3 vrel;
   TlVec3 spin_mean;
+  TlVec3 spin_rel;
   double meff, reff;
   double *history;
   int bonded; /* nonzero: a bond, acting in tension too if the law allows */

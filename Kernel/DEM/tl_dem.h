@@ -71,6 +71,9 @@ typedef struct {
   size_t n_pairs;      /* neighbour-list pairs */
 } TlDemStats;
 
+/* Registers the built-in contact laws and the plane wall (tl_initialize). */
+TlStatus tl_dem_register_all(void);
+
 TlStatus tl_dem_create(TlDem **dem);
 void tl_dem_destroy(TlDem **dem);
 
@@ -84,6 +87,9 @@ void tl_dem_set_gravity(TlDem *dem, TlVec3 g);
 TlStatus tl_dem_set_skin(TlDem *dem, double skin_over_diameter);
 /* Number of threads for the force loop (0: OpenMP default). */
 void tl_dem_set_threads(TlDem *dem, int threads);
+/* Renumber particles in grid order every `rebuilds` neighbour-list rebuilds
+ * for memory locality (default 10; 0 never). */
+void tl_dem_set_sort_interval(TlDem *dem, int rebuilds);
 
 /* Takes ownership of the law; *index receives its number. */
 TlStatus tl_dem_add_law(TlDem *dem, TlContactLaw *law, int *index);

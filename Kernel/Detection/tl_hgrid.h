@@ -55,6 +55,8 @@ typedef struct {
   uint8_t *level_of;    /* per particle: its level */
   TlVec3 frame_lo, frame_hi; /* open directions: reduced bounding box of the build */
   const TlDomain *domain;
+  TlVec3 *reduced;      /* per particle: reduced coordinates at the build (wrapped) */
+  TlVec3 cell_width[TL_HGRID_MAX_LEVELS]; /* reduced width of a cell per direction */
   size_t capacity_particles;
   size_t cell_capacity[TL_HGRID_MAX_LEVELS];
 } TlHGrid;

@@ -101,10 +101,11 @@ static inline TlVec3 tl_domain_affine_velocity(const TlDomain *d, TlVec3 b)
   return d->deforming ? tl_m3_mulv(d->L, b) : (TlVec3){0, 0, 0};
 }
 
-/* Advances the cell over dt (h += dt ḣ) and maps positions: each particle
- * keeps its reduced coordinate under the affine deformation, then drifts by
- * dt v.  Used by the integrator; for non-deforming domains x += dt v. */
-void tl_domain_drift(TlDomain *d, size_t n, TlVec3 *x, const TlVec3 *v, const unsigned char *moves,
-                     double dt);
+/* Advances the cell over dt: h += dt ḣ (h⁻¹ and L updated).  The integrator
+ * then maps each free particle as x <- o + h_new h_old⁻¹ (x - o) + dt v, so
+ * particles keep their reduced coordinates under the affine deformation and
+ * drift by their fluctuating velocity (Eqs. 13-14).  Refuses a step that
+ * would make det h <= 0. */
+TlStatus tl_domain_advance(TlDomain *d, double dt, TlMat3 *affine_map);
 
 #endif

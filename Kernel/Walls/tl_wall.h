@@ -86,7 +86,8 @@ struct TlWall {
   size_t n_contacts;
 };
 
-/* Calls the type's destroy and nulls *w. */
+/* Calls the type's destroy and nulls *w.  (These two helpers live in
+ * tl_wall_plane.c with the plane.) */
 void tl_wall_destroy(TlWall **w);
 /* Whether the bounding box is finite in every component. */
 int tl_wall_is_bounded(const TlWall *w);

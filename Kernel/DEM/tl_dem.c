@@ -1,0 +1,1059 @@
+#include "tl_dem.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include "tl_contact_list.h"
+#include "tl_log.h"
+#include "tl_memory.h"
+
+enum { TL_DEM_MAX_LAWS = 16, CHUNK = 64 };
+
+typedef struct {
+  size_t start, end;
+  int law;
+} Chunk;
+
+typedef struct {
+  TlPrescribedEval eval;
+  void *ctx;
+  size_t n;
+  int64_t *ids;
+  size_t *idx;
+  TlVec3 *x0, *xs, *vs;
+} Prescribed;
+
+typedef struct {
+  int a, b, law;
+} PairLaw;
+
+struct TlDem {
+  TlParticles *P;
+  TlDomain domain;
+  TlVec3 gravity;
+  double skin_factor, skin, max_cut;
+  int threads, sort_every, skip_fixed, track_energy;
+  TlContactLaw *laws[TL_DEM_MAX_LAWS];
+  int n_laws;
+  PairLaw *pair_laws;
+  size_t n_pair_laws, pair_laws_cap;
+  int *law_table;
+  size_t law_table_n;
+  TlWall **walls;
+  size_t n_walls, walls_cap;
+  size_t hd; /* history stride */
+  TlContactList list, old, bonds;
+  int64_t *bond_ids;
+  size_t n_bond_ids, bond_ids_cap;
+  Chunk *chunks, *bond_chunks;
+  size_t n_chunks, chunks_cap, n_bond_chunks, bond_chunks_cap;
+  TlPair *pairs;
+  size_t pairs_cap, n_pairs;
+  TlHGrid *grid;
+  TlVec3 *x_build;
+  size_t x_build_cap;
+  TlMat3 h_build_inv;
+  uint8_t *skip;
+  size_t skip_cap;
+  size_t *perm, *old_to_new;
+  size_t perm_cap;
+  TlVec3 *tf, *tt;
+  size_t t_cap;
+  int nt, nt_now;
+  Prescribed *presc;
+  size_t n_presc, presc_cap;
+  double dt, t;
+  int allow_above, setup_done, need_rebuild, rotation;
+  long steps, rebuilds;
+  size_t n_touching;
+  /* energy bookkeeping */
+  double elastic_pp, contact_work_pp, work_ext;
+  double *scratch;
+  size_t scratch_cap;
+};
+
+TlStatus tl_dem_create(TlDem **out)
+{
+  TlDem *d;
+  TL_CHECK(TL_NEW(d));
+  TlStatus s;
+  TL_CHECK_GOTO(s, tl_particles_create(&d->P), fail);
+  TL_CHECK_GOTO(s, tl_hgrid_create(&d->grid), fail);
+  TL_CHECK_GOTO(s, tl_domain_init_open(&d->domain, tl_v3(0, 0, 0), tl_v3(1, 1, 1)), fail);
+  d->skin_factor = 0.1;
+  d->sort_every = 10;
+  d->skip_fixed = 1;
+  d->track_energy = 1;
+  d->need_rebuild = 1;
+  *out = d;
+  return TL_OK;
+fail:
+  tl_dem_destroy(&d);
+  return s;
+}
+
+void tl_dem_destroy(TlDem **dp)
+{
+  TlDem *d = *dp;
+  if (!d) return;
+  tl_particles_destroy(&d->P);
+  tl_hgrid_destroy(&d->grid);
+  for (int k = 0; k < d->n_laws; ++k) tl_contact_law_destroy(&d->laws[k]);
+  for (size_t k = 0; k < d->n_walls; ++k) tl_wall_destroy(&d->walls[k]);
+  tl_free(&d->walls);
+  tl_free(&d->pair_laws);
+  tl_free(&d->law_table);
+  tl_contact_list_free(&d->list);
+  tl_contact_list_free(&d->old);
+  tl_contact_list_free(&d->bonds);
+  tl_free(&d->bond_ids);
+  tl_free(&d->chunks);
+  tl_free(&d->bond_chunks);
+  tl_free(&d->pairs);
+  tl_free(&d->x_build);
+  tl_free(&d->skip);
+  tl_free(&d->perm);
+  tl_free(&d->old_to_new);
+  tl_free(&d->tf);
+  tl_free(&d->tt);
+  for (size_t k = 0; k < d->n_presc; ++k) {
+    Prescribed *p = &d->presc[k];
+    tl_free(&p->ids); tl_free(&p->idx); tl_free(&p->x0); tl_free(&p->xs); tl_free(&p->vs);
+  }
+  tl_free(&d->presc);
+  tl_free(&d->scratch);
+  tl_free(dp);
+}
+
+TlParticles *tl_dem_particles(TlDem *d) { return d->P; }
+TlDomain *tl_dem_domain(TlDem *d) { return &d->domain; }
+const TlHGrid *tl_dem_grid(const TlDem *d) { return d->grid; }
+size_t tl_dem_n_walls(const TlDem *d) { return d->n_walls; }
+TlWall *tl_dem_wall(TlDem *d, size_t k) { return k < d->n_walls ? d->walls[k] : NULL; }
+double tl_dem_timestep(const TlDem *d) { return d->dt; }
+double tl_dem_time(const TlDem *d) { return d->t; }
+void tl_dem_set_gravity(TlDem *d, TlVec3 g) { d->gravity = g; }
+void tl_dem_set_threads(TlDem *d, int threads) { d->threads = threads; }
+void tl_dem_skip_fixed_pairs(TlDem *d, int skip) { d->skip_fixed = skip; d->need_rebuild = 1; }
+void tl_dem_track_energy(TlDem *d, int on) { d->track_energy = on; }
+void tl_dem_set_sort_interval(TlDem *d, int rebuilds) { d->sort_every = rebuilds < 0 ? 0 : rebuilds; }
+
+TlStatus tl_dem_set_domain(TlDem *d, const TlDomain *domain)
+{
+  d->domain = *domain;
+  d->need_rebuild = 1;
+  return TL_OK;
+}
+
+TlStatus tl_dem_set_skin(TlDem *d, double f)
+{
+  if (!(f >= 0.0) || !(f <= 10.0)) TL_ERROR(TL_ERR_ARG, "skin %g (fraction of the mean diameter) must be in [0, 10]", f);
+  d->skin_factor = f;
+  d->need_rebuild = 1;
+  return TL_OK;
+}
+
+TlStatus tl_dem_add_law(TlDem *d, TlContactLaw *law, int *index)
+{
+  if (!law) TL_ERROR(TL_ERR_ARG, "contact law is NULL");
+  if (d->n_laws >= TL_DEM_MAX_LAWS) TL_ERROR(TL_ERR_ARG, "too many contact laws (limit %d)", TL_DEM_MAX_LAWS);
+  if (d->setup_done && law->history_doubles > d->hd)
+    TL_ERROR(TL_ERR_STATE, "a law needing %zu history doubles cannot be added after setup (stride %zu)",
+             law->history_doubles, d->hd);
+  d->laws[d->n_laws] = law;
+  if (index) *index = d->n_laws;
+  d->n_laws++;
+  return TL_OK;
+}
+
+TlStatus tl_dem_set_pair_law(TlDem *d, int a, int b, int law)
+{
+  if (law < 0 || law >= d->n_laws) TL_ERROR(TL_ERR_ARG, "law index %d out of range (%d laws)", law, d->n_laws);
+  if (a < 0 || b < 0) TL_ERROR(TL_ERR_ARG, "species %d, %d must be >= 0", a, b);
+  TL_CHECK(tl_array_reserve(&d->pair_laws, &d->pair_laws_cap, d->n_pair_laws + 1, sizeof *d->pair_laws));
+  d->pair_laws[d->n_pair_laws++] = (PairLaw){a, b, law};
+  d->need_rebuild = 1;
+  return TL_OK;
+}
+
+TlStatus tl_dem_add_wall(TlDem *d, TlWall *w, int law)
+{
+  if (!w) TL_ERROR(TL_ERR_ARG, "wall is NULL");
+  if (law < 0 || law >= d->n_laws) TL_ERROR(TL_ERR_ARG, "wall law index %d out of range (%d laws); add the law first", law, d->n_laws);
+  TL_CHECK(tl_array_reserve(&d->walls, &d->walls_cap, d->n_walls + 1, sizeof *d->walls));
+  w->law = law;
+  d->walls[d->n_walls++] = w;
+  return TL_OK;
+}
+
+TlStatus tl_dem_add_bond(TlDem *d, int64_t a, int64_t b)
+{
+  if (a == b) TL_ERROR(TL_ERR_ARG, "bond of particle %lld with itself", (long long)a);
+  TL_CHECK(tl_array_reserve(&d->bond_ids, &d->bond_ids_cap, d->n_bond_ids + 2, sizeof *d->bond_ids));
+  d->bond_ids[d->n_bond_ids++] = a;
+  d->bond_ids[d->n_bond_ids++] = b;
+  d->need_rebuild = 1;
+  d->bonds.n = (size_t)-1; /* bond list to be rebuilt from ids */
+  return TL_OK;
+}
+
+TlStatus tl_dem_prescribe(TlDem *d, size_t n, const int64_t *ids, TlPrescribedEval eval, void *ctx)
+{
+  if (!eval || !n) TL_ERROR(TL_ERR_ARG, "prescribed motion needs a function and at least one particle (n = %zu)", n);
+  TL_CHECK(tl_array_reserve(&d->presc, &d->presc_cap, d->n_presc + 1, sizeof *d->presc));
+  Prescribed *p = &d->presc[d->n_presc];
+  memset(p, 0, sizeof *p);
+  p->eval = eval;
+  p->ctx = ctx;
+  p->n = n;
+  TL_CHECK(tl_calloc(&p->ids, n, sizeof *p->ids));
+  TL_CHECK(tl_calloc(&p->idx, n, sizeof *p->idx));
+  TL_CHECK(tl_calloc(&p->x0, n, sizeof *p->x0));
+  TL_CHECK(tl_calloc(&p->xs, n, sizeof *p->xs));
+  TL_CHECK(tl_calloc(&p->vs, n, sizeof *p->vs));
+  d->n_presc++;
+  for (size_t k = 0; k < n; ++k) {
+    p->ids[k] = ids[k];
+    TL_CHECK(tl_particles_find(d->P, ids[k], &p->idx[k]));
+    p->x0[k] = d->P->x[p->idx[k]];
+    TL_CHECK(tl_particles_set_motion(d->P, p->idx[k], TL_MOTION_PRESCRIBED));
+  }
+  return TL_OK;
+}
+
+/* ------------------------------------------------------------ time step */
+
+static double min_radius(const TlParticles *P, double *rmax, double *m_min)
+{
+  double r = INFINITY, R = 0.0, m = INFINITY;
+  for (size_t i = 0; i < P->n; ++i) {
+    r = fmin(r, P->radius[i]);
+    R = fmax(R, P->radius[i]);
+    if (P->motion[i] == TL_MOTION_FREE) m = fmin(m, P->mass[i]);
+  }
+  *rmax = R;
+  *m_min = m;
+  return r;
+}
+
+TlStatus tl_dem_critical_timestep(TlDem *d, double *dt_c, double *k_max_out, double *m_min_out)
+{
+  double rmax, m_min, rmin = min_radius(d->P, &rmax, &m_min);
+  if (!d->P->n || !isfinite(m_min)) {
+    *dt_c = INFINITY;
+    if (k_max_out) *k_max_out = 0.0;
+    if (m_min_out) *m_min_out = m_min;
+    return TL_OK;
+  }
+  double overlap = 0.1 * rmin, k_max = 0.0, zeta = 0.0;
+  for (int l = 0; l < d->n_laws; ++l) {
+    const TlContactLaw *law = d->laws[l];
+    double k = law->ops->max_stiffness(law, rmax, overlap);
+    k_max = fmax(k_max, k);
+    double c = law->ops->max_damping ? law->ops->max_damping(law, 0.5 * m_min, rmax, overlap) : 0.0;
+    if (k > 0.0) zeta = fmax(zeta, c / (2.0 * sqrt(k * 0.5 * m_min)));
+  }
+  *dt_c = k_max > 0.0 ? 0.5 * sqrt(m_min / k_max) * (sqrt(1.0 + zeta * zeta) - zeta) : INFINITY;
+  if (k_max_out) *k_max_out = k_max;
+  if (m_min_out) *m_min_out = m_min;
+  return TL_OK;
+}
+
+TlStatus tl_dem_set_timestep(TlDem *d, double dt, int allow)
+{
+  if (!(dt > 0.0) || !isfinite(dt)) TL_ERROR(TL_ERR_ARG, "time step %g must be positive and finite", dt);
+  d->dt = dt;
+  d->allow_above = allow;
+  if (d->setup_done) {
+    double dtc, k, m;
+    TL_CHECK(tl_dem_critical_timestep(d, &dtc, &k, &m));
+    if (dt > dtc && !allow)
+      TL_ERROR(TL_ERR_UNSTABLE, "time step %g s exceeds the critical time step %g s (k_max = %g N/m, m_min = %g kg); "
+               "reduce dt or set the override", dt, dtc, k, m);
+  }
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------- neighbours */
+
+static int law_of(const TlDem *d, int a, int b)
+{
+  size_t ns = d->law_table_n;
+  if ((size_t)a < ns && (size_t)b < ns) return d->law_table[(size_t)a * ns + (size_t)b];
+  return 0;
+}
+
+static TlStatus build_law_table(TlDem *d)
+{
+  size_t ns = d->P->n_species ? d->P->n_species : 1;
+  if (ns != d->law_table_n) {
+    tl_free(&d->law_table);
+    TL_CHECK(tl_calloc(&d->law_table, ns * ns, sizeof *d->law_table));
+    d->law_table_n = ns;
+  }
+  memset(d->law_table, 0, ns * ns * sizeof *d->law_table);
+  for (size_t k = 0; k < d->n_pair_laws; ++k) {
+    PairLaw p = d->pair_laws[k];
+    if ((size_t)p.a >= ns || (size_t)p.b >= ns)
+      TL_ERROR(TL_ERR_ARG, "pair law for species %d-%d: only %zu species exist", p.a, p.b, ns);
+    d->law_table[(size_t)p.a * ns + (size_t)p.b] = p.law;
+    d->law_table[(size_t)p.b * ns + (size_t)p.a] = p.law;
+  }
+  return TL_OK;
+}
+
+static TlStatus make_chunks(const TlContactList *L, Chunk **chunks, size_t *cap, size_t *n)
+{
+  *n = 0;
+  size_t k = 0;
+  while (k < L->n) {
+    int law = L->law[k];
+    size_t e = k;
+    while (e < L->n && L->law[e] == law && e - k < CHUNK) ++e;
+    TL_CHECK(tl_array_reserve(chunks, cap, *n + 1, sizeof **chunks));
+    (*chunks)[(*n)++] = (Chunk){k, e, law};
+    k = e;
+  }
+  return TL_OK;
+}
+
+static TlStatus remap_everything(TlDem *d, const size_t *old_to_new, size_t n_old)
+{
+  TlContactList *lists[2] = {&d->list, &d->bonds};
+  for (int q = 0; q < 2; ++q) {
+    TlContactList *L = lists[q];
+    if (L->n == (size_t)-1) continue;
+    size_t m = 0;
+    for (size_t k = 0; k < L->n; ++k) {
+      size_t i = old_to_new[L->i[k]], j = old_to_new[L->j[k]];
+      if (i == SIZE_MAX || j == SIZE_MAX) continue; /* a removed particle: contact gone */
+      L->i[m] = (uint32_t)i;
+      L->j[m] = (uint32_t)j;
+      L->law[m] = L->law[k];
+      L->touching[m] = L->touching[k];
+      L->force[m] = L->force[k];
+      if (L->history_doubles && m != k)
+        memmove(L->history + m * L->history_doubles, L->history + k * L->history_doubles,
+                L->history_doubles * sizeof *L->history);
+      ++m;
+    }
+    L->n = m;
+  }
+  for (size_t w = 0; w < d->n_walls; ++w)
+    if (d->walls[w]->ops->remap) TL_CHECK(d->walls[w]->ops->remap(d->walls[w], old_to_new, n_old));
+  for (size_t g = 0; g < d->n_presc; ++g) {
+    Prescribed *p = &d->presc[g];
+    for (size_t k = 0; k < p->n; ++k) {
+      size_t q = old_to_new[p->idx[k]];
+      if (q == SIZE_MAX)
+        TL_ERROR(TL_ERR_STATE, "prescribed particle id %lld was removed; remove its motion first", (long long)p->ids[k]);
+      p->idx[k] = q;
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus build_bonds(TlDem *d)
+{
+  TlContactList *B = &d->bonds;
+  B->n = 0;
+  for (size_t k = 0; k < d->n_bond_ids; k += 2) {
+    size_t a, b;
+    TL_CHECK(tl_particles_find(d->P, d->bond_ids[k], &a));
+    TL_CHECK(tl_particles_find(d->P, d->bond_ids[k + 1], &b));
+    int law = law_of(d, d->P->species[a], d->P->species[b]);
+    TL_CHECK(tl_contact_list_push(B, (uint32_t)a, (uint32_t)b, law, NULL));
+    B->touching[B->n - 1] = 1;
+  }
+  /* group by law for batching (stable: few laws) */
+  if (d->n_laws > 1 && B->n > 1) {
+    /* insertion by law: bonds are set up once */
+    for (size_t k = 1; k < B->n; ++k)
+      for (size_t m = k; m > 0 && B->law[m - 1] > B->law[m]; --m) {
+        uint32_t ti = B->i[m]; B->i[m] = B->i[m - 1]; B->i[m - 1] = ti;
+        uint32_t tj = B->j[m]; B->j[m] = B->j[m - 1]; B->j[m - 1] = tj;
+        uint8_t tl = B->law[m]; B->law[m] = B->law[m - 1]; B->law[m - 1] = tl;
+      }
+  }
+  TL_CHECK(tl_contact_list_index(B, 0));
+  return make_chunks(B, &d->bond_chunks, &d->bond_chunks_cap, &d->n_bond_chunks);
+}
+
+static TlStatus rebuild(TlDem *d)
+{
+  TlParticles *P = d->P;
+  size_t n = P->n;
+  /* wrap into the periodic cell and remember the build positions */
+  if (d->domain.any_periodic)
+    for (size_t i = 0; i < n; ++i) P->x[i] = tl_domain_wrap(&d->domain, P->x[i]);
+  TL_CHECK(tl_hgrid_build(d->grid, &d->domain, n, P->x, P->radius, d->skin));
+  /* renumber particles in grid order now and then, for memory locality */
+  int sort = d->sort_every > 0 && (d->rebuilds % d->sort_every) == 0 && n > 1;
+  if (sort) {
+    if (n > d->perm_cap) {
+      TL_CHECK(tl_realloc(&d->perm, n, sizeof *d->perm));
+      TL_CHECK(tl_realloc(&d->old_to_new, n, sizeof *d->old_to_new));
+      d->perm_cap = n;
+    }
+    for (size_t k = 0; k < n; ++k) {
+      d->perm[k] = d->grid->index[k];
+      d->old_to_new[d->perm[k]] = k;
+    }
+    TL_CHECK(tl_particles_permute(P, d->perm));
+    TL_CHECK(remap_everything(d, d->old_to_new, n));
+    /* the grid follows: particle k of the new order is grid entry k */
+    TlHGrid *g = d->grid;
+    int32_t *c = (int32_t *)d->tf; /* not used as forces here; reuse safely below */
+    (void)c;
+    TL_CHECK(tl_array_reserve(&d->scratch, &d->scratch_cap, 4 * n + 4, sizeof *d->scratch));
+    TlVec3 *red = (TlVec3 *)d->scratch;
+    for (size_t k = 0; k < n; ++k) red[k] = g->reduced[d->perm[k]];
+    memcpy(g->reduced, red, n * sizeof *red);
+    int32_t *cells = (int32_t *)d->scratch;
+    for (size_t k = 0; k < n; ++k) cells[k] = g->cell_of[d->perm[k]];
+    memcpy(g->cell_of, cells, n * sizeof *cells);
+    uint8_t *lv = (uint8_t *)d->scratch;
+    for (size_t k = 0; k < n; ++k) lv[k] = g->level_of[d->perm[k]];
+    memcpy(g->level_of, lv, n);
+    for (size_t k = 0; k < n; ++k) g->index[k] = k;
+  }
+  if (d->bonds.n == (size_t)-1) TL_CHECK(build_bonds(d));
+  /* skip pairs of two non-free particles */
+  const uint8_t *skip = NULL;
+  if (d->skip_fixed) {
+    TL_CHECK(tl_array_reserve(&d->skip, &d->skip_cap, n + 1, 1));
+    for (size_t i = 0; i < n; ++i) d->skip[i] = P->motion[i] != TL_MOTION_FREE;
+    skip = d->skip;
+  }
+  TL_CHECK(tl_hgrid_pairs(d->grid, P->x, P->radius, skip, &d->pairs, &d->pairs_cap, &d->n_pairs));
+  /* new list, grouped by law, history carried over from the old one */
+  TlContactList tmp = d->old;
+  d->old = d->list;
+  d->list = tmp;
+  TlContactList *L = &d->list;
+  L->history_doubles = d->hd;
+  TL_CHECK(tl_contact_list_reserve(L, d->n_pairs));
+  L->n = 0;
+  int have_bonds = d->bonds.n > 0;
+  size_t counts[TL_DEM_MAX_LAWS + 1] = {0};
+  int multi = d->n_laws > 1;
+  if (multi)
+    for (size_t k = 0; k < d->n_pairs; ++k)
+      counts[law_of(d, P->species[d->pairs[k].i], P->species[d->pairs[k].j]) + 1]++;
+  for (int l = 0; l < TL_DEM_MAX_LAWS; ++l) counts[l + 1] += counts[l];
+  size_t kept = 0;
+  for (size_t k = 0; k < d->n_pairs; ++k) {
+    TlPair pr = d->pairs[k];
+    if (have_bonds && tl_contact_list_find(&d->bonds, pr.i, pr.j) != SIZE_MAX) continue;
+    int law = multi ? law_of(d, P->species[pr.i], P->species[pr.j]) : 0;
+    size_t m = multi ? counts[law]++ : kept;
+    L->i[m] = pr.i;
+    L->j[m] = pr.j;
+    L->law[m] = (uint8_t)law;
+    L->touching[m] = 0;
+    L->force[m] = tl_v3(0, 0, 0);
+    if (d->hd) memset(L->history + m * d->hd, 0, d->hd * sizeof *L->history);
+    ++kept;
+  }
+  if (multi && have_bonds) {
+    /* bonds removed some pairs: compact the law groups */
+    size_t m = 0;
+    size_t start[TL_DEM_MAX_LAWS + 1] = {0};
+    for (size_t k = 0; k < d->n_pairs; ++k)
+      start[law_of(d, P->species[d->pairs[k].i], P->species[d->pairs[k].j]) + 1]++;
+    for (int l = 0; l < TL_DEM_MAX_LAWS; ++l) start[l + 1] += start[l];
+    for (int l = 0; l < d->n_laws; ++l)
+      for (size_t k = start[l]; k < counts[l]; ++k, ++m)
+        if (m != k) {
+          L->i[m] = L->i[k]; L->j[m] = L->j[k]; L->law[m] = L->law[k];
+          L->touching[m] = 0; L->force[m] = tl_v3(0, 0, 0);
+          if (d->hd) memset(L->history + m * d->hd, 0, d->hd * sizeof *L->history);
+        }
+    kept = m;
+  }
+  L->n = kept;
+  if (d->old.n && d->old.n != (size_t)-1) {
+    TL_CHECK(tl_contact_list_index(&d->old, 1));
+    tl_contact_list_transfer(L, &d->old);
+  }
+  TL_CHECK(make_chunks(L, &d->chunks, &d->chunks_cap, &d->n_chunks));
+  /* build positions for the displacement criterion */
+  if (n > d->x_build_cap) {
+    TL_CHECK(tl_realloc(&d->x_build, n + n / 2 + 16, sizeof *d->x_build));
+    d->x_build_cap = n + n / 2 + 16;
+  }
+  memcpy(d->x_build, P->x, n * sizeof *P->x);
+  d->h_build_inv = d->domain.h_inv;
+  d->rebuilds++;
+  d->need_rebuild = 0;
+  return TL_OK;
+}
+
+/* Largest centre displacement since the last build, the affine part of a
+ * deforming cell removed, and the strain measure ||h h_build⁻¹ - I||. */
+static int needs_rebuild(TlDem *d)
+{
+  if (d->need_rebuild || d->skin <= 0.0) return 1;
+  const TlParticles *P = d->P;
+  double max2 = 0.0;
+  double strain = 0.0;
+  if (d->domain.deforming) {
+    TlMat3 A = tl_m3_mul(d->domain.h, d->h_build_inv);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double e = A.m[i][j] - (i == j);
+        strain += e * e;
+      }
+    strain = sqrt(strain);
+    TlVec3 o = d->domain.origin;
+    for (size_t i = 0; i < P->n; ++i) {
+      TlVec3 xa = tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(d->x_build[i], o)));
+      double m = tl_v3_norm2(tl_v3_sub(P->x[i], xa));
+      if (m > max2) max2 = m;
+    }
+  } else {
+    for (size_t i = 0; i < P->n; ++i) {
+      TlVec3 dx = tl_v3_sub(P->x[i], d->x_build[i]);
+      double m = dx.x * dx.x + dx.y * dx.y + dx.z * dx.z;
+      if (m > max2) max2 = m;
+    }
+  }
+  return 2.0 * sqrt(max2) + strain * d->max_cut > d->skin;
+}
+
+/* ------------------------------------------------------------- forces */
+
+typedef struct {
+  double elastic, power;
+  size_t touching;
+} Accum;
+
+static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
+                              int want_energy, Accum *acc)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n, hd = L->history_doubles;
+  const int rot = P->w != NULL;
+  const int nt = d->nt_now;
+  const TlDomain *dom = &d->domain;
+  const int periodic = dom->any_periodic, deforming = dom->deforming;
+  const double dt = d->dt;
+  double el = 0.0, pw = 0.0;
+  size_t touching = 0;
+  TlStatus status = TL_OK;
+#pragma omp parallel num_threads(nt) reduction(+ : el, pw, touching) if (nt > 1)
+  {
+    int tid = nt > 1 ? omp_get_thread_num() : 0;
+    TlVec3 *F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
+    TlVec3 *T = nt > 1 ? (rot ? d->tt + (size_t)tid * n : NULL) : P->torque;
+    TlContactGeometry g[CHUNK];
+    TlContactResult r[CHUNK];
+    size_t idx[CHUNK];
+#pragma omp for schedule(static)
+    for (size_t c = 0; c < n_chunks; ++c) {
+      const Chunk ch = chunks[c];
+      const TlContactLaw *law = d->laws[ch.law];
+      size_t m = 0;
+      for (size_t k = ch.start; k < ch.end; ++k) {
+        const uint32_t i = L->i[k], j = L->j[k];
+        TlVec3 b = periodic ? tl_domain_branch(dom, P->x[i], P->x[j]) : tl_v3_sub(P->x[j], P->x[i]);
+        const double ri = P->radius[i], rj = P->radius[j], cut = ri + rj;
+        const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+        if (r2 >= cut * cut && !bonded) {
+          if (L->touching[k]) {
+            L->touching[k] = 0;
+            L->force[k] = tl_v3(0, 0, 0);
+            if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+          }
+          continue;
+        }
+        double dist = sqrt(r2);
+        TlContactGeometry *G = &g[m];
+        G->normal = dist > 0.0 ? tl_v3_scale(b, 1.0 / dist) : tl_v3(1, 0, 0);
+        G->overlap = cut - dist;
+        G->branch_i = tl_v3_scale(G->normal, ri - 0.5 * G->overlap);
+        G->branch_j = tl_v3_scale(G->normal, -(rj - 0.5 * G->overlap));
+        TlVec3 vr = tl_v3_sub(P->v[j], P->v[i]);
+        if (deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+        if (rot) {
+          TlVec3 wi = P->w[i], wj = P->w[j];
+          vr = tl_v3_add(vr, tl_v3_sub(tl_v3_cross(wj, G->branch_j), tl_v3_cross(wi, G->branch_i)));
+          G->spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+          G->spin_rel = tl_v3_sub(wj, wi);
+        } else {
+          G->spin_mean = G->spin_rel = tl_v3(0, 0, 0);
+        }
+        G->vrel = vr;
+        const double isum = P->inv_mass[i] + P->inv_mass[j];
+        G->meff = isum > 0.0 ? 1.0 / isum : 0.5 * (P->mass[i] + P->mass[j]);
+        G->reff = ri * rj / cut;
+        G->history = hd ? L->history + k * hd : NULL;
+        G->bonded = bonded;
+        idx[m++] = k;
+      }
+      if (!m) continue;
+      TlContactBatch batch = {m, g, r, dt, want_energy};
+      TlStatus s = law->ops->evaluate(law, &batch);
+      if (s != TL_OK) {
+#pragma omp critical
+        status = s;
+      }
+      for (size_t q = 0; q < m; ++q) {
+        const size_t k = idx[q];
+        const uint32_t i = L->i[k], j = L->j[k];
+        const TlVec3 f = r[q].force;
+        L->force[k] = f;
+        L->touching[k] = 1;
+        F[i] = tl_v3_add(F[i], f);
+        F[j] = tl_v3_sub(F[j], f);
+        if (T) {
+          T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, f), r[q].couple));
+          T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, f), r[q].couple));
+        }
+        if (want_energy) {
+          el += r[q].elastic_energy;
+          pw += r[q].power;
+        }
+      }
+      touching += m;
+    }
+  }
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  acc->elastic += el;
+  acc->power += pw;
+  acc->touching += touching;
+  return TL_OK;
+}
+
+static TlStatus compute_forces(TlDem *d)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  const int rot = P->w != NULL;
+  const int want = d->track_energy;
+  /* body and external forces */
+  const TlVec3 g = d->gravity;
+  for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(g, P->mass[i]);
+  if (P->f_ext)
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
+  if (rot) memset(P->torque, 0, n * sizeof *P->torque);
+  /* threads only pay for themselves on large contact lists */
+  d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
+  if (d->nt_now > 1) {
+    size_t need = (size_t)d->nt_now * n;
+    if (need > d->t_cap) {
+      TL_CHECK(tl_realloc(&d->tf, need, sizeof *d->tf));
+      TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
+      d->t_cap = need;
+    }
+    memset(d->tf, 0, need * sizeof *d->tf);
+    if (rot) memset(d->tt, 0, need * sizeof *d->tt);
+  }
+  Accum acc = {0, 0, 0};
+  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, &acc));
+  if (d->bonds.n && d->bonds.n != (size_t)-1)
+    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, &acc));
+  if (d->nt_now > 1) {
+    const int nt = d->nt_now;
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (size_t i = 0; i < n; ++i) {
+      TlVec3 s = P->f[i];
+      for (int t = 0; t < nt; ++t) s = tl_v3_add(s, d->tf[(size_t)t * n + i]);
+      P->f[i] = s;
+      if (rot) {
+        TlVec3 q = P->torque[i];
+        for (int t = 0; t < nt; ++t) q = tl_v3_add(q, d->tt[(size_t)t * n + i]);
+        P->torque[i] = q;
+      }
+    }
+  }
+  d->n_touching = acc.touching;
+  if (want) {
+    d->elastic_pp = acc.elastic;
+    d->contact_work_pp += d->dt * acc.power;
+  }
+  /* walls */
+  for (size_t w = 0; w < d->n_walls; ++w) {
+    TlWall *W = d->walls[w];
+    TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
+    TL_CHECK(W->ops->interact(W, &st));
+  }
+  return TL_OK;
+}
+
+TlStatus tl_dem_compute_forces(TlDem *d)
+{
+  if (!d->setup_done) TL_ERROR(TL_ERR_STATE, "tl_dem_setup must precede force computation");
+  if (needs_rebuild(d)) TL_CHECK(rebuild(d));
+  double dt = d->dt;
+  int track = d->track_energy;
+  /* a pure evaluation must not book work */
+  double cw = d->contact_work_pp;
+  TL_CHECK(compute_forces(d));
+  d->contact_work_pp = cw;
+  (void)dt;
+  (void)track;
+  return TL_OK;
+}
+
+/* --------------------------------------------------------------- setup */
+
+TlStatus tl_dem_setup(TlDem *d)
+{
+  TlParticles *P = d->P;
+  if (d->n_laws == 0) TL_ERROR(TL_ERR_STATE, "the scene has no contact law; add one with tl_dem_add_law");
+  if (!(d->dt > 0.0)) TL_ERROR(TL_ERR_STATE, "no time step set; call tl_dem_set_timestep");
+  for (size_t s = 0; s < P->n_species; ++s)
+    if (!(P->species_table[s].density > 0.0))
+      TL_ERROR(TL_ERR_ARG, "species %zu has density %g; it must be positive", s, P->species_table[s].density);
+  size_t hd = 0;
+  int rot = 0;
+  for (int l = 0; l < d->n_laws; ++l) {
+    if (d->laws[l]->history_doubles > hd) hd = d->laws[l]->history_doubles;
+    rot |= d->laws[l]->needs_rotation;
+  }
+  d->hd = hd;
+  TL_CHECK(tl_contact_list_init(&d->list, hd));
+  TL_CHECK(tl_contact_list_init(&d->old, hd));
+  TL_CHECK(tl_contact_list_init(&d->bonds, hd));
+  if (d->n_bond_ids) d->bonds.n = (size_t)-1;
+  if (rot) TL_CHECK(tl_particles_enable_rotation(P));
+  d->rotation = rot;
+  d->nt = d->threads > 0 ? d->threads : omp_get_max_threads();
+  if (d->nt < 1) d->nt = 1;
+  TL_CHECK(build_law_table(d));
+  /* skin from the mean diameter */
+  double mean = 0.0;
+  for (size_t i = 0; i < P->n; ++i) {
+    if (!(P->radius[i] > 0.0)) TL_ERROR(TL_ERR_ARG, "particle %zu has radius %g; it must be positive", i, P->radius[i]);
+    if (!tl_v3_isfinite(P->x[i]) || !tl_v3_isfinite(P->v[i]))
+      TL_ERROR(TL_ERR_ARG, "particle %zu (id %lld) has a non-finite position or velocity", i, (long long)P->id[i]);
+    mean += 2.0 * P->radius[i];
+  }
+  mean = P->n ? mean / (double)P->n : 1.0;
+  d->skin = d->skin_factor * mean;
+  double rmax;
+  double m_min;
+  min_radius(P, &rmax, &m_min);
+  d->max_cut = 2.0 * rmax + d->skin;
+  /* time step */
+  double dtc, k, m;
+  TL_CHECK(tl_dem_critical_timestep(d, &dtc, &k, &m));
+  if (d->dt > dtc) {
+    if (!d->allow_above)
+      TL_ERROR(TL_ERR_UNSTABLE, "time step %g s exceeds the critical time step %g s (k_max = %g N/m, m_min = %g kg); "
+               "reduce dt or set the override", d->dt, dtc, k, m);
+    tl_warn("time step %g s is above the critical time step %g s (k_max = %g N/m, m_min = %g kg): override in force",
+            d->dt, dtc, k, m);
+  }
+  d->setup_done = 1;
+  d->need_rebuild = 1;
+  TL_CHECK(rebuild(d));
+  /* overlaps larger than a radius are a broken scene, not a stiff one */
+  for (size_t q = 0; q < d->list.n; ++q) {
+    uint32_t i = d->list.i[q], j = d->list.j[q];
+    TlVec3 b = tl_domain_branch(&d->domain, P->x[i], P->x[j]);
+    double ov = P->radius[i] + P->radius[j] - tl_v3_norm(b);
+    double rs = fmin(P->radius[i], P->radius[j]);
+    if (ov > rs)
+      TL_ERROR(TL_ERR_ARG, "particles id %lld and id %lld overlap by %g, more than the smaller radius %g",
+               (long long)P->id[i], (long long)P->id[j], ov, rs);
+  }
+  TL_CHECK(compute_forces(d));
+  d->contact_work_pp = d->elastic_pp; /* stored energy at start counts as work done on contacts */
+  for (size_t w = 0; w < d->n_walls; ++w) d->walls[w]->contact_work = d->walls[w]->elastic_energy;
+  return TL_OK;
+}
+
+/* --------------------------------------------------------------- steps */
+
+static TlStatus prescribe(TlDem *d, double t)
+{
+  TlParticles *P = d->P;
+  for (size_t g = 0; g < d->n_presc; ++g) {
+    Prescribed *p = &d->presc[g];
+    TL_CHECK(p->eval(p->ctx, t, p->n, p->ids, p->x0, p->xs, p->vs));
+    for (size_t k = 0; k < p->n; ++k) {
+      if (!tl_v3_isfinite(p->xs[k]) || !tl_v3_isfinite(p->vs[k]))
+        TL_ERROR(TL_ERR_NUMERIC, "prescribed motion of particle id %lld at t = %g gave x = (%g, %g, %g), v = (%g, %g, %g)",
+                 (long long)p->ids[k], t, p->xs[k].x, p->xs[k].y, p->xs[k].z, p->vs[k].x, p->vs[k].y, p->vs[k].z);
+      size_t i = p->idx[k];
+      if (d->track_energy) {
+        TlVec3 dx = tl_v3_sub(p->xs[k], P->x[i]);
+        d->work_ext -= tl_v3_dot(P->f[i], dx) - tl_v3_dot(tl_v3_scale(d->gravity, P->mass[i]), dx);
+      }
+      P->x[i] = p->xs[k];
+      P->v[i] = p->vs[k];
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus one_step(TlDem *d)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  const double dt = d->dt, h = 0.5 * dt;
+  const int rot = P->w != NULL;
+  /* first half kick and drift */
+  TlMat3 A;
+  TL_CHECK(tl_domain_advance(&d->domain, dt, &A));
+  const int deforming = d->domain.deforming;
+  const TlVec3 o = d->domain.origin;
+  size_t bad = SIZE_MAX;
+  for (size_t i = 0; i < n; ++i) {
+    if (P->motion[i] != TL_MOTION_FREE) continue;
+    const double im = P->inv_mass[i];
+    TlVec3 v = tl_v3_axpy(P->v[i], h * im, P->f[i]);
+    P->v[i] = v;
+    TlVec3 dx = tl_v3_scale(v, dt);
+    if (d->track_energy && P->f_ext) d->work_ext += tl_v3_dot(P->f_ext[i], dx);
+    if (deforming) P->x[i] = tl_v3_add(tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(P->x[i], o))), dx);
+    else P->x[i] = tl_v3_add(P->x[i], dx);
+    if (!(tl_v3_norm2(dx) < P->radius[i] * P->radius[i]) && bad == SIZE_MAX) bad = i;
+  }
+  if (bad != SIZE_MAX) {
+    TlVec3 v = P->v[bad];
+    TL_ERROR(TL_ERR_UNSTABLE,
+             "step %ld, t = %g: particle id %lld moved %g in one step, more than its radius %g (v = (%g, %g, %g)); "
+             "the time step %g is too large for this scene or a force blew up",
+             d->steps, d->t, (long long)P->id[bad], tl_v3_norm(v) * dt, P->radius[bad], v.x, v.y, v.z, dt);
+  }
+  if (rot) {
+    for (size_t i = 0; i < n; ++i) {
+      if (P->motion[i] != TL_MOTION_FREE) continue;
+      TlVec3 w = tl_v3_axpy(P->w[i], h * P->inv_inertia[i], P->torque[i]);
+      P->w[i] = w;
+      P->q[i] = tl_q_integrate(P->q[i], w, dt);
+    }
+  }
+  for (size_t w = 0; w < d->n_walls; ++w)
+    if (d->walls[w]->ops->advance) TL_CHECK(d->walls[w]->ops->advance(d->walls[w], d->t, dt));
+  d->t += dt;
+  TL_CHECK(prescribe(d, d->t));
+  if (needs_rebuild(d)) TL_CHECK(rebuild(d));
+  TL_CHECK(compute_forces(d));
+  /* second half kick */
+  for (size_t i = 0; i < n; ++i) {
+    if (P->motion[i] != TL_MOTION_FREE) continue;
+    TlVec3 v = tl_v3_axpy(P->v[i], h * P->inv_mass[i], P->f[i]);
+    P->v[i] = v;
+    if (!tl_v3_isfinite(v) && bad == SIZE_MAX) bad = i;
+  }
+  if (rot)
+    for (size_t i = 0; i < n; ++i)
+      if (P->motion[i] == TL_MOTION_FREE) P->w[i] = tl_v3_axpy(P->w[i], h * P->inv_inertia[i], P->torque[i]);
+  if (bad != SIZE_MAX)
+    TL_ERROR(TL_ERR_UNSTABLE, "step %ld, t = %g: particle id %lld has a non-finite velocity (force (%g, %g, %g))",
+             d->steps, d->t, (long long)P->id[bad], P->f[bad].x, P->f[bad].y, P->f[bad].z);
+  d->steps++;
+  return TL_OK;
+}
+
+TlStatus tl_dem_step(TlDem *d, long n)
+{
+  if (!d->setup_done) TL_ERROR(TL_ERR_STATE, "tl_dem_setup must precede tl_dem_step");
+  for (long s = 0; s < n; ++s) TL_CHECK(one_step(d));
+  return TL_OK;
+}
+
+/* ----------------------------------------------------- insert / remove */
+
+TlStatus tl_dem_add_particle(TlDem *d, TlVec3 x, TlVec3 v, double radius, int species, size_t *index)
+{
+  TL_CHECK(tl_particles_add(d->P, x, v, radius, species, index));
+  if (d->setup_done) {
+    double r = radius;
+    if (2.0 * r + d->skin > d->max_cut) d->max_cut = 2.0 * r + d->skin;
+    TL_CHECK(build_law_table(d));
+    d->need_rebuild = 1;
+  }
+  return TL_OK;
+}
+
+TlStatus tl_dem_remove_particle(TlDem *d, size_t index)
+{
+  TlParticles *P = d->P;
+  if (index >= P->n) TL_ERROR(TL_ERR_ARG, "particle index %zu out of range (n = %zu)", index, P->n);
+  size_t n = P->n, last = n - 1;
+  for (size_t g = 0; g < d->n_presc; ++g)
+    for (size_t k = 0; k < d->presc[g].n; ++k)
+      if (d->presc[g].idx[k] == index)
+        TL_ERROR(TL_ERR_STATE, "particle id %lld has a prescribed motion and cannot be removed", (long long)P->id[index]);
+  for (size_t k = 0; k < d->n_bond_ids; ++k)
+    if (d->bond_ids[k] == P->id[index])
+      TL_ERROR(TL_ERR_STATE, "particle id %lld is bonded and cannot be removed", (long long)P->id[index]);
+  if (n > d->perm_cap) {
+    TL_CHECK(tl_realloc(&d->perm, n, sizeof *d->perm));
+    TL_CHECK(tl_realloc(&d->old_to_new, n, sizeof *d->old_to_new));
+    d->perm_cap = n;
+  }
+  for (size_t k = 0; k < n; ++k) d->old_to_new[k] = k;
+  d->old_to_new[index] = SIZE_MAX;
+  if (index != last) d->old_to_new[last] = index;
+  TL_CHECK(tl_particles_remove(P, index));
+  if (d->setup_done) {
+    TL_CHECK(remap_everything(d, d->old_to_new, n));
+    if (index != last && d->x_build) d->x_build[index] = d->x_build[last];
+    d->need_rebuild = 1;
+  }
+  return TL_OK;
+}
+
+/* --------------------------------------------------------- diagnostics */
+
+TlStatus tl_dem_energy(TlDem *d, TlDemEnergy *e)
+{
+  const TlParticles *P = d->P;
+  memset(e, 0, sizeof *e);
+  for (size_t i = 0; i < P->n; ++i) {
+    if (P->motion[i] != TL_MOTION_FREE) continue;
+    double m = P->mass[i];
+    TlVec3 v = P->v[i];
+    e->kinetic_translational += 0.5 * m * tl_v3_norm2(v);
+    e->gravitational -= m * tl_v3_dot(d->gravity, P->x[i]);
+    e->momentum = tl_v3_axpy(e->momentum, m, v);
+    TlVec3 L = tl_v3_scale(tl_v3_cross(P->x[i], v), m);
+    if (P->w) {
+      double I = 1.0 / P->inv_inertia[i];
+      e->kinetic_rotational += 0.5 * I * tl_v3_norm2(P->w[i]);
+      L = tl_v3_axpy(L, I, P->w[i]);
+    }
+    e->angular_momentum = tl_v3_add(e->angular_momentum, L);
+  }
+  double cw = d->contact_work_pp, el = d->elastic_pp, ww = 0.0;
+  for (size_t w = 0; w < d->n_walls; ++w) {
+    cw += d->walls[w]->contact_work;
+    el += d->walls[w]->elastic_energy;
+    ww += d->walls[w]->work;
+  }
+  e->elastic = el;
+  e->work_external = d->work_ext + ww;
+  e->dissipated = cw - el;
+  e->total = e->kinetic_translational + e->kinetic_rotational + e->elastic + e->gravitational - e->work_external +
+             e->dissipated;
+  return TL_OK;
+}
+
+TlStatus tl_dem_stress(TlDem *d, TlMat3 *sc, TlMat3 *sk)
+{
+  const TlParticles *P = d->P;
+  double V = tl_domain_volume(&d->domain);
+  TlMat3 s = tl_m3_zero(), k = tl_m3_zero();
+  const TlContactList *lists[2] = {&d->list, &d->bonds};
+  for (int q = 0; q < 2; ++q) {
+    const TlContactList *L = lists[q];
+    if (L->n == (size_t)-1) continue;
+    for (size_t c = 0; c < L->n; ++c) {
+      if (!L->touching[c]) continue;
+      TlVec3 b = tl_domain_branch(&d->domain, P->x[L->i[c]], P->x[L->j[c]]);
+      s = tl_m3_add(s, tl_m3_outer(L->force[c], b));
+    }
+  }
+  for (size_t i = 0; i < P->n; ++i)
+    if (P->motion[i] == TL_MOTION_FREE) k = tl_m3_add(k, tl_m3_scale(tl_m3_outer(P->v[i], P->v[i]), -P->mass[i]));
+  *sc = tl_m3_scale(s, 1.0 / V);
+  if (sk) *sk = tl_m3_scale(k, 1.0 / V);
+  return TL_OK;
+}
+
+TlStatus tl_dem_coordination(TlDem *d, double *z, double *z_nr)
+{
+  const TlParticles *P = d->P;
+  TL_CHECK(tl_array_reserve(&d->scratch, &d->scratch_cap, P->n + 1, sizeof *d->scratch));
+  double *cnt = d->scratch;
+  memset(cnt, 0, P->n * sizeof *cnt);
+  const TlContactList *lists[2] = {&d->list, &d->bonds};
+  for (int q = 0; q < 2; ++q) {
+    const TlContactList *L = lists[q];
+    if (L->n == (size_t)-1) continue;
+    for (size_t c = 0; c < L->n; ++c)
+      if (L->touching[c]) {
+        cnt[L->i[c]] += 1.0;
+        cnt[L->j[c]] += 1.0;
+      }
+  }
+  double sum = 0.0, sum_nr = 0.0;
+  size_t nf = 0, nnr = 0;
+  for (size_t i = 0; i < P->n; ++i) {
+    if (P->motion[i] != TL_MOTION_FREE) continue;
+    sum += cnt[i];
+    ++nf;
+    if (cnt[i] >= 2.0) {
+      sum_nr += cnt[i];
+      ++nnr;
+    }
+  }
+  *z = nf ? sum / (double)nf : 0.0;
+  if (z_nr) *z_nr = nnr ? sum_nr / (double)nnr : 0.0;
+  return TL_OK;
+}
+
+TlStatus tl_dem_max_force_imbalance(TlDem *d, double *delta)
+{
+  const TlParticles *P = d->P;
+  TL_CHECK(tl_array_reserve(&d->scratch, &d->scratch_cap, 4 * P->n + 4, sizeof *d->scratch));
+  double *sx = d->scratch, *mx = d->scratch + 3 * P->n;
+  memset(d->scratch, 0, 4 * P->n * sizeof *d->scratch);
+  const TlContactList *lists[2] = {&d->list, &d->bonds};
+  for (int q = 0; q < 2; ++q) {
+    const TlContactList *L = lists[q];
+    if (L->n == (size_t)-1) continue;
+    for (size_t c = 0; c < L->n; ++c) {
+      if (!L->touching[c]) continue;
+      TlVec3 f = L->force[c];
+      size_t i = L->i[c], j = L->j[c];
+      sx[3 * i] += f.x; sx[3 * i + 1] += f.y; sx[3 * i + 2] += f.z;
+      sx[3 * j] -= f.x; sx[3 * j + 1] -= f.y; sx[3 * j + 2] -= f.z;
+      double m = tl_v3_norm(f);
+      mx[i] = fmax(mx[i], m);
+      mx[j] = fmax(mx[j], m);
+    }
+  }
+  double worst = 0.0;
+  for (size_t i = 0; i < P->n; ++i) {
+    if (P->motion[i] != TL_MOTION_FREE || !(mx[i] > 0.0)) continue;
+    double s = sqrt(sx[3 * i] * sx[3 * i] + sx[3 * i + 1] * sx[3 * i + 1] + sx[3 * i + 2] * sx[3 * i + 2]) / mx[i];
+    worst = fmax(worst, s);
+  }
+  *delta = worst;
+  return TL_OK;
+}
+
+void tl_dem_stats(const TlDem *d, TlDemStats *s)
+{
+  s->steps = d->steps;
+  s->rebuilds = d->rebuilds;
+  s->n_contacts = d->n_touching;
+  s->n_pairs = d->list.n;
+}
+
+TlStatus tl_dem_visit_contacts(TlDem *d, TlContactVisitor visit, void *ctx)
+{
+  const TlParticles *P = d->P;
+  const TlContactList *lists[2] = {&d->list, &d->bonds};
+  for (int q = 0; q < 2; ++q) {
+    const TlContactList *L = lists[q];
+    if (L->n == (size_t)-1) continue;
+    for (size_t c = 0; c < L->n; ++c) {
+      if (!L->touching[c]) continue;
+      size_t i = L->i[c], j = L->j[c];
+      TlVec3 b = tl_domain_branch(&d->domain, P->x[i], P->x[j]);
+      double dist = tl_v3_norm(b);
+      double ov = P->radius[i] + P->radius[j] - dist;
+      TlVec3 nrm = dist > 0.0 ? tl_v3_scale(b, 1.0 / dist) : tl_v3(1, 0, 0);
+      TlVec3 cp = tl_v3_add(P->x[i], tl_v3_scale(nrm, P->radius[i] - 0.5 * ov));
+      visit(ctx, i, j, L->force[c], b, cp);
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_dem_register_all(void)
+{
+  TL_CHECK(tl_contact_register_all());
+  TL_CHECK(tl_wall_register_plane());
+  return TL_OK;
+}

@@ -1,0 +1,271 @@
+/* The infinite plane wall, and the two helpers of the wall base type. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include "tl_memory.h"
+#include "tl_registry.h"
+#include "tl_wall.h"
+
+void tl_wall_destroy(TlWall **w)
+{
+  if (!*w) return;
+  (*w)->ops->destroy(*w);
+  *w = NULL;
+}
+
+int tl_wall_is_bounded(const TlWall *w)
+{
+  TlVec3 lo, hi;
+  w->ops->bounding_box(w, &lo, &hi);
+  return tl_v3_isfinite(lo) && tl_v3_isfinite(hi);
+}
+
+typedef struct {
+  TlWall base;
+  TlVec3 point, normal, velocity;
+  /* per-particle contact state, indexed by particle index */
+  size_t n, capacity, hd;
+  double *history;
+  uint8_t *touching;
+} TlWallPlane;
+
+enum { PLANE_CHUNK = 64 };
+
+static void plane_bbox(const TlWall *w, TlVec3 *lo, TlVec3 *hi)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  /* an axis-aligned plane is bounded along its normal; any plane is
+   * unbounded along at least two directions */
+  *lo = tl_v3(-INFINITY, -INFINITY, -INFINITY);
+  *hi = tl_v3(INFINITY, INFINITY, INFINITY);
+  (void)p;
+}
+
+static TlStatus plane_fit(TlWallPlane *p, size_t n, size_t hd)
+{
+  if (hd != p->hd) {
+    /* first use with this law: (re)start the history */
+    p->hd = hd;
+    p->capacity = 0;
+    tl_free(&p->history);
+    tl_free(&p->touching);
+    p->n = 0;
+  }
+  if (n > p->capacity) {
+    size_t cap = n + n / 2 + 16;
+    if (hd) TL_CHECK(tl_realloc(&p->history, cap * hd, sizeof *p->history));
+    TL_CHECK(tl_realloc(&p->touching, cap, sizeof *p->touching));
+    p->capacity = cap;
+  }
+  if (n > p->n) {
+    if (hd) memset(p->history + p->n * hd, 0, (n - p->n) * hd * sizeof *p->history);
+    memset(p->touching + p->n, 0, n - p->n);
+  }
+  p->n = n;
+  return TL_OK;
+}
+
+static TlStatus flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g, TlContactResult *r,
+                      const size_t *idx, size_t m, double *elastic, double *power, double *work)
+{
+  if (!m) return TL_OK;
+  TlContactBatch b = {m, g, r, st->dt, st->want_energy};
+  TL_CHECK(st->law->ops->evaluate(st->law, &b));
+  TlParticles *P = st->particles;
+  for (size_t c = 0; c < m; ++c) {
+    size_t i = idx[c];
+    TlVec3 F = r[c].force;
+    P->f[i] = tl_v3_add(P->f[i], F);
+    if (P->torque)
+      P->torque[i] = tl_v3_add(P->torque[i], tl_v3_add(tl_v3_cross(g[c].branch_i, F), r[c].couple));
+    TlVec3 cp = tl_v3_add(P->x[i], g[c].branch_i);
+    p->base.force = tl_v3_sub(p->base.force, F);
+    p->base.torque = tl_v3_sub(p->base.torque, tl_v3_cross(cp, F));
+    if (st->want_energy) {
+      *elastic += r[c].elastic_energy;
+      *power += r[c].power;
+      *work += tl_v3_dot(F, p->velocity);
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus plane_interact(TlWall *w, const TlWallStep *st)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  TlParticles *P = st->particles;
+  size_t hd = st->law->history_doubles;
+  TL_CHECK(plane_fit(p, P->n, hd));
+  TlContactGeometry g[PLANE_CHUNK];
+  TlContactResult r[PLANE_CHUNK];
+  size_t idx[PLANE_CHUNK], m = 0;
+  double elastic = 0.0, power = 0.0, work = 0.0;
+  w->force = w->torque = tl_v3(0, 0, 0);
+  w->n_contacts = 0;
+  const TlVec3 nrm = p->normal, pt = p->point;
+  for (size_t i = 0; i < P->n; ++i) {
+    double s = tl_v3_dot(tl_v3_sub(P->x[i], pt), nrm);
+    double ri = P->radius[i];
+    if (s >= ri || P->motion[i] != TL_MOTION_FREE) {
+      if (p->touching[i]) {
+        p->touching[i] = 0;
+        if (hd) memset(p->history + i * hd, 0, hd * sizeof *p->history);
+      }
+      continue;
+    }
+    p->touching[i] = 1;
+    w->n_contacts++;
+    TlContactGeometry *c = &g[m];
+    c->normal = tl_v3_neg(nrm);
+    c->overlap = ri - s;
+    c->branch_i = tl_v3_scale(nrm, -0.5 * (ri + s)); /* middle of the overlap, as between particles */
+    c->branch_j = tl_v3(0, 0, 0);
+    TlVec3 vi = P->v[i];
+    if (P->w) {
+      vi = tl_v3_add(vi, tl_v3_cross(P->w[i], c->branch_i));
+      c->spin_mean = tl_v3_scale(P->w[i], 0.5);
+      c->spin_rel = tl_v3_neg(P->w[i]);
+    } else {
+      c->spin_mean = c->spin_rel = tl_v3(0, 0, 0);
+    }
+    c->vrel = tl_v3_sub(p->velocity, vi);
+    c->meff = P->mass[i];
+    c->reff = ri;
+    c->history = hd ? p->history + i * hd : NULL;
+    c->bonded = 0;
+    idx[m++] = i;
+    if (m == PLANE_CHUNK) {
+      TL_CHECK(flush(p, st, g, r, idx, m, &elastic, &power, &work));
+      m = 0;
+    }
+  }
+  TL_CHECK(flush(p, st, g, r, idx, m, &elastic, &power, &work));
+  if (st->want_energy) {
+    w->elastic_energy = elastic;
+    w->contact_work += st->dt * power;
+    w->work += st->dt * work;
+  }
+  return TL_OK;
+}
+
+static TlStatus plane_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  if (!p->n) return TL_OK;
+  size_t n = p->n < n_old ? p->n : n_old, hd = p->hd, n_new = 0;
+  for (size_t k = 0; k < n; ++k)
+    if (old_to_new[k] != SIZE_MAX && old_to_new[k] + 1 > n_new) n_new = old_to_new[k] + 1;
+  double *h = NULL;
+  uint8_t *t = NULL;
+  size_t cap = p->capacity > n_new ? p->capacity : n_new + 16;
+  if (hd) TL_CHECK(tl_calloc(&h, cap * hd, sizeof *h));
+  TL_CHECK(tl_calloc(&t, cap, sizeof *t));
+  for (size_t k = 0; k < n; ++k) {
+    size_t q = old_to_new[k];
+    if (q == SIZE_MAX) continue;
+    t[q] = p->touching[k];
+    if (hd) memcpy(h + q * hd, p->history + k * hd, hd * sizeof *h);
+  }
+  tl_free(&p->history);
+  tl_free(&p->touching);
+  p->history = h;
+  p->touching = t;
+  p->capacity = cap;
+  p->n = n_new;
+  return TL_OK;
+}
+
+static TlStatus plane_advance(TlWall *w, double t, double dt)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  p->point = tl_v3_axpy(p->point, dt, p->velocity);
+  return TL_OK;
+}
+
+static size_t plane_checkpoint_size(const TlWall *w)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  return 6 * sizeof(double) + 2 * sizeof(size_t) + p->n * (p->hd * sizeof(double) + 1);
+}
+
+static TlStatus plane_save(const TlWall *w, void *buffer, size_t size)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  if (size < plane_checkpoint_size(w)) TL_ERROR(TL_ERR_ARG, "plane checkpoint buffer %zu bytes < %zu", size, plane_checkpoint_size(w));
+  char *b = buffer;
+  double v[6] = {p->point.x, p->point.y, p->point.z, p->velocity.x, p->velocity.y, p->velocity.z};
+  memcpy(b, v, sizeof v); b += sizeof v;
+  memcpy(b, &p->n, sizeof p->n); b += sizeof p->n;
+  memcpy(b, &p->hd, sizeof p->hd); b += sizeof p->hd;
+  if (p->hd) { memcpy(b, p->history, p->n * p->hd * sizeof(double)); b += p->n * p->hd * sizeof(double); }
+  memcpy(b, p->touching, p->n);
+  return TL_OK;
+}
+
+static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  const char *b = buffer;
+  size_t n, hd;
+  double v[6];
+  if (size < sizeof v + 2 * sizeof(size_t)) TL_ERROR(TL_ERR_FORMAT, "plane checkpoint of %zu bytes is too short", size);
+  memcpy(v, b, sizeof v); b += sizeof v;
+  memcpy(&n, b, sizeof n); b += sizeof n;
+  memcpy(&hd, b, sizeof hd); b += sizeof hd;
+  if (size < sizeof v + 2 * sizeof(size_t) + n * (hd * sizeof(double) + 1))
+    TL_ERROR(TL_ERR_FORMAT, "plane checkpoint of %zu bytes too short for %zu particles", size, n);
+  p->point = tl_v3(v[0], v[1], v[2]);
+  p->velocity = tl_v3(v[3], v[4], v[5]);
+  p->hd = SIZE_MAX; /* force a reset in plane_fit */
+  TL_CHECK(plane_fit(p, n, hd));
+  if (hd) { memcpy(p->history, b, n * hd * sizeof(double)); b += n * hd * sizeof(double); }
+  memcpy(p->touching, b, n);
+  return TL_OK;
+}
+
+static void plane_destroy(TlWall *w)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  tl_free(&p->history);
+  tl_free(&p->touching);
+  tl_free(&p);
+}
+
+static const TlWallOps plane_ops = {{"wall", "plane", "infinite plane, particles on the side of its normal"},
+                                    plane_bbox, plane_interact, plane_remap, plane_advance,
+                                    plane_checkpoint_size, plane_save, plane_load, plane_destroy};
+
+TlStatus tl_wall_register_plane(void) { return tl_registry_add(&plane_ops.header); }
+
+TlStatus tl_wall_plane_create(TlVec3 point, TlVec3 normal, TlWall **w)
+{
+  double len = tl_v3_norm(normal);
+  if (!(len > 0.0) || !isfinite(len))
+    TL_ERROR(TL_ERR_ARG, "plane wall: normal (%g, %g, %g) must be non-zero and finite", normal.x, normal.y, normal.z);
+  if (!tl_v3_isfinite(point)) TL_ERROR(TL_ERR_ARG, "plane wall: point (%g, %g, %g) not finite", point.x, point.y, point.z);
+  TlWallPlane *p;
+  TL_CHECK(TL_NEW(p));
+  p->base.ops = &plane_ops;
+  snprintf(p->base.name, sizeof p->base.name, "plane");
+  p->base.law = 0;
+  p->point = point;
+  p->normal = tl_v3_scale(normal, 1.0 / len);
+  *w = &p->base;
+  return TL_OK;
+}
+
+TlStatus tl_wall_plane_set_velocity(TlWall *w, TlVec3 velocity)
+{
+  if (w->ops != &plane_ops) TL_ERROR(TL_ERR_ARG, "wall '%s' is not a plane", w->ops->header.name);
+  if (!tl_v3_isfinite(velocity)) TL_ERROR(TL_ERR_ARG, "plane wall: velocity not finite");
+  ((TlWallPlane *)w)->velocity = velocity;
+  return TL_OK;
+}
+
+void tl_wall_plane_get(const TlWall *w, TlVec3 *point, TlVec3 *normal)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  *point = p->point;
+  *normal = p->normal;
+}
