@@ -120,6 +120,8 @@ fail:
 
 TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w)
 {
+  if (!w) TL_ERROR(TL_ERR_ARG, "tl_wall_triangle_create: NULL wall pointer");
+  *w = NULL;
   double x[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
   int tri[3] = {0, 1, 2};
   TlTriSurface *s = NULL;
@@ -144,8 +146,19 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
   int use_grid = step->grid && !t->brute_force;
   long nt = (long)s->n_triangles;
   TlStatus status = TL_OK;
+  int want = omp_get_max_threads();
+  if (want > t->n_threads) {
+    /* more threads than at creation: grow the per-thread buffers once */
+    TL_CHECK(tl_realloc(&t->thread, (size_t)want, sizeof *t->thread));
+    memset(t->thread + t->n_threads, 0, (size_t)(want - t->n_threads) * sizeof *t->thread);
+    for (int k = t->n_threads; k < want; ++k) {
+      TL_CHECK(tl_tricontacts_create(&t->thread[k].found));
+      t->n_threads = k + 1;
+    }
+  }
+  int nthreads = want < 1 ? 1 : want;
   for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
-#pragma omp parallel num_threads(t->n_threads) if (nt > 64)
+#pragma omp parallel num_threads(nthreads) if (nt > 64)
   {
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
@@ -158,11 +171,13 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
                                    &th->candidate_capacity, &th->n_candidates);
         for (size_t m = 0; local == TL_OK && m < th->n_candidates; ++m) {
           size_t i = th->candidates[m];
+          if (p->motion[i] != TL_MOTION_FREE) continue;
           local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
         }
       } else {
         for (size_t i = 0; local == TL_OK && i < p->n; ++i)
-          local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
+          if (p->motion[i] == TL_MOTION_FREE)
+            local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
       }
     }
     if (local != TL_OK) {

@@ -24,7 +24,8 @@
  * wall at a contact point is interpolated from the vertex velocities.
  *
  * Surfaces are two-sided: a particle may touch either side; edge shapes are
- * read from the particle's side. */
+ * read from the particle's side.  As for the plane, only free particles
+ * touch the wall (fixed and prescribed ones are held anyway). */
 #ifndef TL_WALL_TRISURFACE_H
 #define TL_WALL_TRISURFACE_H
 
