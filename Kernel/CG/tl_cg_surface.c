@@ -1,0 +1,511 @@
+#include "tl_cg_surface.h"
+
+#include <math.h>
+#include <string.h>
+#include "tl_memory.h"
+
+enum { TL_CG_SURFACE_BATCH = 64 };
+
+/* Scratch kept with the surface so that the per-step calls never allocate. */
+typedef struct {
+  double *r2, *w;        /* qp_per_face */
+  double *g;             /* n_nodes: unnormalised nodal sums */
+  size_t *touched;       /* nodes with g != 0 */
+  unsigned char *mark;   /* n_nodes */
+  double *N;             /* TL_CG_SURFACE_BATCH x nodes_per_face */
+} TlCGSurfaceScratch;
+
+/* The scratch lives right after the public struct. */
+typedef struct {
+  TlCGSurface pub;
+  TlCGSurfaceScratch scratch;
+} TlCGSurfaceImpl;
+
+static TlCGSurfaceScratch *scratch_of(const TlCGSurface *s) { return &((TlCGSurfaceImpl *)s)->scratch; }
+
+/* ------------------------------------------------------------ triangles */
+
+/* Degree-4 six-point rule on a triangle (barycentric coordinates; weights
+ * sum to 1). */
+static const double tri6_a = 0.445948490915965, tri6_b = 0.091576213509771;
+static const double tri6_wa = 0.223381589678011, tri6_wb = 0.109951743655322;
+
+static void tri6_point(int g, double L[3], double *w)
+{
+  double a = g < 3 ? tri6_a : tri6_b, o = 1.0 - 2.0 * a;
+  int k = g % 3;
+  L[0] = L[1] = L[2] = a;
+  L[k] = o;
+  *w = g < 3 ? tri6_wa : tri6_wb;
+}
+
+/* Sub-triangle t of the s x s split of the reference triangle (rows of
+ * upward triangles, each but the last followed by a downward one): its
+ * three corners in (xi, eta). */
+static void tri_sub(int s, int t, double P[3][2])
+{
+  int idx = 0, found = 0;
+  double c[3][2] = {{0, 0}, {1, 0}, {0, 1}};
+  for (int j = 0; j < s && !found; ++j)
+    for (int i = 0; i + j < s && !found; ++i) {
+      if (idx++ == t) {
+        double up[3][2] = {{i, j}, {i + 1, j}, {i, j + 1}};
+        memcpy(c, up, sizeof c);
+        found = 1;
+      } else if (i + j < s - 1 && idx++ == t) {
+        double down[3][2] = {{i + 1, j}, {i + 1, j + 1}, {i, j + 1}};
+        memcpy(c, down, sizeof c);
+        found = 1;
+      }
+    }
+  for (int a = 0; a < 3; ++a) {
+    P[a][0] = c[a][0] / s;
+    P[a][1] = c[a][1] / s;
+  }
+}
+
+static TlStatus tri_quadrature(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq)
+{
+  int sub = s->subdivisions, nsub = sub * sub;
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    const int *v = s->face_node + 3 * f;
+    TlVec3 X0 = s->x[v[0]], X1 = s->x[v[1]], X2 = s->x[v[2]];
+    double area = 0.5 * tl_v3_norm(tl_v3_cross(tl_v3_sub(X1, X0), tl_v3_sub(X2, X0)));
+    if (!(area > 0.0))
+      TL_ERROR(TL_ERR_NUMERIC, "triangle %zu (nodes %d %d %d) has area %g", f, v[0], v[1], v[2], area);
+    size_t slot = f * (size_t)s->qp_per_face;
+    for (int t = 0; t < nsub; ++t) {
+      double P[3][2];
+      tri_sub(sub, t, P);
+      for (int g = 0; g < 6; ++g, ++slot) {
+        double L[3], w;
+        tri6_point(g, L, &w);
+        double xi = L[0] * P[0][0] + L[1] * P[1][0] + L[2] * P[2][0];
+        double eta = L[0] * P[0][1] + L[1] * P[1][1] + L[2] * P[2][1];
+        double *N = Nq + slot * 3;
+        N[0] = 1.0 - xi - eta;
+        N[1] = xi;
+        N[2] = eta;
+        xq[slot] = tl_v3_add(tl_v3_add(tl_v3_scale(X0, N[0]), tl_v3_scale(X1, N[1])), tl_v3_scale(X2, N[2]));
+        wq[slot] = w * area / nsub;
+      }
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus tri_shape_at(const TlCGSurface *s, size_t n, const size_t *face, const TlVec3 *point, double *N)
+{
+  for (size_t k = 0; k < n; ++k) {
+    const int *v = s->face_node + 3 * face[k];
+    TlVec3 X0 = s->x[v[0]], e1 = tl_v3_sub(s->x[v[1]], X0), e2 = tl_v3_sub(s->x[v[2]], X0);
+    TlVec3 d = tl_v3_sub(point[k], X0);
+    /* least squares in the plane: [e1 e2]^T [e1 e2] (xi, eta) = [e1 e2]^T d */
+    double a11 = tl_v3_dot(e1, e1), a12 = tl_v3_dot(e1, e2), a22 = tl_v3_dot(e2, e2);
+    double b1 = tl_v3_dot(e1, d), b2 = tl_v3_dot(e2, d), det = a11 * a22 - a12 * a12;
+    double xi = (a22 * b1 - a12 * b2) / det, eta = (a11 * b2 - a12 * b1) / det;
+    double L[3] = {1.0 - xi - eta, xi, eta};
+    /* a contact point slightly off the face (round-off) is pulled back */
+    double sum = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      if (L[a] < 0.0) L[a] = 0.0;
+      sum += L[a];
+    }
+    if (!(sum > 0.0) || !isfinite(sum))
+      TL_ERROR(TL_ERR_NUMERIC, "contact %zu: no barycentric coordinates on triangle %zu", k, face[k]);
+    for (int a = 0; a < 3; ++a) N[k * 3 + a] = L[a] / sum;
+  }
+  return TL_OK;
+}
+
+static const TlCGSurfaceOps tl_cg_surface_triangle_ops = {
+    {TL_CG_SURFACE_KIND, "triangle3", "linear triangles, degree-4 rule on s x s sub-triangles"},
+    tri_quadrature, tri_shape_at};
+
+/* ------------------------------------------------------- quadrilaterals */
+
+static void quad_shape(double xi, double eta, double N[4], double dxi[4], double deta[4])
+{
+  N[0] = 0.25 * (1 - xi) * (1 - eta);
+  N[1] = 0.25 * (1 + xi) * (1 - eta);
+  N[2] = 0.25 * (1 + xi) * (1 + eta);
+  N[3] = 0.25 * (1 - xi) * (1 + eta);
+  dxi[0] = -0.25 * (1 - eta), dxi[1] = 0.25 * (1 - eta), dxi[2] = 0.25 * (1 + eta), dxi[3] = -0.25 * (1 + eta);
+  deta[0] = -0.25 * (1 - xi), deta[1] = -0.25 * (1 + xi), deta[2] = 0.25 * (1 + xi), deta[3] = 0.25 * (1 - xi);
+}
+
+static TlStatus quad_quadrature(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq)
+{
+  static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  int sub = s->subdivisions;
+  double hs = 1.0 / sub;
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    const int *v = s->face_node + 4 * f;
+    TlVec3 X[4] = {s->x[v[0]], s->x[v[1]], s->x[v[2]], s->x[v[3]]};
+    size_t slot = f * (size_t)s->qp_per_face;
+    for (int si = 0; si < sub; ++si)
+      for (int sj = 0; sj < sub; ++sj)
+        for (int gi = 0; gi < 3; ++gi)
+          for (int gj = 0; gj < 3; ++gj, ++slot) {
+            double xi = -1.0 + (2.0 * si + 1.0 + gx[gi]) * hs, eta = -1.0 + (2.0 * sj + 1.0 + gx[gj]) * hs;
+            double N[4], dxi[4], deta[4];
+            quad_shape(xi, eta, N, dxi, deta);
+            TlVec3 p = tl_v3(0, 0, 0), a = tl_v3(0, 0, 0), b = tl_v3(0, 0, 0);
+            for (int k = 0; k < 4; ++k) {
+              p = tl_v3_axpy(p, N[k], X[k]);
+              a = tl_v3_axpy(a, dxi[k], X[k]);
+              b = tl_v3_axpy(b, deta[k], X[k]);
+              Nq[slot * 4 + k] = N[k];
+            }
+            double jac = tl_v3_norm(tl_v3_cross(a, b));
+            if (!(jac > 0.0))
+              TL_ERROR(TL_ERR_NUMERIC, "quadrilateral %zu (nodes %d %d %d %d) has area element %g at (%g, %g)", f,
+                       v[0], v[1], v[2], v[3], jac, xi, eta);
+            xq[slot] = p;
+            wq[slot] = gw[gi] * gw[gj] * hs * hs * jac;
+          }
+  }
+  return TL_OK;
+}
+
+static TlStatus quad_shape_at(const TlCGSurface *s, size_t n, const size_t *face, const TlVec3 *point, double *Nout)
+{
+  for (size_t k = 0; k < n; ++k) {
+    const int *v = s->face_node + 4 * face[k];
+    TlVec3 X[4] = {s->x[v[0]], s->x[v[1]], s->x[v[2]], s->x[v[3]]};
+    double xi = 0.0, eta = 0.0, N[4], dxi[4], deta[4];
+    /* Gauss-Newton on |X(xi, eta) - p|^2, clamped to the reference square */
+    for (int it = 0; it < 50; ++it) {
+      quad_shape(xi, eta, N, dxi, deta);
+      TlVec3 r = tl_v3_neg(point[k]), a = tl_v3(0, 0, 0), b = tl_v3(0, 0, 0);
+      for (int q = 0; q < 4; ++q) {
+        r = tl_v3_axpy(r, N[q], X[q]);
+        a = tl_v3_axpy(a, dxi[q], X[q]);
+        b = tl_v3_axpy(b, deta[q], X[q]);
+      }
+      double a11 = tl_v3_dot(a, a), a12 = tl_v3_dot(a, b), a22 = tl_v3_dot(b, b);
+      double r1 = -tl_v3_dot(a, r), r2 = -tl_v3_dot(b, r), det = a11 * a22 - a12 * a12;
+      if (!(det > 0.0)) TL_ERROR(TL_ERR_NUMERIC, "quadrilateral %zu is degenerate at (%g, %g)", face[k], xi, eta);
+      double dx = (a22 * r1 - a12 * r2) / det, de = (a11 * r2 - a12 * r1) / det;
+      xi = fmin(1.0, fmax(-1.0, xi + dx));
+      eta = fmin(1.0, fmax(-1.0, eta + de));
+      if (fabs(dx) + fabs(de) < 1e-15) break;
+    }
+    quad_shape(xi, eta, N, dxi, deta);
+    for (int q = 0; q < 4; ++q) Nout[k * 4 + q] = N[q];
+  }
+  return TL_OK;
+}
+
+static const TlCGSurfaceOps tl_cg_surface_quad_ops = {
+    {TL_CG_SURFACE_KIND, "quad4", "bilinear quadrilaterals, 3 x 3 Gauss on s x s sub-squares"},
+    quad_quadrature, quad_shape_at};
+
+/* ------------------------------------------------------------ life cycle */
+
+void tl_cg_surface_destroy(TlCGSurface **surface)
+{
+  if (!surface || !*surface) return;
+  TlCGSurface *s = *surface;
+  TlCGSurfaceScratch *w = scratch_of(s);
+  tl_free(&s->face_node);
+  tl_free(&s->xq);
+  tl_free(&s->wq);
+  tl_free(&s->Nq);
+  tl_free(&s->face_lo);
+  tl_free(&s->face_hi);
+  tl_free(&w->r2);
+  tl_free(&w->w);
+  tl_free(&w->g);
+  tl_free(&w->touched);
+  tl_free(&w->mark);
+  tl_free(&w->N);
+  tl_free(surface);
+}
+
+TlStatus tl_cg_surface_create(const TlCGSurfaceOps *ops, size_t n_nodes, const TlVec3 *x, size_t n_faces,
+                              int nodes_per_face, const int *face_node, int qp_per_face, void *context,
+                              TlCGSurface **surface)
+{
+  *surface = NULL;
+  if (!ops || !ops->quadrature || !ops->shape_at) TL_ERROR(TL_ERR_ARG, "surface ops table is incomplete");
+  if (n_nodes == 0 || n_faces == 0 || !x || !face_node)
+    TL_ERROR(TL_ERR_ARG, "surface needs nodes and faces (got %zu nodes, %zu faces)", n_nodes, n_faces);
+  if (nodes_per_face < 2 || nodes_per_face > 27)
+    TL_ERROR(TL_ERR_ARG, "nodes per face %d outside [2, 27]", nodes_per_face);
+  if (qp_per_face < 1) TL_ERROR(TL_ERR_ARG, "quadrature points per face %d must be positive", qp_per_face);
+  for (size_t k = 0; k < n_faces * (size_t)nodes_per_face; ++k)
+    if (face_node[k] < 0 || (size_t)face_node[k] >= n_nodes)
+      TL_ERROR(TL_ERR_ARG, "face %zu names node %d, outside [0, %zu)", k / (size_t)nodes_per_face, face_node[k],
+               n_nodes);
+  TlCGSurfaceImpl *impl;
+  TL_CHECK(TL_NEW(impl));
+  TlCGSurface *s = &impl->pub;
+  TlCGSurfaceScratch *w = &impl->scratch;
+  s->ops = ops;
+  s->n_nodes = n_nodes;
+  s->n_faces = n_faces;
+  s->nodes_per_face = nodes_per_face;
+  s->qp_per_face = qp_per_face;
+  s->subdivisions = 1;
+  s->context = context;
+  size_t nq = n_faces * (size_t)qp_per_face;
+  TlStatus st = TL_OK;
+  TL_CHECK_GOTO(st, tl_calloc(&s->face_node, n_faces * (size_t)nodes_per_face, sizeof(int)), fail);
+  memcpy(s->face_node, face_node, n_faces * (size_t)nodes_per_face * sizeof(int));
+  TL_CHECK_GOTO(st, tl_calloc(&s->xq, nq, sizeof(TlVec3)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&s->wq, nq, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&s->Nq, nq * (size_t)nodes_per_face, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&s->face_lo, n_faces, sizeof(TlVec3)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&s->face_hi, n_faces, sizeof(TlVec3)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->r2, (size_t)qp_per_face, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->w, (size_t)qp_per_face, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->g, n_nodes, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->touched, n_nodes, sizeof(size_t)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->mark, n_nodes, 1), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->N, TL_CG_SURFACE_BATCH * (size_t)nodes_per_face, sizeof(double)), fail);
+  s->x = x;
+  *surface = s;
+  return TL_OK;
+fail:
+  tl_cg_surface_destroy(&s);
+  return st;
+}
+
+static TlStatus create_builtin(const TlCGSurfaceOps *ops, int npf, int qp_base, size_t n_nodes, const TlVec3 *x,
+                               size_t n_faces, const int *nodes, int subdivisions, TlCGSurface **surface)
+{
+  *surface = NULL;
+  if (subdivisions < 1 || subdivisions > 64)
+    TL_ERROR(TL_ERR_ARG, "surface quadrature subdivisions %d outside [1, 64]", subdivisions);
+  TlCGSurface *s;
+  TL_CHECK(tl_cg_surface_create(ops, n_nodes, x, n_faces, npf, nodes, qp_base * subdivisions * subdivisions, NULL, &s));
+  s->subdivisions = subdivisions;
+  TlStatus st = tl_cg_surface_update(s, NULL);
+  if (st != TL_OK) {
+    tl_cg_surface_destroy(&s);
+    return tl_error_trace(st, __FILE__, __LINE__);
+  }
+  *surface = s;
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_create_triangles(size_t n_nodes, const TlVec3 *x, size_t n_faces, const int *tri,
+                                        int subdivisions, TlCGSurface **surface)
+{
+  TL_CHECK(create_builtin(&tl_cg_surface_triangle_ops, 3, 6, n_nodes, x, n_faces, tri, subdivisions, surface));
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_create_quads(size_t n_nodes, const TlVec3 *x, size_t n_faces, const int *quad,
+                                    int subdivisions, TlCGSurface **surface)
+{
+  TL_CHECK(create_builtin(&tl_cg_surface_quad_ops, 4, 9, n_nodes, x, n_faces, quad, subdivisions, surface));
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
+{
+  if (x) s->x = x;
+  for (size_t i = 0; i < s->n_nodes; ++i)
+    if (!tl_v3_isfinite(s->x[i]))
+      TL_ERROR(TL_ERR_NUMERIC, "surface node %zu is not finite (%g, %g, %g)", i, s->x[i].x, s->x[i].y, s->x[i].z);
+  TL_CHECK(s->ops->quadrature(s, s->xq, s->wq, s->Nq));
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    TlVec3 lo = s->x[s->face_node[f * (size_t)s->nodes_per_face]], hi = lo;
+    for (int a = 0; a < s->nodes_per_face; ++a) {
+      TlVec3 p = s->x[s->face_node[f * (size_t)s->nodes_per_face + (size_t)a]];
+      lo = tl_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+      hi = tl_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    for (int q = 0; q < s->qp_per_face; ++q) {
+      size_t slot = f * (size_t)s->qp_per_face + (size_t)q;
+      TlVec3 p = s->xq[slot];
+      if (!(s->wq[slot] > 0.0) || !isfinite(s->wq[slot]) || !tl_v3_isfinite(p))
+        TL_ERROR(TL_ERR_NUMERIC, "face %zu quadrature point %d has weight %g", f, q, s->wq[slot]);
+      lo = tl_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+      hi = tl_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+    }
+    s->face_lo[f] = lo;
+    s->face_hi[f] = hi;
+  }
+  return TL_OK;
+}
+
+/* ----------------------------------------------------------- evaluation */
+
+static inline int face_near(const TlCGSurface *s, size_t f, TlVec3 p, double c)
+{
+  TlVec3 lo = s->face_lo[f], hi = s->face_hi[f];
+  return p.x > lo.x - c && p.x < hi.x + c && p.y > lo.y - c && p.y < hi.y + c && p.z > lo.z - c && p.z < hi.z + c;
+}
+
+/* Kernel values at the points of face f into scratch->w; returns sum w_q W. */
+static TlStatus face_kernel(const TlCGSurface *s, const TlCGKernel *k, size_t f, TlVec3 p, double *sum)
+{
+  TlCGSurfaceScratch *w = scratch_of(s);
+  size_t base = f * (size_t)s->qp_per_face;
+  for (int q = 0; q < s->qp_per_face; ++q) w->r2[q] = tl_v3_norm2(tl_v3_sub(s->xq[base + (size_t)q], p));
+  TL_CHECK(tl_cg_kernel_eval(k, (size_t)s->qp_per_face, w->r2, w->w, NULL));
+  double acc = 0.0;
+  for (int q = 0; q < s->qp_per_face; ++q) {
+    w->w[q] *= s->wq[base + (size_t)q];
+    acc += w->w[q];
+  }
+  *sum = acc;
+  return TL_OK;
+}
+
+static TlStatus no_support_error(const TlCGKernel *k, TlVec3 p)
+{
+  TL_ERROR(TL_ERR_ARG,
+           "no surface quadrature point lies within c = %g of contact point (%g, %g, %g): the kernel is narrower "
+           "than the quadrature spacing or the point is off the surface; raise the subdivisions or use the dirac kernel",
+           k->c, p.x, p.y, p.z);
+}
+
+static TlStatus surface_sum(const TlCGSurface *s, const TlCGKernel *k, TlVec3 p, double *total)
+{
+  double S = 0.0;
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    if (!face_near(s, f, p, k->c)) continue;
+    double part = 0.0;
+    TL_CHECK(face_kernel(s, k, f, p, &part));
+    S += part;
+  }
+  if (!(S > 0.0)) TL_CHECK(no_support_error(k, p));
+  *total = S;
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_weights(const TlCGSurface *s, const TlCGKernel *k, TlVec3 point, size_t max, size_t *count,
+                               size_t *slot, double *weight)
+{
+  if (tl_cg_kernel_is_dirac(k))
+    TL_ERROR(TL_ERR_UNSUPPORTED, "the dirac kernel has no surface weights: Eq. 16 uses the shape functions at the point");
+  if (!tl_v3_isfinite(point)) TL_ERROR(TL_ERR_NUMERIC, "contact point is not finite");
+  TlCGSurfaceScratch *w = scratch_of(s);
+  double S;
+  TL_CHECK(surface_sum(s, k, point, &S));
+  size_t m = 0, needed = 0;
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    if (!face_near(s, f, point, k->c)) continue;
+    double part = 0.0;
+    TL_CHECK(face_kernel(s, k, f, point, &part));
+    for (int q = 0; q < s->qp_per_face; ++q)
+      if (w->w[q] > 0.0) {
+        if (m < max) {
+          slot[m] = f * (size_t)s->qp_per_face + (size_t)q;
+          weight[m] = w->w[q] / S;
+          ++m;
+        }
+        ++needed;
+      }
+  }
+  *count = m;
+  if (needed > max) TL_ERROR(TL_ERR_ARG, "contact point has %zu weighted quadrature points, room for %zu", needed, max);
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
+                                    const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *nodal)
+{
+  TlCGSurfaceScratch *w = scratch_of(s);
+  int npf = s->nodes_per_face;
+  if (tl_cg_kernel_is_dirac(k)) {
+    /* Eq. 16: the shape functions of the contact's face at the contact point */
+    if (n && !face) TL_ERROR(TL_ERR_ARG, "the dirac kernel needs the face of every contact");
+    for (size_t k0 = 0; k0 < n; k0 += TL_CG_SURFACE_BATCH) {
+      size_t m = n - k0 < TL_CG_SURFACE_BATCH ? n - k0 : TL_CG_SURFACE_BATCH;
+      for (size_t j = 0; j < m; ++j)
+        if (face[k0 + j] >= s->n_faces)
+          TL_ERROR(TL_ERR_ARG, "contact %zu names face %zu, the surface has %zu", k0 + j, face[k0 + j], s->n_faces);
+      TL_CHECK(s->ops->shape_at(s, m, face + k0, point + k0, w->N));
+      for (size_t j = 0; j < m; ++j) {
+        const int *v = s->face_node + face[k0 + j] * (size_t)npf;
+        for (int a = 0; a < npf; ++a) nodal[v[a]] = tl_v3_axpy(nodal[v[a]], -w->N[j * (size_t)npf + (size_t)a], f_wall[k0 + j]);
+      }
+    }
+    return TL_OK;
+  }
+  for (size_t c = 0; c < n; ++c) {
+    TlVec3 p = point[c];
+    if (!tl_v3_isfinite(p) || !tl_v3_isfinite(f_wall[c]))
+      TL_ERROR(TL_ERR_NUMERIC, "contact %zu has a non-finite point or force", c);
+    /* unnormalised nodal sums g_a = sum_q w_q W N_qa, then divided by S */
+    size_t n_touched = 0;
+    double S = 0.0;
+    for (size_t f = 0; f < s->n_faces; ++f) {
+      if (!face_near(s, f, p, k->c)) continue;
+      double part = 0.0;
+      TL_CHECK(face_kernel(s, k, f, p, &part));
+      if (part == 0.0) continue;
+      S += part;
+      const int *v = s->face_node + f * (size_t)npf;
+      const double *N = s->Nq + f * (size_t)s->qp_per_face * (size_t)npf;
+      for (int a = 0; a < npf; ++a) {
+        double g = 0.0;
+        for (int q = 0; q < s->qp_per_face; ++q) g += w->w[q] * N[(size_t)q * (size_t)npf + (size_t)a];
+        size_t node = (size_t)v[a];
+        if (!w->mark[node]) {
+          w->mark[node] = 1;
+          w->touched[n_touched++] = node;
+        }
+        w->g[node] += g;
+      }
+    }
+    if (!(S > 0.0)) TL_CHECK(no_support_error(k, p));
+    for (size_t t = 0; t < n_touched; ++t) {
+      size_t node = w->touched[t];
+      nodal[node] = tl_v3_axpy(nodal[node], -w->g[node] / S, f_wall[c]);
+      w->g[node] = 0.0;
+      w->mark[node] = 0;
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_traction(const TlCGSurface *s, const TlCGKernel *k, size_t n, const TlVec3 *point,
+                                const TlVec3 *f_wall, TlVec3 *traction)
+{
+  if (tl_cg_kernel_is_dirac(k))
+    TL_ERROR(TL_ERR_UNSUPPORTED, "the dirac kernel has no traction field: use the nodal forces of Eq. 16");
+  TlCGSurfaceScratch *w = scratch_of(s);
+  for (size_t c = 0; c < n; ++c) {
+    double S;
+    TL_CHECK(surface_sum(s, k, point[c], &S));
+    for (size_t f = 0; f < s->n_faces; ++f) {
+      if (!face_near(s, f, point[c], k->c)) continue;
+      double part = 0.0;
+      TL_CHECK(face_kernel(s, k, f, point[c], &part));
+      size_t base = f * (size_t)s->qp_per_face;
+      for (int q = 0; q < s->qp_per_face; ++q)
+        if (w->w[q] > 0.0)
+          traction[base + (size_t)q] =
+              tl_v3_axpy(traction[base + (size_t)q], -w->w[q] / (S * s->wq[base + (size_t)q]), f_wall[c]);
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_cg_project_to_element(const TlCGKernel *k, size_t n_qp, const TlVec3 *xq, const double *wq, int n_shape,
+                                  const double *Nq, TlVec3 point, double scale, double *out)
+{
+  if (tl_cg_kernel_is_dirac(k))
+    TL_ERROR(TL_ERR_UNSUPPORTED, "the dirac kernel has no volume weights: Eq. 19 uses N_a at the particle");
+  enum { B = 128 };
+  double r2[B], w[B];
+  for (size_t q0 = 0; q0 < n_qp; q0 += B) {
+    size_t m = n_qp - q0 < B ? n_qp - q0 : B;
+    for (size_t j = 0; j < m; ++j) r2[j] = tl_v3_norm2(tl_v3_sub(xq[q0 + j], point));
+    TL_CHECK(tl_cg_kernel_eval(k, m, r2, w, NULL));
+    for (size_t j = 0; j < m; ++j) {
+      if (w[j] == 0.0) continue;
+      double sw = scale * wq[q0 + j] * w[j];
+      const double *N = Nq + (q0 + j) * (size_t)n_shape;
+      for (int a = 0; a < n_shape; ++a) out[a] += sw * N[a];
+    }
+  }
+  return TL_OK;
+}
