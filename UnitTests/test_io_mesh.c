@@ -178,9 +178,47 @@ static void test_single_block_and_types(void)
   tl_mesh_writer_destroy(&w);
 }
 
+/* A run restarted from a checkpoint continues the numbering, the mesh file
+ * and the series exactly as an uninterrupted run. */
+static void test_restart(void)
+{
+  build(1.0);
+  TlMeshBlock block = {"solid", TL_CELL_HEX8, 2, hex_conn, 0, NULL};
+  TlMeshView v = {.n_nodes = NN, .reference = ref, .displacement = disp, .n_blocks = 1, .blocks = &block};
+  TlMeshWriter *a, *b, *c;
+  TL_TEST_STATUS(tl_mesh_writer_create("straight", "m", &a), TL_OK);
+  TL_TEST_STATUS(tl_mesh_writer_create("restarted", "m", &b), TL_OK);
+  if (!a || !b) return;
+  TlCheckpoint *cp;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "mesh_output", &tl_mesh_writer_checkpoint_ops, b), TL_OK);
+  for (int k = 0; k < 4; ++k) {
+    TL_TEST_STATUS(tl_mesh_writer_write(a, k, 0.1 * k, &v), TL_OK);
+    TL_TEST_STATUS(tl_mesh_writer_write(b, k, 0.1 * k, &v), TL_OK);
+    if (k == 1) TL_TEST_STATUS(tl_checkpoint_save(cp, "mesh_restart.h5", 0.1, 1), TL_OK);
+  }
+  tl_checkpoint_destroy(&cp);
+  tl_mesh_writer_destroy(&b);
+  TL_TEST_STATUS(tl_mesh_writer_create("restarted", "m", &c), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "mesh_output", &tl_mesh_writer_checkpoint_ops, c), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_load(cp, "mesh_restart.h5", NULL, NULL), TL_OK);
+  TL_TEST_ASSERT(tl_mesh_writer_count(c) == 2, "restored count %zu", tl_mesh_writer_count(c));
+  for (int k = 2; k < 4; ++k) TL_TEST_STATUS(tl_mesh_writer_write(c, k, 0.1 * k, &v), TL_OK);
+  TL_TEST_ASSERT(access("restarted/m_mesh_0001.h5", F_OK) != 0, "restart rewrote an unchanged mesh");
+  char *x = slurp("straight/m.xmf"), *y = slurp("restarted/m.xmf");
+  TL_TEST_ASSERT(x && y && strcmp(x, y) == 0, "restarted series differs from the straight one");
+  free(x);
+  free(y);
+  tl_checkpoint_destroy(&cp);
+  tl_mesh_writer_destroy(&a);
+  tl_mesh_writer_destroy(&c);
+}
+
 int main(void)
 {
   test_two_blocks();
   test_single_block_and_types();
+  test_restart();
   return tl_test_report();
 }
