@@ -1,0 +1,553 @@
+/* Reader of Gmsh .msh 4.1 ASCII files: sections $MeshFormat,
+ * $PhysicalNames, $Entities, $Nodes and $Elements; other sections are
+ * skipped.  Every error names the file, the line and what was expected. */
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "tl_memory.h"
+#include "tl_mesh.h"
+
+typedef struct {
+  const char *path;
+  char *buf;
+  size_t pos, len;
+  int line;
+  char tok[256];
+  int tok_line;
+} Reader;
+
+/* The next whitespace-separated token (a quoted string counts as one);
+ * 0 at the end of the file. */
+static int next_token(Reader *r)
+{
+  while (r->pos < r->len && isspace((unsigned char)r->buf[r->pos])) {
+    if (r->buf[r->pos] == '\n') r->line++;
+    r->pos++;
+  }
+  if (r->pos >= r->len) return 0;
+  r->tok_line = r->line;
+  size_t k = 0;
+  if (r->buf[r->pos] == '"') {
+    r->pos++;
+    while (r->pos < r->len && r->buf[r->pos] != '"' && r->buf[r->pos] != '\n') {
+      if (k + 1 < sizeof r->tok) r->tok[k++] = r->buf[r->pos];
+      r->pos++;
+    }
+    if (r->pos < r->len && r->buf[r->pos] == '"') r->pos++;
+  } else {
+    while (r->pos < r->len && !isspace((unsigned char)r->buf[r->pos])) {
+      if (k + 1 < sizeof r->tok) r->tok[k++] = r->buf[r->pos];
+      r->pos++;
+    }
+  }
+  r->tok[k] = '\0';
+  return 1;
+}
+
+static TlStatus read_long(Reader *r, const char *what, long lo, long hi, long *v)
+{
+  if (!next_token(r))
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: unexpected end of file, expected %s", r->path, r->line,
+             what);
+  char *end = NULL;
+  errno = 0;
+  long value = strtol(r->tok, &end, 10);
+  if (errno || !end || *end)
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected an integer (%s), found '%s'", r->path,
+             r->tok_line, what, r->tok);
+  if (value < lo || value > hi)
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: %s = %ld outside [%ld, %ld]", r->path, r->tok_line, what,
+             value, lo, hi);
+  *v = value;
+  return TL_OK;
+}
+
+static TlStatus read_double(Reader *r, const char *what, double *v)
+{
+  if (!next_token(r))
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: unexpected end of file, expected %s", r->path, r->line,
+             what);
+  char *end = NULL;
+  errno = 0;
+  double value = strtod(r->tok, &end);
+  if (errno || !end || *end || !isfinite(value))
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected a real number (%s), found '%s'", r->path,
+             r->tok_line, what, r->tok);
+  *v = value;
+  return TL_OK;
+}
+
+static TlStatus expect(Reader *r, const char *word)
+{
+  if (!next_token(r))
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: unexpected end of file, expected %s", r->path, r->line,
+             word);
+  if (strcmp(r->tok, word))
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected %s, found '%s'", r->path, r->tok_line, word,
+             r->tok);
+  return TL_OK;
+}
+
+/* Copies a name, truncated to the mesh's limit. */
+static void copy_name(char *dst, const char *src)
+{
+  size_t n = strlen(src);
+  if (n >= TL_MESH_NAME_MAX) n = TL_MESH_NAME_MAX - 1;
+  memcpy(dst, src, n);
+  dst[n] = '\0';
+}
+
+typedef struct {
+  int dim;
+  long tag;
+  long phys; /* first physical tag, 0 when none */
+} Entity;
+
+typedef struct {
+  int dim;
+  long tag;
+  char name[TL_MESH_NAME_MAX];
+} PhysName;
+
+typedef struct {
+  int dim;
+  long entity;
+  const TlElementType *type; /* NULL for points */
+  long tag;
+  int line;
+  size_t first; /* offset into the node-tag list */
+  int n_nodes;
+} RawElement;
+
+typedef struct {
+  Entity *entities;
+  size_t n_entities, cap_entities;
+  PhysName *names;
+  size_t n_names, cap_names;
+  long *node_tag_to_index; /* by tag, -1 undefined */
+  long max_node_tag;
+  double *x;
+  size_t n_nodes;
+  RawElement *elements;
+  size_t n_elements;
+  long *element_nodes; /* node tags */
+  size_t n_element_nodes;
+} GmshData;
+
+static void gmsh_free(GmshData *g)
+{
+  tl_free(&g->entities);
+  tl_free(&g->names);
+  tl_free(&g->node_tag_to_index);
+  tl_free(&g->x);
+  tl_free(&g->elements);
+  tl_free(&g->element_nodes);
+}
+
+static long entity_phys(const GmshData *g, int dim, long tag)
+{
+  for (size_t i = 0; i < g->n_entities; ++i)
+    if (g->entities[i].dim == dim && g->entities[i].tag == tag) return g->entities[i].phys;
+  return 0;
+}
+
+static void phys_name(const GmshData *g, int dim, long phys, char *out)
+{
+  for (size_t i = 0; i < g->n_names; ++i)
+    if (g->names[i].dim == dim && g->names[i].tag == phys) {
+      copy_name(out, g->names[i].name);
+      return;
+    }
+  snprintf(out, TL_MESH_NAME_MAX, "physical%ld", phys);
+}
+
+static TlStatus read_entities(Reader *r, GmshData *g)
+{
+  long count[4];
+  for (int d = 0; d < 4; ++d) TL_CHECK(read_long(r, "number of entities", 0, 100000000, &count[d]));
+  for (int d = 0; d < 4; ++d)
+    for (long i = 0; i < count[d]; ++i) {
+      long tag, nphys;
+      double v;
+      TL_CHECK(read_long(r, "entity tag", 1, LONG_MAX, &tag));
+      for (int k = 0; k < (d == 0 ? 3 : 6); ++k) TL_CHECK(read_double(r, "bounding box", &v));
+      TL_CHECK(read_long(r, "number of physical tags", 0, 1000000, &nphys));
+      long phys = 0;
+      for (long k = 0; k < nphys; ++k) {
+        long p;
+        TL_CHECK(read_long(r, "physical tag", LONG_MIN + 1, LONG_MAX, &p));
+        if (k == 0) phys = labs(p);
+      }
+      if (d > 0) {
+        long nb, b;
+        TL_CHECK(read_long(r, "number of bounding entities", 0, 100000000, &nb));
+        for (long k = 0; k < nb; ++k) TL_CHECK(read_long(r, "bounding entity", LONG_MIN + 1, LONG_MAX, &b));
+      }
+      TL_CHECK(tl_array_reserve(&g->entities, &g->cap_entities, g->n_entities + 1, sizeof(Entity)));
+      g->entities[g->n_entities++] = (Entity){d, tag, phys};
+    }
+  TL_CHECK(expect(r, "$EndEntities"));
+  return TL_OK;
+}
+
+static TlStatus read_nodes(Reader *r, GmshData *g)
+{
+  long nblocks, nnodes, min_tag, max_tag;
+  TL_CHECK(read_long(r, "number of node blocks", 0, 100000000, &nblocks));
+  TL_CHECK(read_long(r, "number of nodes", 0, 1000000000, &nnodes));
+  TL_CHECK(read_long(r, "smallest node tag", 0, LONG_MAX, &min_tag));
+  TL_CHECK(read_long(r, "largest node tag", 0, 4 * (nnodes + 1000000L), &max_tag));
+  TL_CHECK(tl_calloc(&g->node_tag_to_index, max_tag + 1, sizeof(long)));
+  for (long t = 0; t <= max_tag; ++t) g->node_tag_to_index[t] = -1;
+  g->max_node_tag = max_tag;
+  TL_CHECK(tl_calloc(&g->x, 3 * (nnodes ? nnodes : 1), sizeof(double)));
+  long *tags = NULL;
+  size_t done = 0;
+  for (long b = 0; b < nblocks; ++b) {
+    long edim, etag, parametric, n;
+    TL_CHECK(read_long(r, "entity dimension", 0, 3, &edim));
+    TL_CHECK(read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag));
+    TL_CHECK(read_long(r, "parametric flag", 0, 1, &parametric));
+    TL_CHECK(read_long(r, "nodes in block", 0, nnodes - (long)done, &n));
+    TL_CHECK(tl_realloc(&tags, n ? n : 1, sizeof(long)));
+    TlStatus s = TL_OK;
+    for (long i = 0; i < n && s == TL_OK; ++i) {
+      s = read_long(r, "node tag", 1, max_tag, &tags[i]);
+      if (s == TL_OK && g->node_tag_to_index[tags[i]] >= 0)
+        s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "%s line %d: node tag %ld defined twice",
+                         r->path, r->tok_line, tags[i]);
+      if (s == TL_OK) g->node_tag_to_index[tags[i]] = (long)(done + i);
+    }
+    for (long i = 0; i < n && s == TL_OK; ++i) {
+      for (int k = 0; k < 3 && s == TL_OK; ++k) s = read_double(r, "node coordinate", &g->x[3 * (done + i) + k]);
+      for (long k = 0; k < (parametric ? edim : 0) && s == TL_OK; ++k) {
+        double u;
+        s = read_double(r, "parametric coordinate", &u);
+      }
+    }
+    if (s != TL_OK) {
+      tl_free(&tags);
+      return tl_error_trace(s, __FILE__, __LINE__);
+    }
+    done += n;
+  }
+  tl_free(&tags);
+  if ((long)done != nnodes)
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: the node blocks hold %zu nodes, the header announced %ld",
+             r->path, r->line, done, nnodes);
+  g->n_nodes = done;
+  TL_CHECK(expect(r, "$EndNodes"));
+  return TL_OK;
+}
+
+static TlStatus read_elements(Reader *r, GmshData *g)
+{
+  long nblocks, nel, min_tag, max_tag;
+  TL_CHECK(read_long(r, "number of element blocks", 0, 100000000, &nblocks));
+  TL_CHECK(read_long(r, "number of elements", 0, 1000000000, &nel));
+  TL_CHECK(read_long(r, "smallest element tag", 0, LONG_MAX, &min_tag));
+  TL_CHECK(read_long(r, "largest element tag", 0, LONG_MAX, &max_tag));
+  TL_CHECK(tl_calloc(&g->elements, nel ? nel : 1, sizeof(RawElement)));
+  size_t cap_nodes = 0;
+  size_t done = 0;
+  for (long b = 0; b < nblocks; ++b) {
+    long edim, etag, gtype, n;
+    TL_CHECK(read_long(r, "entity dimension", 0, 3, &edim));
+    TL_CHECK(read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag));
+    TL_CHECK(read_long(r, "element type", 1, 1000, &gtype));
+    int type_line = r->tok_line;
+    TL_CHECK(read_long(r, "elements in block", 0, nel - (long)done, &n));
+    const TlElementType *type = tl_element_from_gmsh((int)gtype);
+    int nn = 1;
+    if (type) {
+      nn = type->n_nodes;
+      if (type->dim != edim)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: element type %ld (%s) in an entity of dimension %ld",
+                 r->path, type_line, gtype, type->header.name, edim);
+    } else if (gtype != 15) {
+      TL_ERROR(TL_ERR_FORMAT,
+               "%s line %d: Gmsh element type %ld is not supported (supported: 1, 2, 3, 4, 5, 8, "
+               "9, 10, 11, 12, 15, 16)",
+               r->path, type_line, gtype);
+    }
+    for (long i = 0; i < n; ++i) {
+      RawElement *e = &g->elements[done + i];
+      TL_CHECK(read_long(r, "element tag", 1, LONG_MAX, &e->tag));
+      e->line = r->tok_line;
+      e->dim = (int)edim;
+      e->entity = etag;
+      e->type = type;
+      e->n_nodes = nn;
+      e->first = g->n_element_nodes;
+      TL_CHECK(tl_array_reserve(&g->element_nodes, &cap_nodes, g->n_element_nodes + nn, sizeof(long)));
+      for (int k = 0; k < nn; ++k) {
+        long t;
+        size_t pos = r->pos;
+        int line = r->line;
+        if (!next_token(r) || r->tok_line != e->line)
+          TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld has %d of %d nodes (%s)", r->path,
+                   e->line, e->tag, k, nn, type ? type->header.name : "point");
+        r->pos = pos, r->line = line; /* re-read the token as a number */
+        TL_CHECK(read_long(r, "node tag", LONG_MIN + 1, LONG_MAX, &t));
+        if (t < 1 || t > g->max_node_tag || g->node_tag_to_index[t] < 0)
+          TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld refers to node %ld, which is not defined",
+                   r->path, e->line, e->tag, t);
+        g->element_nodes[g->n_element_nodes++] = t;
+      }
+    }
+    done += n;
+  }
+  if ((long)done != nel)
+    TL_ERROR(TL_ERR_FORMAT, "%s line %d: the element blocks hold %zu elements, the header announced %ld",
+             r->path, r->line, done, nel);
+  g->n_elements = done;
+  TL_CHECK(expect(r, "$EndElements"));
+  return TL_OK;
+}
+
+static TlStatus parse(Reader *r, GmshData *g)
+{
+  int have_format = 0, have_nodes = 0, have_elements = 0;
+  while (next_token(r)) {
+    if (r->tok[0] != '$')
+      TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected a section header ($Name), found '%s'", r->path,
+               r->tok_line, r->tok);
+    if (!strcmp(r->tok, "$MeshFormat")) {
+      double version;
+      long ftype, dsize;
+      TL_CHECK(read_double(r, "format version", &version));
+      int vline = r->tok_line;
+      TL_CHECK(read_long(r, "file type", 0, 1, &ftype));
+      TL_CHECK(read_long(r, "data size", 1, 16, &dsize));
+      if (version < 4.05 || version > 4.15)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: mesh format version %g is not supported, expected 4.1",
+                 r->path, vline, version);
+      if (ftype != 0)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: binary .msh files are not supported, save as ASCII",
+                 r->path, vline);
+      TL_CHECK(expect(r, "$EndMeshFormat"));
+      have_format = 1;
+    } else if (!have_format) {
+      TL_ERROR(TL_ERR_FORMAT, "%s line %d: section %s before $MeshFormat", r->path, r->tok_line,
+               r->tok);
+    } else if (!strcmp(r->tok, "$PhysicalNames")) {
+      long n;
+      TL_CHECK(read_long(r, "number of physical names", 0, 1000000, &n));
+      for (long i = 0; i < n; ++i) {
+        long dim, tag;
+        TL_CHECK(read_long(r, "physical dimension", 0, 3, &dim));
+        TL_CHECK(read_long(r, "physical tag", 1, LONG_MAX, &tag));
+        if (!next_token(r))
+          TL_ERROR(TL_ERR_FORMAT, "%s line %d: unexpected end of file in $PhysicalNames", r->path,
+                   r->line);
+        TL_CHECK(tl_array_reserve(&g->names, &g->cap_names, g->n_names + 1, sizeof(PhysName)));
+        PhysName *p = &g->names[g->n_names++];
+        p->dim = (int)dim;
+        p->tag = tag;
+        copy_name(p->name, r->tok);
+      }
+      TL_CHECK(expect(r, "$EndPhysicalNames"));
+    } else if (!strcmp(r->tok, "$Entities")) {
+      TL_CHECK(read_entities(r, g));
+    } else if (!strcmp(r->tok, "$Nodes")) {
+      TL_CHECK(read_nodes(r, g));
+      have_nodes = 1;
+    } else if (!strcmp(r->tok, "$Elements")) {
+      if (!have_nodes)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: $Elements before $Nodes", r->path, r->tok_line);
+      TL_CHECK(read_elements(r, g));
+      have_elements = 1;
+    } else {
+      /* Skip an unknown section up to its $End line. */
+      char end[300];
+      snprintf(end, sizeof end, "$End%s", r->tok + 1);
+      int start = r->tok_line;
+      int found = 0;
+      while (next_token(r))
+        if (!strcmp(r->tok, end)) {
+          found = 1;
+          break;
+        }
+      if (!found)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: section opened here never closed (no %s)", r->path,
+                 start, end);
+    }
+  }
+  if (!have_format) TL_ERROR(TL_ERR_FORMAT, "%s: no $MeshFormat section (not a Gmsh file?)", r->path);
+  if (!have_elements) TL_ERROR(TL_ERR_FORMAT, "%s: no $Elements section", r->path);
+  return TL_OK;
+}
+
+static TlStatus build(Reader *r, GmshData *g, TlMesh **out)
+{
+  int top = 0;
+  for (size_t i = 0; i < g->n_elements; ++i)
+    if (g->elements[i].type && g->elements[i].dim > top) top = g->elements[i].dim;
+  if (top < 2)
+    TL_ERROR(TL_ERR_FORMAT, "%s: no elements of dimension 2 or 3 (highest dimension %d)", r->path, top);
+  TlStatus s = TL_OK;
+  long *new_index = NULL;
+  double *x = NULL;
+  size_t *conn = NULL, *nodes = NULL;
+  long *tags = NULL;
+  TlFaceRef *faces = NULL;
+  TlMesh *mesh = NULL;
+  TL_CHECK_GOTO(s, tl_calloc(&new_index, g->n_nodes ? g->n_nodes : 1, sizeof(long)), done);
+  for (size_t i = 0; i < g->n_nodes; ++i) new_index[i] = -1;
+  /* Keep the nodes of top-dimensional elements, in file order. */
+  for (size_t i = 0; i < g->n_elements; ++i) {
+    const RawElement *e = &g->elements[i];
+    if (e->dim != top) continue;
+    for (int k = 0; k < e->n_nodes; ++k) new_index[g->node_tag_to_index[g->element_nodes[e->first + k]]] = 0;
+  }
+  size_t used = 0;
+  TL_CHECK_GOTO(s, tl_calloc(&x, 3 * (g->n_nodes ? g->n_nodes : 1), sizeof(double)), done);
+  for (size_t i = 0; i < g->n_nodes; ++i)
+    if (new_index[i] == 0) {
+      new_index[i] = (long)used;
+      memcpy(x + 3 * used, g->x + 3 * i, 3 * sizeof(double));
+      if (top == 2) x[3 * used + 2] = 0.0;
+      ++used;
+    } else {
+      new_index[i] = -1;
+    }
+  TL_CHECK_GOTO(s, tl_mesh_create(top, &mesh), done);
+  TL_CHECK_GOTO(s, tl_mesh_set_nodes(mesh, used, x), done);
+  /* Blocks: one per (physical group, element type). */
+  TL_CHECK_GOTO(s, tl_calloc(&conn, g->n_element_nodes ? g->n_element_nodes : 1, sizeof(size_t)), done);
+  TL_CHECK_GOTO(s, tl_calloc(&tags, g->n_elements ? g->n_elements : 1, sizeof(long)), done);
+  for (size_t i = 0; i < g->n_elements; ++i) {
+    RawElement *e = &g->elements[i];
+    if (e->dim != top || e->n_nodes < 0) continue;
+    long phys = entity_phys(g, top, e->entity);
+    /* Gather every element of the same group and type, then mark them done. */
+    size_t ne = 0;
+    for (size_t j = i; j < g->n_elements; ++j) {
+      RawElement *f = &g->elements[j];
+      if (f->dim != top || f->n_nodes < 0 || f->type != e->type ||
+          entity_phys(g, top, f->entity) != phys)
+        continue;
+      for (int k = 0; k < f->n_nodes; ++k)
+        conn[ne * f->n_nodes + k] = (size_t)new_index[g->node_tag_to_index[g->element_nodes[f->first + k]]];
+      tags[ne++] = f->tag;
+      if (j != i) f->n_nodes = -f->n_nodes - 1;
+    }
+    const TlElementType *type = e->type;
+    e->n_nodes = -e->n_nodes - 1;
+    char name[TL_MESH_NAME_MAX];
+    if (phys) phys_name(g, top, phys, name);
+    else snprintf(name, sizeof name, "body");
+    int taken = 0;
+    for (int b = 0; b < mesh->n_blocks; ++b) taken |= !strcmp(mesh->blocks[b].name, name);
+    if (taken) {
+      char longer[TL_MESH_NAME_MAX + 16];
+      snprintf(longer, sizeof longer, "%s_%s", name, type->header.name);
+      copy_name(name, longer);
+    }
+    TL_CHECK_GOTO(s, tl_mesh_add_block(mesh, name, type, ne, conn, tags, NULL), done);
+  }
+  for (size_t i = 0; i < g->n_elements; ++i)
+    if (g->elements[i].n_nodes < 0) g->elements[i].n_nodes = -g->elements[i].n_nodes - 1;
+  TL_CHECK_GOTO(s, tl_mesh_finalize(mesh), done);
+  /* Physical groups of lower dimension: face sets (dimension top - 1) and
+   * node sets. */
+  TL_CHECK_GOTO(s, tl_calloc(&faces, g->n_elements ? g->n_elements : 1, sizeof *faces), done);
+  TL_CHECK_GOTO(s, tl_calloc(&nodes, g->n_element_nodes ? g->n_element_nodes : 1, sizeof(size_t)), done);
+  for (size_t n = 0; n < g->n_names; ++n) {
+    const PhysName *p = &g->names[n];
+    if (p->dim >= top) continue;
+    size_t nf = 0, nn = 0;
+    for (size_t i = 0; i < g->n_elements; ++i) {
+      const RawElement *e = &g->elements[i];
+      if (e->dim != p->dim || entity_phys(g, e->dim, e->entity) != p->tag) continue;
+      size_t key[TL_ELEMENT_MAX_FACE_NODES];
+      for (int k = 0; k < e->n_nodes; ++k) {
+        long idx = new_index[g->node_tag_to_index[g->element_nodes[e->first + k]]];
+        if (idx < 0) {
+          s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                           "%s line %d: element %ld of physical group '%s' uses node %ld, which "
+                           "belongs to no %d-D element",
+                           r->path, e->line, e->tag, p->name, g->element_nodes[e->first + k], top);
+          goto done;
+        }
+        nodes[nn++] = (size_t)idx;
+        if (k < TL_ELEMENT_MAX_FACE_NODES) key[k] = (size_t)idx;
+      }
+      if (p->dim != top - 1 || !e->type) continue;
+      /* Match the face element with a boundary face by its corner nodes. */
+      int nc = e->type->n_corners, found = 0;
+      for (size_t b = 0; b < mesh->n_boundary && !found; ++b) {
+        size_t fn[TL_ELEMENT_MAX_FACE_NODES];
+        tl_mesh_face_nodes(mesh, mesh->boundary[b], fn, NULL);
+        const TlElementType *ft = mesh->blocks[mesh->boundary[b].block].type->face_type;
+        if (ft->n_corners != nc) continue;
+        int match = 1;
+        for (int k = 0; k < nc && match; ++k) {
+          int any = 0;
+          for (int m = 0; m < nc; ++m) any |= fn[m] == key[k];
+          match = any;
+        }
+        if (match) {
+          faces[nf++] = mesh->boundary[b];
+          found = 1;
+        }
+      }
+      if (!found) {
+        s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                         "%s line %d: element %ld of physical group '%s' is not a boundary face "
+                         "of the mesh",
+                         r->path, e->line, e->tag, p->name);
+        goto done;
+      }
+    }
+    if (p->dim == top - 1) TL_CHECK_GOTO(s, tl_mesh_add_face_set(mesh, p->name, nf, faces), done);
+    TL_CHECK_GOTO(s, tl_mesh_add_node_set(mesh, p->name, nn, nodes), done);
+  }
+  *out = mesh;
+  mesh = NULL;
+done:
+  tl_mesh_destroy(&mesh);
+  tl_free(&new_index);
+  tl_free(&x);
+  tl_free(&conn);
+  tl_free(&tags);
+  tl_free(&faces);
+  tl_free(&nodes);
+  return s;
+}
+
+TlStatus tl_mesh_read_gmsh(const char *path, TlMesh **mesh)
+{
+  if (!path || !mesh) TL_ERROR(TL_ERR_ARG, "tl_mesh_read_gmsh: NULL argument");
+  FILE *f = fopen(path, "rb");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot open mesh file %s: %s", path, strerror(errno));
+  Reader r = {.path = path, .line = 1};
+  fseek(f, 0, SEEK_END);
+  long size = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  if (size < 0) {
+    fclose(f);
+    TL_ERROR(TL_ERR_IO, "cannot determine the size of %s", path);
+  }
+  TlStatus s = tl_calloc(&r.buf, (size_t)size + 1, 1);
+  if (s != TL_OK) {
+    fclose(f);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  r.len = fread(r.buf, 1, (size_t)size, f);
+  fclose(f);
+  GmshData g;
+  memset(&g, 0, sizeof g);
+  s = parse(&r, &g);
+  if (s == TL_OK) s = build(&r, &g, mesh);
+  gmsh_free(&g);
+  tl_free(&r.buf);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  return TL_OK;
+}

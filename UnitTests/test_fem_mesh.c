@@ -1,0 +1,302 @@
+/* Meshes: structured generators (counts, volumes, named sets, outward face
+ * normals), refusal of inverted and degenerate elements, and the Gmsh 4.1
+ * reader on files made by gmsh (one checked in below, one generated from a
+ * .geo when gmsh is installed) and on malformed files, whose errors must
+ * name the line. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_mesh.h"
+#include "tl_test.h"
+
+/* Every boundary face's normal points away from its element's centroid;
+ * returns the number of faces checked. */
+static size_t check_outward(const TlMesh *m)
+{
+  size_t bad = 0;
+  for (size_t i = 0; i < m->n_boundary; ++i) {
+    TlFaceRef f = m->boundary[i];
+    const TlElementType *t = m->blocks[f.block].type;
+    double x[TL_ELEMENT_MAX_NODES * 3], fx[TL_ELEMENT_MAX_FACE_NODES * 3], c[3] = {0, 0, 0}, fc[3] = {0, 0, 0};
+    tl_mesh_element_coords(m, f.block, f.element, x);
+    tl_mesh_face_nodes(m, f, NULL, fx);
+    for (int a = 0; a < t->n_corners; ++a)
+      for (int k = 0; k < 3; ++k) c[k] += x[3 * a + k] / t->n_corners;
+    for (int a = 0; a < t->face_type->n_corners; ++a)
+      for (int k = 0; k < 3; ++k) fc[k] += fx[3 * a + k] / t->face_type->n_corners;
+    double s[2] = {t->face_type->shape == TL_SHAPE_TRI ? 1.0 / 3 : 0.0, t->face_type->shape == TL_SHAPE_TRI ? 1.0 / 3 : 0.0};
+    double n[3];
+    tl_element_face_normal(t->face_type, m->dim, fx, s, n);
+    double dot = 0.0;
+    for (int k = 0; k < 3; ++k) dot += n[k] * (fc[k] - c[k]);
+    bad += !(dot > 0.0);
+  }
+  TL_TEST_ASSERT(bad == 0, "%zu of %zu boundary faces have inward normals", bad, m->n_boundary);
+  return m->n_boundary;
+}
+
+/* The normal of every face of set `name` is +-e_axis (sign). */
+static void check_set_normal(const TlMesh *m, const char *name, int axis, double sign)
+{
+  const TlFaceSet *fs = NULL;
+  TL_TEST_STATUS(tl_mesh_find_face_set(m, name, &fs), TL_OK);
+  if (!fs) return;
+  TL_TEST_ASSERT(fs->n > 0, "face set %s is empty", name);
+  double worst = 0.0;
+  for (size_t i = 0; i < fs->n; ++i) {
+    const TlElementType *ft = m->blocks[fs->faces[i].block].type->face_type;
+    double fx[TL_ELEMENT_MAX_FACE_NODES * 3], s[2] = {0.2, 0.1}, n[3];
+    tl_mesh_face_nodes(m, fs->faces[i], NULL, fx);
+    tl_element_face_normal(ft, m->dim, fx, s, n);
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    worst = fmax(worst, fabs(n[axis] / len - sign));
+  }
+  TL_TEST_ASSERT(worst < 1e-12, "face set %s: normal deviates from %+g e_%d by %g", name, sign, axis, worst);
+}
+
+static void test_box(const TlElementType *t, size_t expect_nodes, size_t expect_elems)
+{
+  size_t n[3] = {3, 2, 2};
+  double lo[3] = {0, -1, 0.5}, hi[3] = {3, 1, 1.5};
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_create_box(t, n, lo, hi, &m), TL_OK);
+  if (!m) return;
+  TL_TEST_ASSERT(m->n_nodes == expect_nodes, "%s box: %zu nodes, expected %zu", t->header.name, m->n_nodes, expect_nodes);
+  TL_TEST_ASSERT(m->blocks[0].n_elements == expect_elems, "%s box: %zu elements, expected %zu", t->header.name,
+                 m->blocks[0].n_elements, expect_elems);
+  TL_TEST_CLOSE(tl_mesh_volume(m), 6.0, 1e-13);
+  check_outward(m);
+  const char *names[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  for (int s = 0; s < 6; ++s) check_set_normal(m, names[s], s / 2, s % 2 ? 1.0 : -1.0);
+  /* Boundary faces: 2 (3x2 + 3x2 + 2x2) = 32 cells' faces, times 2 for tets. */
+  size_t faces = t->shape == TL_SHAPE_TET ? 64 : 32;
+  TL_TEST_ASSERT(m->n_boundary == faces, "%s box: %zu boundary faces, expected %zu", t->header.name, m->n_boundary, faces);
+  const TlNodeSet *ns = NULL;
+  TL_TEST_STATUS(tl_mesh_find_node_set(m, "xmin", &ns), TL_OK);
+  size_t p = t->n_nodes == t->n_corners ? 1 : 2;
+  if (ns) TL_TEST_ASSERT(ns->n == (p * 2 + 1) * (p * 2 + 1), "%s box: xmin has %zu nodes", t->header.name, ns->n);
+  TL_TEST_STATUS(tl_mesh_find_node_set(m, "nonexistent", &ns), TL_ERR_NOT_FOUND);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "xmin") != NULL, "lookup error lists the sets: %s", tl_error_message());
+  tl_mesh_destroy(&m);
+  TL_TEST_ASSERT(m == NULL, "destroy nulls");
+}
+
+static void test_rectangle(const TlElementType *t, size_t expect_nodes)
+{
+  size_t n[2] = {4, 3};
+  double lo[2] = {0, 0}, hi[2] = {2, 1.5};
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_create_rectangle(t, n, lo, hi, &m), TL_OK);
+  if (!m) return;
+  TL_TEST_ASSERT(m->n_nodes == expect_nodes, "%s rectangle: %zu nodes, expected %zu", t->header.name, m->n_nodes, expect_nodes);
+  TL_TEST_CLOSE(tl_mesh_volume(m), 3.0, 1e-13);
+  check_outward(m);
+  check_set_normal(m, "xmin", 0, -1.0);
+  check_set_normal(m, "xmax", 0, 1.0);
+  check_set_normal(m, "ymin", 1, -1.0);
+  check_set_normal(m, "ymax", 1, 1.0);
+  TL_TEST_ASSERT(m->n_boundary == 14, "%s rectangle: %zu boundary edges", t->header.name, m->n_boundary);
+  tl_mesh_destroy(&m);
+}
+
+static void test_sector(const TlElementType *t)
+{
+  size_t n[3] = {2, 6, 1};
+  double ri = 1.0, ro = 2.0, t0 = 0.1, t1 = 0.1 + M_PI / 2, h = 0.5;
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_create_cylinder_sector(t, ri, ro, t0, t1, h, n, &m), TL_OK);
+  if (!m) return;
+  double exact = 0.5 * (t1 - t0) * (ro * ro - ri * ri) * h;
+  double V = tl_mesh_volume(m);
+  if (t == &tl_element_hex8) {
+    /* Straight-sided cells: the polygon area, exactly. */
+    double dth = (t1 - t0) / n[1];
+    double poly = 0.5 * n[1] * sin(dth) * (ro * ro - ri * ri) * h;
+    TL_TEST_CLOSE(V, poly, 1e-13);
+  } else {
+    TL_TEST_ASSERT(fabs(V - exact) < 2e-4 * exact, "hex27 sector volume %g, exact %g", V, exact);
+  }
+  check_outward(m);
+  check_set_normal(m, "zmin", 2, -1.0);
+  check_set_normal(m, "zmax", 2, 1.0);
+  /* Every node of the outer set lies on the outer radius. */
+  const TlNodeSet *ns = NULL;
+  TL_TEST_STATUS(tl_mesh_find_node_set(m, "outer", &ns), TL_OK);
+  double err = 0.0;
+  for (size_t i = 0; ns && i < ns->n; ++i) {
+    const double *x = m->x + 3 * ns->nodes[i];
+    err = fmax(err, fabs(hypot(x[0], x[1]) - ro));
+  }
+  TL_TEST_ASSERT(err < 1e-14, "outer nodes off the radius by %g", err);
+  TL_TEST_STATUS(tl_mesh_create_cylinder_sector(t, 2.0, 1.0, t0, t1, h, n, &m), TL_ERR_ARG);
+  tl_mesh_destroy(&m);
+}
+
+static void test_inverted(void)
+{
+  /* One hexahedron with two nodes swapped (inverted) and one squashed flat
+   * (degenerate). */
+  double x[8 * 3] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  size_t good[8] = {0, 1, 2, 3, 4, 5, 6, 7}, bad[8] = {4, 5, 6, 7, 0, 1, 2, 3};
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_create(3, &m), TL_OK);
+  TL_TEST_STATUS(tl_mesh_set_nodes(m, 8, x), TL_OK);
+  TL_TEST_STATUS(tl_mesh_add_block(m, "ok", &tl_element_hex8, 1, good, NULL, NULL), TL_OK);
+  TL_TEST_STATUS(tl_mesh_finalize(m), TL_OK);
+  tl_mesh_destroy(&m);
+  TL_TEST_STATUS(tl_mesh_create(3, &m), TL_OK);
+  TL_TEST_STATUS(tl_mesh_set_nodes(m, 8, x), TL_OK);
+  long tags[1] = {42};
+  TL_TEST_STATUS(tl_mesh_add_block(m, "upside_down", &tl_element_hex8, 1, bad, tags, NULL), TL_OK);
+  TL_TEST_STATUS(tl_mesh_finalize(m), TL_ERR_NUMERIC);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "upside_down") && strstr(tl_error_message(), "tag 42") &&
+                     strstr(tl_error_message(), "inverted"),
+                 "message names block, element and problem: %s", tl_error_message());
+  tl_mesh_destroy(&m);
+  double flat[8 * 3];
+  memcpy(flat, x, sizeof flat);
+  for (int a = 4; a < 8; ++a) flat[3 * a + 2] = 0.0;
+  TL_TEST_STATUS(tl_mesh_create(3, &m), TL_OK);
+  TL_TEST_STATUS(tl_mesh_set_nodes(m, 8, flat), TL_OK);
+  TL_TEST_STATUS(tl_mesh_add_block(m, "flat", &tl_element_hex8, 1, good, NULL, NULL), TL_OK);
+  TL_TEST_STATUS(tl_mesh_finalize(m), TL_ERR_NUMERIC);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "flat") && strstr(tl_error_message(), "degenerate"),
+                 "message names the degenerate element: %s", tl_error_message());
+  /* Bad node index. */
+  size_t out_of_range[8] = {0, 1, 2, 3, 4, 5, 6, 99};
+  TL_TEST_STATUS(tl_mesh_add_block(m, "oops", &tl_element_hex8, 1, out_of_range, NULL, NULL), TL_ERR_ARG);
+  tl_mesh_destroy(&m);
+}
+
+/* A plane 8-node-quadrilateral mesh written by gmsh 4.8 (msh 4.1) from:
+ *   Point(1..4) = corners of [0,1] x [0,0.5]; Plane Surface(1); Transfinite;
+ *   Recombine; Physical Surface("plate"), Curve("bottom") = {1},
+ *   Point("corner") = {1}; ElementOrder 2, SecondOrderIncomplete. */
+static const char quad8_msh[] =
+    "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+    "$PhysicalNames\n3\n0 3 \"corner\"\n1 2 \"bottom\"\n2 1 \"plate\"\n$EndPhysicalNames\n"
+    "$Entities\n4 4 1 0\n1 0 0 0 1 3 \n2 1 0 0 0 \n3 1 0.5 0 0 \n4 0 0.5 0 0 \n"
+    "1 0 0 0 1 0 0 1 2 2 1 -2 \n2 1 0 0 1 0.5 0 0 2 2 -3 \n3 0 0.5 0 1 0.5 0 0 2 3 -4 \n"
+    "4 0 0 0 0 0.5 0 0 2 4 -1 \n1 0 0 0 1 0.5 0 1 1 4 1 2 3 4 \n$EndEntities\n"
+    "$Nodes\n9 21 1 21\n0 1 0 1\n1\n0 0 0\n0 2 0 1\n2\n1 0 0\n0 3 0 1\n3\n1 0.5 0\n0 4 0 1\n4\n0 0.5 0\n"
+    "1 1 0 3\n5\n6\n7\n0.499999999998694 0 0\n0.2499999999994194 0 0\n0.749999999999347 0 0\n"
+    "1 2 0 3\n8\n9\n10\n1 0.249999999999347 0\n1 0.1249999999997097 0\n1 0.3749999999996735 0\n"
+    "1 3 0 3\n11\n12\n13\n0.5000000000020591 0.5 0\n0.7500000000009891 0.5 0\n0.2500000000010296 0.5 0\n"
+    "1 4 0 3\n14\n15\n16\n0 0.2500000000010296 0\n0 0.3750000000004945 0\n0 0.1250000000005148 0\n"
+    "2 1 0 5\n17\n18\n19\n20\n21\n0.5000000000003766 0.2500000000001883 0\n"
+    "0.4999999999995353 0.1250000000000941 0\n0.2500000000001883 0.250000000000609 0\n"
+    "0.5000000000012179 0.3750000000000941 0\n0.7500000000001883 0.2499999999997676 0\n$EndNodes\n"
+    "$Elements\n3 7 1 7\n0 1 15 1\n1 1 \n1 1 8 2\n2 1 5 6 \n3 5 2 7 \n2 1 16 4\n"
+    "4 1 5 17 14 6 18 19 16 \n5 14 17 11 4 19 20 13 15 \n6 5 2 8 17 7 9 21 18 \n"
+    "7 17 8 3 11 21 10 12 20 \n$EndElements\n";
+
+static void write_file(const char *path, const char *text)
+{
+  FILE *f = fopen(path, "w");
+  if (!f) return;
+  fputs(text, f);
+  fclose(f);
+}
+
+/* Writes quad8_msh with `from` replaced by `to` and expects an error that
+ * mentions `line` and `fragment`. */
+static void malformed(const char *from, const char *to, const char *line, const char *fragment)
+{
+  char text[sizeof quad8_msh + 256];
+  const char *at = strstr(quad8_msh, from);
+  TL_TEST_ASSERT(at != NULL, "test text '%s' not found", from);
+  if (!at) return;
+  size_t pre = (size_t)(at - quad8_msh);
+  memcpy(text, quad8_msh, pre);
+  snprintf(text + pre, sizeof text - pre, "%s%s", to, at + strlen(from));
+  write_file("bad.msh", text);
+  TlMesh *m = NULL;
+  TlStatus s = tl_mesh_read_gmsh("bad.msh", &m);
+  TL_TEST_ASSERT(s == TL_ERR_FORMAT, "malformed file (%s -> %s) gave status %d", from, to, (int)s);
+  TL_TEST_ASSERT(strstr(tl_error_message(), line) && strstr(tl_error_message(), fragment),
+                 "message should name '%s' and '%s': %s", line, fragment, tl_error_message());
+  TL_TEST_ASSERT(m == NULL, "no mesh on error");
+}
+
+static void test_gmsh_quad8(void)
+{
+  write_file("quad8.msh", quad8_msh);
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_read_gmsh("quad8.msh", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_ASSERT(m->dim == 2 && m->n_nodes == 21 && m->n_blocks == 1, "dim %d nodes %zu blocks %d", m->dim,
+                 m->n_nodes, m->n_blocks);
+  TL_TEST_ASSERT(m->blocks[0].type == &tl_element_quad8 && !strcmp(m->blocks[0].name, "plate") &&
+                     m->blocks[0].n_elements == 4,
+                 "block %s of %zu %s", m->blocks[0].name, m->blocks[0].n_elements, m->blocks[0].type->header.name);
+  TL_TEST_CLOSE(tl_mesh_volume(m), 0.5, 1e-12);
+  check_outward(m);
+  check_set_normal(m, "bottom", 1, -1.0);
+  const TlFaceSet *fs = NULL;
+  TL_TEST_STATUS(tl_mesh_find_face_set(m, "bottom", &fs), TL_OK);
+  if (fs) TL_TEST_ASSERT(fs->n == 2, "bottom has %zu faces", fs->n);
+  const TlNodeSet *ns = NULL;
+  TL_TEST_STATUS(tl_mesh_find_node_set(m, "corner", &ns), TL_OK);
+  if (ns) TL_TEST_ASSERT(ns->n == 1 && m->x[3 * ns->nodes[0]] == 0.0 && m->x[3 * ns->nodes[0] + 1] == 0.0, "corner node");
+  TL_TEST_STATUS(tl_mesh_find_node_set(m, "bottom", &ns), TL_OK);
+  if (ns) TL_TEST_ASSERT(ns->n == 5, "bottom has %zu nodes", ns->n);
+  tl_mesh_destroy(&m);
+
+  malformed("4.1 0 8", "2.2 0 8", "line 2", "version");
+  malformed("4.1 0 8", "4.1 1 8", "line 2", "binary");
+  malformed("0.4999999999995353 0.1250000000000941 0", "0.49999 abc 0", "line 71", "real number");
+  malformed("4 1 5 17 14 6 18 19 16 ", "4 1 5 17 14 6 18 19 99 ", "line 84", "node 99");
+  malformed("2 1 16 4", "2 1 7 4", "line 83", "element type 7");
+  malformed("7 17 8 3 11 21 10 12 20 \n", "7 17 8 3 11 21 10 12\n", "line 87", "7 of 8");
+  malformed("$EndNodes\n", "", "line", "$EndNodes");
+  malformed("$MeshFormat\n", "MeshFormat\n", "line 1", "section header");
+  TlMesh *none = NULL;
+  TL_TEST_STATUS(tl_mesh_read_gmsh("no_such_file.msh", &none), TL_ERR_IO);
+}
+
+/* A tetrahedral box made by gmsh from a .geo at test time. */
+static void test_gmsh_generated(void)
+{
+  if (system("gmsh --version > /dev/null 2>&1") != 0) {
+    printf("gmsh not installed: generated-mesh check skipped\n");
+    return;
+  }
+  write_file("box.geo",
+             "SetFactory(\"OpenCASCADE\");\nBox(1) = {0, 0, 0, 2, 1, 1};\n"
+             "Physical Volume(\"solid\") = {1};\nPhysical Surface(\"left\") = {1};\n"
+             "Physical Surface(\"right\") = {2};\nMesh.MeshSizeMin = 1.0;\nMesh.MeshSizeMax = 1.0;\n"
+             "Mesh.ElementOrder = 2;\n");
+  int rc = system("gmsh -3 -format msh41 -o box.msh box.geo > gmsh.log 2>&1");
+  TL_TEST_ASSERT(rc == 0, "gmsh failed (see gmsh.log)");
+  if (rc) return;
+  TlMesh *m = NULL;
+  TL_TEST_STATUS(tl_mesh_read_gmsh("box.msh", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_ASSERT(m->dim == 3 && m->blocks[0].type == &tl_element_tet10 && !strcmp(m->blocks[0].name, "solid"),
+                 "block %s of %s", m->blocks[0].name, m->blocks[0].type->header.name);
+  TL_TEST_CLOSE(tl_mesh_volume(m), 2.0, 1e-12);
+  check_outward(m);
+  check_set_normal(m, "left", 0, -1.0);
+  check_set_normal(m, "right", 0, 1.0);
+  tl_mesh_destroy(&m);
+}
+
+int main(void)
+{
+  TL_TEST_STATUS(tl_initialize(), TL_OK);
+  test_box(&tl_element_hex8, 4 * 3 * 3, 12);
+  test_box(&tl_element_hex27, 7 * 5 * 5, 12);
+  test_box(&tl_element_tet4, 4 * 3 * 3, 72);
+  test_box(&tl_element_tet10, 7 * 5 * 5, 72);
+  test_rectangle(&tl_element_quad4, 5 * 4);
+  test_rectangle(&tl_element_quad8, 9 * 7 - 12);
+  test_sector(&tl_element_hex8);
+  test_sector(&tl_element_hex27);
+  test_inverted();
+  test_gmsh_quad8();
+  test_gmsh_generated();
+  return tl_test_report();
+}
