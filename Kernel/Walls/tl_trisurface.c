@@ -192,6 +192,7 @@ TlStatus tl_trisurface_update(TlTriSurface *s)
   }
   s->surface_lo = lo;
   s->surface_hi = hi;
+  ++s->version;
   for (size_t e = 0; e < s->n_edges; ++e) {
     int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
     if (tb < 0) {

@@ -54,6 +54,7 @@ typedef struct {
   TlVec3 surface_lo, surface_hi; /* box of the whole surface */
   signed char *edge_shape; /* TlEdgeShape per edge, seen from the + side */
   double *edge_fold;       /* sine of the fold angle: > 0 concave, < 0 convex */
+  unsigned long version;    /* incremented by every update */
   /* Classification tolerances. */
   double flat_tolerance;    /* |fold sine| below it counts as flat (default 1e-9) */
   double quality_tolerance; /* tl_triangle_quality below it is refused (default 1e-6) */

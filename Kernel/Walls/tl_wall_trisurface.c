@@ -1,5 +1,7 @@
 #include "tl_wall_trisurface.h"
 
+#include "tl_trisurface_bins.h"
+
 #include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -26,6 +28,7 @@ typedef struct {
   TlContactGeometry *geometry;
   TlContactResult *result;
   size_t geometry_capacity, result_capacity;
+  TlTriBins bins; /* triangles near particles */
 } TlWallTriSurface;
 
 static const TlWallOps tl_wall_trisurface_ops;
@@ -86,6 +89,7 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
   tl_free(&t->thread);
   tl_free(&t->geometry);
   tl_free(&t->result);
+  tl_tribins_free(&t->bins);
   tl_free(&t);
 }
 
@@ -144,7 +148,15 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
   const TlParticles *p = step->particles;
   const TlDomain *domain = step->domain;
   int use_grid = step->grid && !t->brute_force;
+  /* only triangles near some particle take part (tl_trisurface_bins.h);
+   * the brute-force oracle tests them all */
   long nt = (long)s->n_triangles;
+  const int32_t *selected = NULL;
+  if (!t->brute_force) {
+    TL_CHECK(tl_tribins_select(&t->bins, s, domain, p->n, p->x, p->radius, p->motion));
+    selected = t->bins.selected;
+    nt = (long)t->bins.n_selected;
+  }
   TlStatus status = TL_OK;
   int want = omp_get_max_threads();
   if (want > t->n_threads) {
@@ -163,7 +175,8 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
 #pragma omp for schedule(dynamic, 32)
-    for (long tri = 0; tri < nt; ++tri) {
+    for (long it = 0; it < nt; ++it) {
+      long tri = selected ? selected[it] : it;
       if (local != TL_OK) continue;
       if (use_grid) {
         /* Algorithm 2: only the particles in cells near the triangle's box */
@@ -219,7 +232,9 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
     const TlTriContactRecord *r = &set->c[k];
     size_t i = (size_t)r->particle;
     TlContactGeometry *g = &t->geometry[k];
-    TlVec3 branch = tl_v3_sub(r->point, r->center);
+    /* lever arm to the middle of the overlap, as between particles and for
+     * the plane; the record keeps the point on the triangle for coupling */
+    TlVec3 branch = tl_v3_scale(r->normal, -(r->radius - 0.5 * r->overlap));
     TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
     TlVec3 v_part = p->v[i];
     if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
@@ -278,7 +293,8 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
     double wgt = r->weight;
     TlVec3 couple = tl_v3_scale(t->result[k].couple, wgt);
     fw = tl_v3_sub(fw, r->force);
-    tw = tl_v3_sub(tw, tl_v3_add(tl_v3_cross(r->point, r->force), couple));
+    TlVec3 cp = tl_v3_add(r->center, t->geometry[k].branch_i);
+    tw = tl_v3_sub(tw, tl_v3_add(tl_v3_cross(cp, r->force), couple));
     if (step->want_energy) {
       energy += wgt * t->result[k].elastic_energy;
       power += wgt * t->result[k].power;

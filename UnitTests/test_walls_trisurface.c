@@ -1,0 +1,414 @@
+/* Triangle walls and triangulated surfaces in motion: face, edge and vertex
+ * forces through a contact law; a sphere bouncing inside a box of triangles
+ * exactly as inside a box of planes; a particle sliding with friction across
+ * a flat surface triangulated in different ways feeling the plane's force
+ * history (so the tangential history survives every edge crossing); grid =
+ * brute force for wall contacts in open and periodic domains with a size
+ * ratio of 10, and on 1 or 2 threads; the wall velocity interpolated from the
+ * vertices; degenerate triangles refused. */
+#include <omp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "talus.h"
+#include "tl_contact_law.h"
+#include "tl_hgrid.h"
+#include "tl_particles.h"
+#include "tl_test.h"
+#include "tl_wall.h"
+#include "tl_wall_trisurface.h"
+
+static double urand(uint64_t *s)
+{
+  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
+  return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A minimal world: particles, walls, one law, Velocity-Verlet. */
+typedef struct {
+  TlParticles *p;
+  TlHGrid *grid;
+  TlDomain domain;
+  TlContactLaw *law;
+  TlWall *wall[8];
+  int n_walls;
+  double dt, t;
+  TlVec3 g;
+  double skin;
+  TlVec3 x_build[4]; /* positions at the last grid build (small scenes) */
+  int built;
+} Mini;
+
+static TlStatus mini_create(Mini *m, TlContactParameters *cp, int rotation)
+{
+  memset(m, 0, sizeof *m);
+  TL_CHECK(tl_particles_create(&m->p));
+  if (rotation) TL_CHECK(tl_particles_enable_rotation(m->p));
+  TL_CHECK(tl_hgrid_create(&m->grid));
+  TL_CHECK(tl_domain_init_open(&m->domain, tl_v3(-1, -1, -1), tl_v3(2, 2, 2)));
+  TL_CHECK(tl_contact_law_create_linear(cp, &m->law));
+  return TL_OK;
+}
+
+static void mini_destroy(Mini *m)
+{
+  for (int k = 0; k < m->n_walls; ++k) tl_wall_destroy(&m->wall[k]);
+  tl_contact_law_destroy(&m->law);
+  tl_hgrid_destroy(&m->grid);
+  tl_particles_destroy(&m->p);
+}
+
+static TlStatus mini_forces(Mini *m)
+{
+  TlParticles *p = m->p;
+  for (size_t i = 0; i < p->n; ++i) {
+    p->f[i] = tl_v3(0, 0, 0);
+    if (p->torque) p->torque[i] = tl_v3(0, 0, 0);
+  }
+  /* rebuild the grid only when a particle has moved more than skin/2, as
+   * the world does (small scenes track their positions) */
+  int rebuild = !m->built || p->n > 4;
+  for (size_t i = 0; !rebuild && i < p->n; ++i)
+    rebuild = tl_v3_norm(tl_v3_sub(p->x[i], m->x_build[i])) > 0.5 * m->skin;
+  if (rebuild) {
+    TL_CHECK(tl_hgrid_build(m->grid, &m->domain, p->n, p->x, p->radius, m->skin));
+    for (size_t i = 0; i < p->n && i < 4; ++i) m->x_build[i] = p->x[i];
+    m->built = 1;
+  }
+  TlWallStep st = {.particles = p, .grid = m->grid, .domain = &m->domain, .law = m->law, .t = m->t, .dt = m->dt};
+  for (int k = 0; k < m->n_walls; ++k) TL_CHECK(m->wall[k]->ops->interact(m->wall[k], &st));
+  return TL_OK;
+}
+
+static void mini_kick(Mini *m)
+{
+  TlParticles *p = m->p;
+  for (size_t i = 0; i < p->n; ++i) {
+    p->v[i] = tl_v3_axpy(p->v[i], 0.5 * m->dt, tl_v3_axpy(m->g, p->inv_mass[i], p->f[i]));
+    if (p->w) p->w[i] = tl_v3_axpy(p->w[i], 0.5 * m->dt * p->inv_inertia[i], p->torque[i]);
+  }
+}
+
+static TlStatus mini_step(Mini *m)
+{
+  mini_kick(m);
+  for (size_t i = 0; i < m->p->n; ++i) m->p->x[i] = tl_v3_axpy(m->p->x[i], m->dt, m->p->v[i]);
+  m->t += m->dt;
+  TL_CHECK(mini_forces(m));
+  mini_kick(m);
+  return TL_OK;
+}
+
+static void test_features(void)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 1000.0;
+  Mini m;
+  TL_TEST_STATUS(mini_create(&m, &cp, 0), TL_OK);
+  int sp;
+  TL_TEST_STATUS(tl_particles_add_species(m.p, "glass", 2500, 0.1, 0.1, &sp), TL_OK);
+  TL_TEST_STATUS(tl_particles_add(m.p, tl_v3(0.3, 0.3, 0.08), tl_v3(0, 0, 0), 0.1, sp, NULL), TL_OK);
+  TL_TEST_STATUS(tl_wall_triangle_create(tl_v3(0, 0, 0), tl_v3(1, 0, 0), tl_v3(0, 1, 0), &m.wall[0]), TL_OK);
+  m.n_walls = 1;
+  m.dt = 1e-4;
+  TL_TEST_ASSERT(tl_wall_is_bounded(m.wall[0]), "a triangle is bounded");
+  struct {
+    TlVec3 x;
+    TlVec3 f;
+    int feature;
+  } cases[] = {
+      {{0.3, 0.3, 0.08}, {0, 0, 20.0}, TL_TRI_FACE},
+      {{0.3, 0.3, -0.06}, {0, 0, -40.0}, TL_TRI_FACE},
+      {{0.55, 0.55, 0}, {sqrt(0.5) * (100 - 1000 * 0.05 * sqrt(2)), sqrt(0.5) * (100 - 1000 * 0.05 * sqrt(2)), 0},
+       TL_TRI_EDGE1},
+      {{-0.03, -0.04, 0}, {-0.6 * 50, -0.8 * 50, 0}, TL_TRI_VERTEX0},
+      {{0.5, -0.05, 0.05}, {0, -sqrt(0.5) * (100 - 1000 * 0.05 * sqrt(2)), sqrt(0.5) * (100 - 1000 * 0.05 * sqrt(2))},
+       TL_TRI_EDGE0},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    m.p->x[0] = cases[k].x;
+    TL_TEST_STATUS(mini_forces(&m), TL_OK);
+    TL_TEST_CLOSE(tl_v3_norm(tl_v3_sub(m.p->f[0], cases[k].f)), 0.0, 1e-10);
+    TL_TEST_CLOSE(tl_v3_norm(tl_v3_add(m.wall[0]->force, cases[k].f)), 0.0, 1e-10);
+    const TlTriContactSet *c = tl_wall_trisurface_contacts(m.wall[0]);
+    TL_TEST_ASSERT(c && c->count == 1 && c->c[0].feature == cases[k].feature, "case %zu: feature %d, expected %d",
+                   k, c && c->count ? c->c[0].feature : -1, cases[k].feature);
+  }
+  m.p->x[0] = tl_v3(0.3, 0.3, 0.1);
+  TL_TEST_STATUS(mini_forces(&m), TL_OK);
+  TL_TEST_ASSERT(m.wall[0]->n_contacts == 0 && tl_v3_norm(m.p->f[0]) == 0, "just touching: no force");
+
+  /* degenerate triangles are refused and no wall is returned */
+  TlWall *bad = (TlWall *)&m;
+  TL_TEST_STATUS(tl_wall_triangle_create(tl_v3(0, 0, 0), tl_v3(1, 0, 0), tl_v3(2, 0, 0), &bad), TL_ERR_NUMERIC);
+  TL_TEST_ASSERT(bad == NULL, "no wall from a degenerate triangle");
+  TL_TEST_STATUS(tl_wall_triangle_create(tl_v3(0, 0, 0), tl_v3(1, 0, 0), tl_v3(1, 1e-10, 0), &bad), TL_ERR_NUMERIC);
+  mini_destroy(&m);
+}
+
+/* Runs a sphere inside [0,1]^3 for `steps` steps, walls either 6 planes or
+ * 12 triangles; records the trajectory. */
+static TlStatus box_run(int triangles, int steps, TlVec3 *traj, TlVec3 *spin, int *max_contacts)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 1e5;
+  cp.restitution = 0.8;
+  cp.mu = 0.4;
+  Mini m;
+  TL_CHECK(mini_create(&m, &cp, 1));
+  int sp;
+  TL_CHECK(tl_particles_add_species(m.p, "steel", 2500, 0.1, 0.1, &sp));
+  TL_CHECK(tl_particles_add(m.p, tl_v3(0.5, 0.42, 0.37), tl_v3(1.3, 0.71, -0.45), 0.1, sp, NULL));
+  m.p->w[0] = tl_v3(3, -2, 5);
+  m.g = tl_v3(0, 0, 0);
+  m.dt = 2e-4;
+  m.skin = 0.02;
+  if (triangles) {
+    TlTriSurface *s = NULL;
+    TL_CHECK(tl_trisurface_create_box(tl_v3(0, 0, 0), tl_v3(1, 1, 1), &s));
+    TL_CHECK(tl_wall_trisurface_create(s, &m.wall[0]));
+    m.n_walls = 1;
+  } else {
+    for (int k = 0; k < 3; ++k) {
+      TlVec3 n = tl_v3(k == 0, k == 1, k == 2);
+      TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), n, &m.wall[m.n_walls++]));
+      TL_CHECK(tl_wall_plane_create(tl_v3(1, 1, 1), tl_v3_neg(n), &m.wall[m.n_walls++]));
+    }
+  }
+  TL_CHECK(mini_forces(&m));
+  *max_contacts = 0;
+  for (int s = 0; s < steps; ++s) {
+    TL_CHECK(mini_step(&m));
+    int nc = 0;
+    for (int k = 0; k < m.n_walls; ++k) nc += (int)m.wall[k]->n_contacts;
+    if (nc > *max_contacts) *max_contacts = nc;
+    traj[s] = m.p->x[0];
+    spin[s] = m.p->w[0];
+  }
+  mini_destroy(&m);
+  return TL_OK;
+}
+
+static void test_box_bounce(void)
+{
+  const int steps = 20000;
+  TlVec3 *a = NULL, *b = NULL, *wa = NULL, *wb = NULL;
+  TL_TEST_STATUS(tl_calloc(&a, steps, sizeof *a), TL_OK);
+  TL_TEST_STATUS(tl_calloc(&b, steps, sizeof *b), TL_OK);
+  TL_TEST_STATUS(tl_calloc(&wa, steps, sizeof *wa), TL_OK);
+  TL_TEST_STATUS(tl_calloc(&wb, steps, sizeof *wb), TL_OK);
+  int ca = 0, cb = 0;
+  TL_TEST_STATUS(box_run(0, steps, a, wa, &ca), TL_OK);
+  TL_TEST_STATUS(box_run(1, steps, b, wb, &cb), TL_OK);
+  double dx = 0, dw = 0;
+  int bounces = 0;
+  for (int s = 0; s < steps; ++s) {
+    dx = fmax(dx, tl_v3_norm(tl_v3_sub(a[s], b[s])));
+    dw = fmax(dw, tl_v3_norm(tl_v3_sub(wa[s], wb[s])));
+    if (s > 0 && (a[s].x - a[s - 1].x) * (s > 1 ? a[s - 1].x - a[s - 2].x : 1) < 0) ++bounces;
+  }
+  printf("box: %d x-bounces, max position difference %.3e, spin difference %.3e\n", bounces, dx, dw);
+  TL_TEST_ASSERT(ca == 1, "the plane run touched %d walls at once; choose another start", ca);
+  TL_TEST_ASSERT(bounces >= 3, "only %d bounces", bounces);
+  TL_TEST_ASSERT(dx < 1e-10 && dw < 1e-8, "triangles and planes differ: position %g, spin %g", dx, dw);
+  tl_free(&a);
+  tl_free(&b);
+  tl_free(&wa);
+  tl_free(&wb);
+}
+
+/* A sphere sliding and starting to roll on z = 0 with friction: total wall
+ * force history for a plane and for three triangulations of the floor. */
+static TlStatus slide_run(int kind, int corrections, int steps, TlVec3 *force, int *n_triangles_visited)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 1e4;
+  cp.restitution = 0.5;
+  cp.mu = 0.3;
+  Mini m;
+  TL_CHECK(mini_create(&m, &cp, 1));
+  int sp;
+  TL_CHECK(tl_particles_add_species(m.p, "glass", 2500, 0.05, 0.05, &sp));
+  double r = 0.05, mass = 2500 * 4.0 / 3.0 * TL_PI * r * r * r;
+  m.g = tl_v3(0, 0, -9.81);
+  TL_CHECK(tl_particles_add(m.p, tl_v3(0.13, 0.21, r - mass * 9.81 / cp.k_n), tl_v3(1.7, 0.9, 0), r, sp, NULL));
+  m.dt = 1e-4;
+  m.skin = 0.01;
+  if (kind < 0) {
+    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &m.wall[0]));
+  } else {
+    TlTriSurface *s = NULL;
+    TL_CHECK(tl_trisurface_create_rectangle(0, 0, 2, 2, 0, 16, 16, kind, &s));
+    TL_CHECK(tl_wall_trisurface_create(s, &m.wall[0]));
+    TL_CHECK(tl_wall_trisurface_set_corrections(m.wall[0], corrections));
+  }
+  m.n_walls = 1;
+  int last = -1;
+  *n_triangles_visited = 0;
+  TL_CHECK(mini_forces(&m));
+  for (int s = 0; s < steps; ++s) {
+    TL_CHECK(mini_step(&m));
+    force[s] = m.p->f[0];
+    if (kind >= 0) {
+      const TlTriContactSet *c = tl_wall_trisurface_contacts(m.wall[0]);
+      if (c->count && c->c[0].triangle != last) ++*n_triangles_visited, last = c->c[0].triangle;
+    }
+  }
+  mini_destroy(&m);
+  return TL_OK;
+}
+
+static void test_sliding_triangulations(void)
+{
+  const int steps = 4000;
+  double r = 0.05, mg = 2500 * 4.0 / 3.0 * TL_PI * r * r * r * 9.81;
+  TlVec3 *ref = NULL, *f = NULL;
+  TL_TEST_STATUS(tl_calloc(&ref, steps, sizeof *ref), TL_OK);
+  TL_TEST_STATUS(tl_calloc(&f, steps, sizeof *f), TL_OK);
+  int visited = 0;
+  TL_TEST_STATUS(slide_run(-1, 1, steps, ref, &visited), TL_OK);
+  double tangential = 0;
+  for (int s = 0; s < steps; ++s) tangential = fmax(tangential, hypot(ref[s].x, ref[s].y));
+  TL_TEST_ASSERT(tangential > 0.2 * mg, "friction acts on the plane (max tangential %g, mg %g)", tangential, mg);
+  for (int pattern = 0; pattern < 3; ++pattern) {
+    TL_TEST_STATUS(slide_run(pattern, 1, steps, f, &visited), TL_OK);
+    double dev = 0;
+    for (int s = 0; s < steps; ++s) dev = fmax(dev, tl_v3_norm(tl_v3_sub(f[s], ref[s])));
+    printf("sliding, pattern %d: %d triangles crossed, max |F - F_plane| / mg = %.3e\n", pattern, visited, dev / mg);
+    TL_TEST_ASSERT(visited >= 8, "pattern %d: the particle crossed only %d triangles", pattern, visited);
+    TL_TEST_ASSERT(dev < 1e-8 * mg, "pattern %d: force history differs from the plane's by %g (mg %g)", pattern, dev, mg);
+  }
+  /* without the corrections the edges are felt */
+  TL_TEST_STATUS(slide_run(2, 0, steps, f, &visited), TL_OK);
+  double dev = 0;
+  for (int s = 0; s < steps; ++s) dev = fmax(dev, tl_v3_norm(tl_v3_sub(f[s], ref[s])));
+  printf("sliding, pattern 2 without corrections: max |F - F_plane| / mg = %.3f\n", dev / mg);
+  TL_TEST_ASSERT(dev > 0.1 * mg, "without corrections the force should jump at edges (%g)", dev);
+  tl_free(&ref);
+  tl_free(&f);
+}
+
+/* Grid = brute force for the contacts of a bumpy triangulated surface with a
+ * polydisperse packing (radius ratio 10), open and periodic (x, y). */
+static void test_grid_equals_brute(void)
+{
+  for (int periodic = 0; periodic < 2; ++periodic) {
+    TlContactParameters cp;
+    tl_contact_parameters_default(&cp);
+    cp.k_n = 1e3;
+    Mini m;
+    TL_TEST_STATUS(mini_create(&m, &cp, 0), TL_OK);
+    int per[3] = {1, 1, 0};
+    if (periodic) TL_TEST_STATUS(tl_domain_init_periodic_box(&m.domain, tl_v3(0, 0, 0), tl_v3(1, 1, 1), per), TL_OK);
+    else TL_TEST_STATUS(tl_domain_init_open(&m.domain, tl_v3(0, 0, 0), tl_v3(1, 1, 1)), TL_OK);
+    int sp;
+    TL_TEST_STATUS(tl_particles_add_species(m.p, "poly", 1000, 0.004, 0.04, &sp), TL_OK);
+    uint64_t seed = 1234 + (uint64_t)periodic;
+    for (int i = 0; i < 3000; ++i) {
+      double r = 0.004 * pow(10.0, urand(&seed)); /* ratio 10, more small ones */
+      TlVec3 x = tl_v3(urand(&seed), urand(&seed), 0.5 + 0.1 * (urand(&seed) - 0.5));
+      TL_TEST_STATUS(tl_particles_add(m.p, x, tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
+    }
+    TlTriSurface *s = NULL;
+    TL_TEST_STATUS(tl_trisurface_create_rectangle(0, 0, 1, 1, 0.5, 25, 25, 1, &s), TL_OK);
+    for (size_t i = 0; i < s->n_vertices; ++i) s->x[i].z += 0.02 * (urand(&seed) - 0.5);
+    TL_TEST_STATUS(tl_trisurface_update(s), TL_OK);
+    TL_TEST_STATUS(tl_wall_trisurface_create(s, &m.wall[0]), TL_OK);
+    m.n_walls = 1;
+    m.dt = 1e-4;
+    m.skin = 0.002;
+    TL_TEST_STATUS(tl_wall_trisurface_set_corrections(m.wall[0], 0), TL_OK);
+    /* the same contacts from the grid and from brute force, the grid built
+     * before a small move (within skin/2) as between rebuilds */
+    TL_TEST_STATUS(mini_forces(&m), TL_OK);
+    for (size_t i = 0; i < m.p->n; ++i)
+      m.p->x[i] = tl_v3_add(m.p->x[i], tl_v3(0.0009 * (urand(&seed) - 0.5), 0, 0.0009 * (urand(&seed) - 0.5)));
+    TlWallStep st = {.particles = m.p, .grid = m.grid, .domain = &m.domain, .law = m.law, .dt = m.dt};
+    TL_TEST_STATUS(m.wall[0]->ops->interact(m.wall[0], &st), TL_OK);
+    TlTriContactSet *grid_set = NULL;
+    TL_TEST_STATUS(tl_tricontacts_create(&grid_set), TL_OK);
+    TL_TEST_STATUS(tl_tricontacts_append_all(grid_set, tl_wall_trisurface_contacts(m.wall[0])), TL_OK);
+    TL_TEST_STATUS(tl_wall_trisurface_set_brute_force(m.wall[0], 1), TL_OK);
+    TL_TEST_STATUS(m.wall[0]->ops->interact(m.wall[0], &st), TL_OK);
+    const TlTriContactSet *brute = tl_wall_trisurface_contacts(m.wall[0]);
+    int same = grid_set->count == brute->count;
+    size_t wrapped = 0;
+    for (size_t k = 0; same && k < brute->count; ++k) {
+      same &= grid_set->c[k].particle == brute->c[k].particle && grid_set->c[k].triangle == brute->c[k].triangle &&
+              grid_set->c[k].overlap == brute->c[k].overlap;
+      wrapped += fabs(brute->c[k].center.x - m.p->x[brute->c[k].particle].x) > 0.5 ||
+                 fabs(brute->c[k].center.y - m.p->x[brute->c[k].particle].y) > 0.5;
+    }
+    printf("%s: %zu wall contacts (grid) vs %zu (brute force), %zu through a periodic boundary\n",
+           periodic ? "periodic" : "open", grid_set->count, brute->count, wrapped);
+    TL_TEST_ASSERT(same && brute->count > 1000, "%s: grid and brute force differ (%zu vs %zu)",
+                   periodic ? "periodic" : "open", grid_set->count, brute->count);
+    if (periodic) TL_TEST_ASSERT(wrapped > 5, "periodic images: only %zu contacts wrap", wrapped);
+
+    /* with corrections, a frictional law and 1 or 2 threads: identical forces */
+    TL_TEST_STATUS(tl_wall_trisurface_set_brute_force(m.wall[0], 0), TL_OK);
+    TL_TEST_STATUS(tl_wall_trisurface_set_corrections(m.wall[0], 1), TL_OK);
+    TlVec3 *f1 = NULL;
+    TL_TEST_STATUS(tl_calloc(&f1, m.p->n, sizeof *f1), TL_OK);
+    for (int th = 1; th <= 2; ++th) {
+      omp_set_num_threads(th);
+      TL_TEST_STATUS(mini_forces(&m), TL_OK);
+      if (th == 1) memcpy(f1, m.p->f, m.p->n * sizeof *f1);
+    }
+    TL_TEST_ASSERT(memcmp(f1, m.p->f, m.p->n * sizeof *f1) == 0, "forces differ between 1 and 2 threads");
+    tl_free(&f1);
+    tl_tricontacts_destroy(&grid_set);
+    mini_destroy(&m);
+  }
+}
+
+/* The wall velocity at the contact point comes from the vertex velocities:
+ * a damped contact with a surface whose vertices move feels the same force
+ * as a plane moving with the interpolated velocity. */
+static void test_moving_surface(void)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 1e3;
+  cp.restitution = 0.3;
+  TlVec3 fplane = tl_v3(0, 0, 0), fsurf = tl_v3(0, 0, 0);
+  for (int kind = 0; kind < 2; ++kind) {
+    Mini m;
+    TL_TEST_STATUS(mini_create(&m, &cp, 0), TL_OK);
+    int sp;
+    TL_TEST_STATUS(tl_particles_add_species(m.p, "a", 1000, 0.1, 0.1, &sp), TL_OK);
+    TL_TEST_STATUS(tl_particles_add(m.p, tl_v3(0.3, 0.4, 0.09), tl_v3(0.1, 0, -0.2), 0.1, sp, NULL), TL_OK);
+    m.dt = 1e-4;
+    /* vertex velocities v_z = 0.5 + 2 x - y: at (0.3, 0.4) that is 0.7 */
+    if (kind == 0) {
+      TL_TEST_STATUS(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &m.wall[0]), TL_OK);
+      TL_TEST_STATUS(tl_wall_plane_set_velocity(m.wall[0], tl_v3(0, 0, 0.7)), TL_OK);
+    } else {
+      TlTriSurface *s = NULL;
+      TL_TEST_STATUS(tl_trisurface_create_rectangle(0, 0, 1, 1, 0, 3, 3, 2, &s), TL_OK);
+      for (size_t i = 0; i < s->n_vertices; ++i) s->v[i] = tl_v3(0, 0, 0.5 + 2 * s->x[i].x - s->x[i].y);
+      TL_TEST_STATUS(tl_wall_trisurface_create(s, &m.wall[0]), TL_OK);
+    }
+    m.n_walls = 1;
+    TL_TEST_STATUS(mini_forces(&m), TL_OK);
+    if (kind == 0) fplane = m.p->f[0];
+    else fsurf = m.p->f[0];
+    mini_destroy(&m);
+  }
+  printf("moving: plane force %.12g, surface force %.12g\n", fplane.z, fsurf.z);
+  TL_TEST_ASSERT(fplane.z > 20.0, "damping adds to the spring force (%g)", fplane.z);
+  TL_TEST_CLOSE(tl_v3_norm(tl_v3_sub(fsurf, fplane)), 0.0, 1e-10);
+}
+
+int main(void)
+{
+  test_features();
+  test_box_bounce();
+  test_sliding_triangulations();
+  test_grid_equals_brute();
+  test_moving_surface();
+  return tl_test_report();
+}
