@@ -10,11 +10,13 @@ TlStatus tl_cg_register_all(void);
 TlStatus tl_fem_register_all(void);
 TlStatus tl_stepper_register_all(void);
 TlStatus tl_dem_register_all(void);
+TlStatus tl_walls_register_all(void);
 static const TlRegisterAll tl_modules[] = {
     tl_cg_register_all,
     tl_fem_register_all,
     tl_stepper_register_all,
     tl_dem_register_all,
+    tl_walls_register_all,
     NULL, /* keeps the table non-empty before any module registers */
 };
 

@@ -408,3 +408,11 @@ TlStatus tl_wall_register_trisurface(void)
   TL_CHECK(tl_registry_add(&tl_wall_trisurface_ops.header));
   return TL_OK;
 }
+
+/* The wall types of this module beyond the plane (which the DEM module
+ * registers). */
+TlStatus tl_walls_register_all(void)
+{
+  TL_CHECK(tl_wall_register_trisurface());
+  return TL_OK;
+}

@@ -53,5 +53,7 @@ TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on);
 /* Whether w is a triangulated surface wall. */
 int tl_wall_is_trisurface(const TlWall *w);
 TlStatus tl_wall_register_trisurface(void);
+/* Registers the wall types of this module (called by tl_initialize). */
+TlStatus tl_walls_register_all(void);
 
 #endif
