@@ -262,7 +262,7 @@ static int h5dump_structure(const char *file, char *out, size_t cap)
   snprintf(cmd, sizeof cmd, "h5dump -H %s 2>&1", file);
   FILE *p = popen(cmd, "r");
   if (!p) return -1;
-  char line[1024], stack[16][256];
+  char line[1024], stack[16][600];
   int kind[16], depth = 0; /* kind: 0 group, 1 dataset, 2 attribute, 3 other */
   size_t used = 0;
   out[0] = '\0';
@@ -280,14 +280,16 @@ static int h5dump_structure(const char *file, char *out, size_t cap)
       const char *q1 = strchr(s, '"'), *q2 = q1 ? strchr(q1 + 1, '"') : NULL;
       if (q1 && q2) snprintf(name, sizeof name, "%.*s", (int)(q2 - q1 - 1), q1 + 1);
       int k = strncmp(s, "GROUP", 5) == 0 ? 0 : strncmp(s, "DATASET", 7) == 0 ? 1 : strncmp(s, "ATTRIBUTE", 9) == 0 ? 2 : 3;
-      char parent[256] = "";
+      char parent[600] = "";
       if (depth > 0) memcpy(parent, stack[depth - 1], sizeof parent);
+      int len = 0;
       if (k == 0 && strcmp(name, "/") == 0)
-        snprintf(stack[depth], sizeof stack[0], "%s", "");
+        stack[depth][0] = '\0';
       else if (k <= 1)
-        snprintf(stack[depth], sizeof stack[0], "%s/%s", parent, name);
+        len = snprintf(stack[depth], sizeof stack[0], "%s/%s", parent, name);
       else
-        snprintf(stack[depth], sizeof stack[0], "%s", parent);
+        len = snprintf(stack[depth], sizeof stack[0], "%s", parent);
+      if (len < 0 || (size_t)len >= sizeof stack[0]) return -1; /* a path longer than any we write */
       if (k == 2) used += (size_t)snprintf(out + used, cap - used, "%s@%s\n", parent[0] ? parent : "/", name);
       kind[depth++] = k;
       continue;
