@@ -1,0 +1,497 @@
+/* Coarse-grains a packing onto a regular grid (seeds/001 §4, Eqs. 8-12):
+ * density, velocity, kinetic and contact stress, boundary force density of
+ * the floor, and fabric.
+ *
+ *   -packing random   (default) inserts -n spheres at random in a box
+ *                     periodic in x and y above a floor at z = 0 and lets
+ *                     them settle under gravity (linear law, damped), so
+ *                     the driver runs on its own;
+ *   -packing FILE.h5  reads a particle snapshot (a settle run's output,
+ *                     Kernel/IO format) and uses it as it is.
+ *
+ * Contacts and their forces come from the DEM world at the final state;
+ * floor contacts are those of the linear law against the plane z = 0 (a
+ * static packing: contact point below the centre, force k_n * overlap).
+ *
+ * Output under -output_dir: fields.xmf + fields_*.h5 (the grid as hexahedra
+ * with node fields; open fields.xmf in ParaView), profile.csv (averages over
+ * x-y layers against z, with the weight of the material above each layer
+ * as a check of sigma_zz), and packing.xmf (the particles).  The last line
+ * is `summary: ...` with the volume-averaged CG stress against the
+ * Cauchy-Poisson stress of the same contacts (seeds/004 Eq. 27). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_cg_fields.h"
+#include "tl_cg_kernel.h"
+#include "tl_dem.h"
+#include "tl_io.h"
+
+typedef struct {
+  const char *packing, *kernel, *output_dir;
+  long n, settle_steps, seed;
+  double d, d_spread, density, lx, ly, height, k_n, restitution, gravity, c, h, settle_tol, floor_z;
+  int box_from_extent, write_hdf5;
+} Config;
+
+static TlStatus configure(int argc, char **argv, Config *c)
+{
+  TlOptions *o = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK(tl_options_create(argc, argv,
+                             "Coarse-grains a settled packing onto a grid (seeds/001 Eqs. 8-12): density, velocity, "
+                             "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.",
+                             &o));
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-packing", "random", "'random' or a particle snapshot .h5 file",
+                                         &c->packing), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.01, 1e-9, 1e3, "m", "mean particle diameter (unit 'd' of lengths)",
+                                       &c->d), done);
+  TlScale d_scale[1] = {{"d", c->d, "mean particle diameter"}};
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-n", 1500, 1, 100000000, "particles of the random packing", &c->n), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-d_spread", 0.2, 0.0, 1.0, "", "random packing: diameters uniform in d (1 +- spread/2)",
+                                       &c->d_spread), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-seed", 1, 0, 1L << 62, "random packing: seed", &c->seed), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-density", 2500.0, 1e-6, 1e6, "kg/m^3", "particle density", &c->density), done);
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-lx", "10d", 1e-9, 1e9, "m", d_scale, 1, "box length along x", &c->lx), done);
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-ly", "10d", 1e-9, 1e9, "m", d_scale, 1, "box length along y", &c->ly), done);
+  /* a file's packing: the box defaults to the extent of its centres plus d */
+  c->box_from_extent = strcmp(c->packing, "random") != 0 && !(tl_options_has(o, "-lx") && tl_options_has(o, "-ly"));
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-floor_z", 0.0, -1e9, 1e9, "m", "height of the floor plane", &c->floor_z), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-k_n", 1e4, 1e-9, 1e15, "N/m", "normal stiffness of the linear law", &c->k_n), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-restitution", 0.3, 1e-3, 1.0, "", "restitution while settling", &c->restitution),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-gravity", 9.81, 0.0, 1e6, "m/s^2", "gravity along -z", &c->gravity), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-settle_steps", 60000, 0, 100000000, "random packing: most settling steps",
+                                      &c->settle_steps), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-settle_tolerance", 1e-6, 0.0, 1.0, "",
+                                       "settled when the kinetic energy per particle is below this times m g d",
+                                       &c->settle_tol), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-kernel", "lucy", "CG kernel: lucy, gaussian, heaviside (dirac when c = 0)",
+                                         &c->kernel), done);
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "2d", 0.0, 1e9, "m", d_scale, 1, "CG width c (0: Dirac, cell averages)",
+                                         &c->c), done);
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-grid_spacing", "0.5d", 1e-12, 1e9, "m", d_scale, 1, "grid spacing (about)",
+                                         &c->h), done);
+  long hdf5 = 1;
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
+                done);
+  c->write_hdf5 = (int)hdf5;
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cg_fields", "output folder", &c->output_dir), done);
+  /* strings point into the options database: copy before destroying it */
+  static char packing[4096], kernel[64], outdir[4096];
+  snprintf(packing, sizeof packing, "%s", c->packing);
+  snprintf(kernel, sizeof kernel, "%s", c->kernel);
+  snprintf(outdir, sizeof outdir, "%s", c->output_dir);
+  c->packing = packing;
+  c->kernel = kernel;
+  c->output_dir = outdir;
+  s = tl_options_finish(o, stdout);
+done:
+  tl_options_destroy(&o);
+  return s;
+}
+
+/* Random sequential insertion in [0, lx) x [0, ly) x [floor + r, floor + H - r],
+ * periodic in x and y: O(n^2) overlap checks, fine for the packings of a
+ * driver run (a few thousand particles). */
+static TlStatus insert_random(TlDem *dem, const Config *c, int species, double height)
+{
+  TlParticles *P = tl_dem_particles(dem);
+  uint64_t state = (uint64_t)c->seed * 0x9E3779B97F4A7C15ULL + 1;
+  TlVec3 *x = NULL;
+  double *r = NULL;
+  TL_CHECK(tl_calloc(&x, (size_t)c->n, sizeof *x));
+  TlStatus s = tl_calloc(&r, (size_t)c->n, sizeof *r);
+  if (s != TL_OK) {
+    tl_free(&x);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  long placed = 0;
+  for (long k = 0; k < c->n && s == TL_OK; ++k) {
+    double rk = tl_species_sample_radius(&P->species_table[species], &state);
+    int ok = 0;
+    for (int attempt = 0; attempt < 2000 && !ok; ++attempt) {
+      TlVec3 p = tl_v3(c->lx * tl_random_uniform(&state), c->ly * tl_random_uniform(&state),
+                       c->floor_z + rk + (height - 2 * rk) * tl_random_uniform(&state));
+      ok = 1;
+      for (long j = 0; j < placed && ok; ++j) {
+        TlVec3 b = tl_v3_sub(p, x[j]);
+        b.x -= c->lx * nearbyint(b.x / c->lx);
+        b.y -= c->ly * nearbyint(b.y / c->ly);
+        ok = tl_v3_norm2(b) >= (rk + r[j]) * (rk + r[j]);
+      }
+      if (ok) {
+        x[placed] = p;
+        r[placed++] = rk;
+      }
+    }
+    if (!ok)
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "random packing: no room for particle %ld of %ld in a %g x %g x %g m insertion box", k, c->n,
+                       c->lx, c->ly, height);
+  }
+  for (long k = 0; k < placed && s == TL_OK; ++k) s = tl_dem_add_particle(dem, x[k], tl_v3(0, 0, 0), r[k], species, NULL);
+  tl_free(&x);
+  tl_free(&r);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  return TL_OK;
+}
+
+typedef struct {
+  TlVec3 *x, *b, *f;
+  size_t n, cap;
+  TlStatus status;
+} ContactSink;
+
+static void collect_contact(void *ctx, size_t i, size_t j, TlVec3 force_on_i, TlVec3 branch, TlVec3 point)
+{
+  ContactSink *k = ctx;
+  (void)j;
+  (void)point;
+  if (k->status != TL_OK) return;
+  if (k->n == k->cap) {
+    size_t c1 = k->cap, c2 = k->cap, c3 = k->cap;
+    k->status = tl_array_reserve(&k->x, &c1, k->n + 1, sizeof(TlVec3));
+    if (k->status == TL_OK) k->status = tl_array_reserve(&k->b, &c2, k->n + 1, sizeof(TlVec3));
+    if (k->status == TL_OK) k->status = tl_array_reserve(&k->f, &c3, k->n + 1, sizeof(TlVec3));
+    if (k->status != TL_OK) return;
+    k->cap = c1;
+  }
+  /* the centre of i is kept as its index for now and resolved by the caller */
+  k->x[k->n] = tl_v3((double)i, 0, 0);
+  k->b[k->n] = branch;
+  k->f[k->n] = force_on_i;
+  k->n++;
+}
+
+/* Grid field arrays as mesh node fields (row-major n x components). */
+static TlStatus write_fields(const Config *c, const TlCGGrid *g, const TlCGFields *f, const TlMat3 *stress)
+{
+  size_t nodes = f->n;
+  int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+  size_t cells = (size_t)(nx - 1 > 0 ? nx - 1 : 0) * (size_t)(ny - 1 > 0 ? ny - 1 : 0) * (size_t)(nz - 1 > 0 ? nz - 1 : 0);
+  if (cells == 0) {
+    tl_warn("grid has a single layer along some direction: no HDF5 grid written");
+    return TL_OK;
+  }
+  TlVec3 *ref = NULL;
+  int *conn = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_calloc(&ref, nodes, sizeof *ref), done);
+  TL_CHECK_GOTO(s, tl_calloc(&conn, cells * 8, sizeof *conn), done);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) ref[i + (size_t)nx * (j + (size_t)ny * k)] = tl_cg_grid_node(g, i, j, k);
+  size_t e = 0;
+  for (int k = 0; k + 1 < nz; ++k)
+    for (int j = 0; j + 1 < ny; ++j)
+      for (int i = 0; i + 1 < nx; ++i, ++e) {
+        int n0 = i + nx * (j + ny * k);
+        int q[8] = {n0, n0 + 1, n0 + 1 + nx, n0 + nx, n0 + nx * ny, n0 + 1 + nx * ny, n0 + 1 + nx + nx * ny,
+                    n0 + nx + nx * ny};
+        memcpy(conn + 8 * e, q, sizeof q);
+      }
+  TlField fields[7] = {
+      {"density", 1, f->density},
+      {"velocity", 3, &f->velocity[0].x},
+      {"stress", 9, &stress[0].m[0][0]},
+      {"stress_contact", 9, &f->stress_contact[0].m[0][0]},
+      {"stress_kinetic", 9, &f->stress_kinetic[0].m[0][0]},
+      {"boundary_force_density", 3, &f->boundary_force[0].x},
+      {"fabric", 9, &f->fabric[0].m[0][0]},
+  };
+  TlMeshBlock block = {"grid", TL_CELL_HEX8, cells, conn, 0, NULL};
+  TlMeshView view = {nodes, ref, NULL, 7, fields, 1, &block};
+  TlMeshWriter *w = NULL;
+  TL_CHECK_GOTO(s, tl_mesh_writer_create(c->output_dir, "fields", &w), done);
+  s = tl_mesh_writer_write(w, 0, 0.0, &view);
+  tl_mesh_writer_destroy(&w);
+  if (s != TL_OK) tl_error_trace(s, __FILE__, __LINE__);
+done:
+  tl_free(&ref);
+  tl_free(&conn);
+  return s;
+}
+
+static TlStatus run(int argc, char **argv, TlSummary *sum)
+{
+  Config c;
+  memset(&c, 0, sizeof c);
+  TL_CHECK(tl_initialize());
+  TL_CHECK(configure(argc, argv, &c));
+  TlTimers timers;
+  tl_timers_init(&timers);
+  int ph_setup = tl_timers_phase(&timers, "packing"), ph_cg = tl_timers_phase(&timers, "coarse-graining"),
+      ph_out = tl_timers_phase(&timers, "output");
+  tl_timers_start(&timers, ph_setup);
+
+  TlStatus s = TL_OK;
+  TlDem *dem = NULL;
+  TlParticleSnapshot snap;
+  memset(&snap, 0, sizeof snap);
+  TlCGKernel *kernel = NULL;
+  TlCG *cg = NULL;
+  TlCGFields *f = NULL;
+  TlMat3 *stress = NULL;
+  ContactSink sink = {NULL, NULL, NULL, 0, 0, TL_OK};
+  TlVec3 *wp = NULL, *wf = NULL, *wc = NULL;
+  double *prof = NULL;
+  TlTimeSeries *ts = NULL;
+
+  int random = strcmp(c.packing, "random") == 0;
+  double r_mean = 0.5 * c.d, height;
+  TL_CHECK_GOTO(s, tl_dem_create(&dem), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int species = 0;
+  if (random) {
+    TL_CHECK_GOTO(s, tl_particles_add_species(P, "grains", c.density, r_mean * (1 - 0.5 * c.d_spread),
+                                              r_mean * (1 + 0.5 * c.d_spread), &species), done);
+    /* a loose insertion region (solid fraction 0.2) the packing settles from */
+    height = c.n * (TL_PI / 6.0) * c.d * c.d * c.d * (1 + 0.25 * c.d_spread * c.d_spread) / (0.2 * c.lx * c.ly) + 2 * c.d;
+  } else {
+    TL_CHECK_GOTO(s, tl_particle_snapshot_read(c.packing, &snap), done);
+    if (snap.n == 0) {
+      s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "packing file %s holds no particles", c.packing);
+      goto done;
+    }
+    double rmin = INFINITY, rmax = 0, zmax = -INFINITY;
+    TlVec3 lo = snap.position[0], hi = snap.position[0];
+    for (size_t i = 0; i < snap.n; ++i) {
+      rmin = fmin(rmin, snap.radius[i]);
+      rmax = fmax(rmax, snap.radius[i]);
+      zmax = fmax(zmax, snap.position[i].z + snap.radius[i]);
+      lo = tl_v3(fmin(lo.x, snap.position[i].x), fmin(lo.y, snap.position[i].y), 0);
+      hi = tl_v3(fmax(hi.x, snap.position[i].x), fmax(hi.y, snap.position[i].y), 0);
+    }
+    if (c.box_from_extent) {
+      c.lx = hi.x - lo.x + 2 * rmax;
+      c.ly = hi.y - lo.y + 2 * rmax;
+      tl_info("box from the packing's extent: %g x %g m (give -lx and -ly for the true periodic box)", c.lx, c.ly);
+    }
+    height = zmax - c.floor_z + c.d;
+    TL_CHECK_GOTO(s, tl_particles_add_species(P, "grains", c.density, rmin, rmax, &species), done);
+  }
+  TlDomain dom;
+  int per[3] = {1, 1, 0};
+  TL_CHECK_GOTO(s, tl_domain_init_periodic_box(&dom, tl_v3(0, 0, c.floor_z), tl_v3(c.lx, c.ly, c.floor_z + height), per),
+                done);
+  TL_CHECK_GOTO(s, tl_dem_set_domain(dem, &dom), done);
+  if (random) {
+    TL_CHECK_GOTO(s, insert_random(dem, &c, species, height), done);
+  } else {
+    for (size_t i = 0; i < snap.n && s == TL_OK; ++i) {
+      TlVec3 x = snap.position[i];
+      x.x -= c.lx * floor(x.x / c.lx);
+      x.y -= c.ly * floor(x.y / c.ly);
+      s = tl_dem_add_particle(dem, x, snap.velocity ? snap.velocity[i] : tl_v3(0, 0, 0), snap.radius[i], species, NULL);
+    }
+    if (s != TL_OK) goto done;
+  }
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = c.k_n;
+  cp.restitution = c.restitution;
+  TlContactLaw *law = NULL;
+  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&cp, &law), done);
+  TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
+  TlWall *floor_wall = NULL;
+  TL_CHECK_GOTO(s, tl_wall_plane_create(tl_v3(0, 0, c.floor_z), tl_v3(0, 0, 1), &floor_wall), done);
+  TL_CHECK_GOTO(s, tl_dem_add_wall(dem, floor_wall, 0), done);
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -c.gravity));
+  double dtc, kmax, mmin;
+  TL_CHECK_GOTO(s, tl_dem_critical_timestep(dem, &dtc, &kmax, &mmin), done);
+  TL_CHECK_GOTO(s, tl_dem_set_timestep(dem, 0.2 * dtc, 0), done);
+  TL_CHECK_GOTO(s, tl_dem_setup(dem), done);
+  P = tl_dem_particles(dem);
+  double m_mean = c.density * TL_PI / 6.0 * c.d * c.d * c.d;
+  long steps = 0;
+  double ekin_per = 0.0;
+  if (random && c.settle_steps > 0) {
+    TlProgress prog;
+    tl_progress_init(&prog, "settling", (double)c.settle_steps);
+    const long chunk = 500;
+    while (steps < c.settle_steps) {
+      long m = c.settle_steps - steps < chunk ? c.settle_steps - steps : chunk;
+      TL_CHECK_GOTO(s, tl_dem_step(dem, m), done);
+      steps += m;
+      TlDemEnergy e;
+      TL_CHECK_GOTO(s, tl_dem_energy(dem, &e), done);
+      ekin_per = (e.kinetic_translational + e.kinetic_rotational) / (double)P->n;
+      tl_progress_update(&prog, (double)steps);
+      if (steps > 5 * chunk && ekin_per < c.settle_tol * m_mean * c.gravity * c.d) break;
+    }
+    tl_progress_finish(&prog);
+    tl_info("settled for %ld steps: kinetic energy per particle %.3g m g d", steps, ekin_per / (m_mean * c.gravity * c.d));
+  }
+  TL_CHECK_GOTO(s, tl_dem_compute_forces(dem), done);
+  TL_CHECK_GOTO(s, tl_dem_visit_contacts(dem, collect_contact, &sink), done);
+  TL_CHECK_GOTO(s, sink.status, done);
+  for (size_t k = 0; k < sink.n; ++k) sink.x[k] = P->x[(size_t)sink.x[k].x];
+  /* floor contacts of the linear law: force k_n * overlap along +z on the particle */
+  size_t nw = 0;
+  TL_CHECK_GOTO(s, tl_calloc(&wp, P->n, sizeof *wp), done);
+  TL_CHECK_GOTO(s, tl_calloc(&wf, P->n, sizeof *wf), done);
+  TL_CHECK_GOTO(s, tl_calloc(&wc, P->n, sizeof *wc), done);
+  for (size_t i = 0; i < P->n; ++i) {
+    double overlap = P->radius[i] - (P->x[i].z - c.floor_z);
+    if (overlap <= 0) continue;
+    wp[nw] = tl_v3(P->x[i].x, P->x[i].y, c.floor_z);
+    wf[nw] = tl_v3(0, 0, c.k_n * overlap);
+    wc[nw++] = P->x[i];
+  }
+  double zmax = c.floor_z, total_mass = 0;
+  for (size_t i = 0; i < P->n; ++i) {
+    zmax = fmax(zmax, P->x[i].z + P->radius[i]);
+    total_mass += P->mass[i];
+  }
+  tl_timers_stop(&timers, ph_setup);
+
+  /* ---- coarse-graining ---- */
+  tl_timers_start(&timers, ph_cg);
+  TL_CHECK_GOTO(s, tl_cg_kernel_create(c.c > 0 ? c.kernel : "dirac", c.c, 3, &kernel), done);
+  TlCGBox box = {tl_v3(0, 0, c.floor_z), tl_v3(c.lx, c.ly, zmax), {1, 1, 0}};
+  TL_CHECK_GOTO(s, tl_cg_create(kernel, &box, 0, &cg), done);
+  TlCGParticleArrays pa = {P->n, P->x, P->mass, P->v};
+  TlCGContactArrays ca = {sink.n, sink.x, sink.b, sink.f};
+  TlCGWallContactArrays wa = {nw, wp, wf, wc};
+  TL_CHECK_GOTO(s, tl_cg_set_data(cg, &pa, &ca, &wa), done);
+  TlCGGrid g;
+  g.n[0] = (int)fmax(1.0, nearbyint(c.lx / c.h));
+  g.n[1] = (int)fmax(1.0, nearbyint(c.ly / c.h));
+  double z0 = c.floor_z - c.c, z1 = zmax + c.c;
+  g.n[2] = (int)ceil((z1 - z0) / c.h) + 1;
+  g.h = tl_v3(c.lx / g.n[0], c.ly / g.n[1], (z1 - z0) / (g.n[2] - 1));
+  g.lo = tl_v3(0.5 * g.h.x, 0.5 * g.h.y, z0);
+  if (c.c == 0.0) { /* cell averages: the cells must tile the whole height */
+    g.h.z = c.h;
+    g.n[2] = (int)ceil((zmax - c.floor_z) / c.h);
+    g.lo.z = c.floor_z + 0.5 * c.h;
+  }
+  size_t nodes = (size_t)g.n[0] * g.n[1] * g.n[2];
+  TL_CHECK_GOTO(s, tl_cg_fields_create(nodes, TL_CG_ALL, &f), done);
+  double t_cg = tl_wtime();
+  TL_CHECK_GOTO(s, tl_cg_evaluate_grid(cg, &g, f), done);
+  t_cg = tl_wtime() - t_cg;
+  TL_CHECK_GOTO(s, tl_calloc(&stress, nodes, sizeof *stress), done);
+  double dv = g.h.x * g.h.y * g.h.z, mass_cg = 0;
+  TlMat3 sc_int = tl_m3_zero(), cp_sum = tl_m3_zero();
+  for (size_t i = 0; i < nodes; ++i) {
+    stress[i] = tl_m3_add(f->stress_contact[i], f->stress_kinetic[i]);
+    sc_int = tl_m3_add(sc_int, tl_m3_scale(f->stress_contact[i], dv));
+    mass_cg += f->density[i] * dv;
+  }
+  for (size_t k = 0; k < sink.n; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(sink.f[k], sink.b[k]));
+  for (size_t k = 0; k < nw; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(wf[k], tl_v3_sub(wp[k], wc[k])));
+  double stress_diff = 0, stress_scale = fabs(tl_m3_trace(cp_sum)) / 3.0;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) stress_diff = fmax(stress_diff, fabs(sc_int.m[a][b] - cp_sum.m[a][b]));
+  stress_diff = stress_scale > 0 ? stress_diff / stress_scale : 0.0;
+  tl_timers_stop(&timers, ph_cg);
+
+  /* ---- profile against z: layer averages, and the weight of what lies above ---- */
+  tl_timers_start(&timers, ph_out);
+  TL_CHECK_GOTO(s, tl_mkdir_p(c.output_dir), done);
+  enum { NCOL = 16 };
+  TL_CHECK_GOTO(s, tl_calloc(&prof, (size_t)g.n[2] * NCOL, sizeof *prof), done);
+  size_t layer = (size_t)g.n[0] * g.n[1];
+  for (int k = 0; k < g.n[2]; ++k) {
+    double *row = prof + (size_t)k * NCOL;
+    row[0] = g.lo.z + k * g.h.z;
+    for (size_t q = 0; q < layer; ++q) {
+      size_t i = (size_t)k * layer + q;
+      row[1] += f->density[i];
+      row[3] += f->velocity[i].x;
+      row[4] += f->velocity[i].y;
+      row[5] += f->velocity[i].z;
+      row[6] += stress[i].m[0][0];
+      row[7] += stress[i].m[1][1];
+      row[8] += stress[i].m[2][2];
+      row[9] += stress[i].m[0][2];
+      row[10] += stress[i].m[1][2];
+      row[11] += f->stress_kinetic[i].m[2][2];
+      row[13] += f->boundary_force[i].z;
+      row[14] += tl_m3_trace(f->fabric[i]);
+    }
+    for (int col = 1; col < 15; ++col) row[col] /= (double)layer;
+    row[2] = row[1] / c.density;                                   /* solid fraction */
+    row[12] = -(row[6] + row[7] + row[8]) / 3.0;                   /* pressure */
+  }
+  /* weight per area of the material above z: g * int_z^top rho dz' (trapezoid) */
+  for (int k = g.n[2] - 2; k >= 0; --k) {
+    double *row = prof + (size_t)k * NCOL, *up = row + NCOL;
+    row[15] = up[15] + c.gravity * 0.5 * (row[1] + up[1]) * g.h.z;
+  }
+  /* at mid-depth of the packing the vertical stress carries that weight */
+  int kmid = (int)nearbyint((0.5 * (zmax + c.floor_z) - g.lo.z) / g.h.z);
+  if (kmid < 0) kmid = 0;
+  if (kmid >= g.n[2]) kmid = g.n[2] - 1;
+  double w_mid = prof[(size_t)kmid * NCOL + 15], szz_mid = prof[(size_t)kmid * NCOL + 8];
+  double szz_vs_weight = w_mid > 0 ? (-szz_mid - w_mid) / w_mid : 0.0;
+  static const TlColumn cols[NCOL] = {{"z", "m"},           {"density", "kg/m^3"}, {"solid_fraction", ""},
+                                      {"vx", "m/s"},        {"vy", "m/s"},         {"vz", "m/s"},
+                                      {"sxx", "Pa"},        {"syy", "Pa"},         {"szz", "Pa"},
+                                      {"sxz", "Pa"},        {"syz", "Pa"},         {"szz_kinetic", "Pa"},
+                                      {"pressure", "Pa"},   {"bz", "N/m^3"},       {"fabric_trace", "1/m^3"},
+                                      {"weight_above", "Pa"}};
+  char base[4200];
+  snprintf(base, sizeof base, "%s/profile", c.output_dir);
+  TL_CHECK_GOTO(s, tl_timeseries_create(base, TL_TIMESERIES_CSV, NCOL, cols, &ts), done);
+  for (int k = 0; k < g.n[2]; ++k) TL_CHECK_GOTO(s, tl_timeseries_append(ts, prof + (size_t)k * NCOL), done);
+  TL_CHECK_GOTO(s, tl_timeseries_close(&ts), done);
+  if (c.write_hdf5) {
+    TL_CHECK_GOTO(s, write_fields(&c, &g, f, stress), done);
+    TlParticleWriter *pw = NULL;
+    TL_CHECK_GOTO(s, tl_particle_writer_create(c.output_dir, "packing", &pw), done);
+    TlParticleView pv = {P->n, P->x, P->radius, P->v, NULL, P->f, NULL, NULL, 0, NULL};
+    s = tl_particle_writer_write(pw, steps, tl_dem_time(dem), &pv);
+    tl_particle_writer_destroy(&pw);
+    if (s != TL_OK) goto done;
+  }
+  tl_timers_stop(&timers, ph_out);
+  tl_timers_print(&timers, stderr);
+
+  tl_summary_int(sum, "particles", (long)P->n);
+  tl_summary_int(sum, "contacts", (long)sink.n);
+  tl_summary_int(sum, "wall_contacts", (long)nw);
+  tl_summary_int(sum, "settle_steps", steps);
+  tl_summary_string(sum, "kernel", kernel->ops->header.name);
+  tl_summary_real(sum, "c_over_d", c.c / c.d);
+  tl_summary_int(sum, "grid_nodes", (long)nodes);
+  tl_summary_real(sum, "cg_seconds", t_cg);
+  tl_summary_real(sum, "mass_rel_error", (mass_cg - total_mass) / total_mass);
+  tl_summary_real(sum, "stress_vs_cauchy_poisson", stress_diff);
+  tl_summary_real(sum, "szz_vs_weight_mid", szz_vs_weight);
+  tl_summary_real(sum, "solid_fraction_mid", prof[(size_t)kmid * NCOL + 2]);
+done:
+  tl_timeseries_destroy(&ts);
+  tl_free(&prof);
+  tl_free(&stress);
+  tl_cg_fields_destroy(&f);
+  tl_cg_destroy(&cg);
+  tl_cg_kernel_destroy(&kernel);
+  tl_free(&sink.x);
+  tl_free(&sink.b);
+  tl_free(&sink.f);
+  tl_free(&wp);
+  tl_free(&wf);
+  tl_free(&wc);
+  tl_particle_snapshot_free(&snap);
+  tl_dem_destroy(&dem);
+  return s;
+}
+
+int main(int argc, char **argv)
+{
+  double t0 = tl_wtime();
+  TlSummary sum;
+  tl_summary_init(&sum);
+  TlStatus s = run(argc, argv, &sum);
+  if (s == TL_OK) {
+    tl_summary_real(&sum, "wall", tl_wtime() - t0);
+    tl_summary_print(&sum, stdout);
+  }
+  return tl_driver_exit(s);
+}
