@@ -166,7 +166,7 @@ void tl_newton_options_default(TlNewtonOptions *o)
   o->max_iterations = 50;
   o->max_setup_calls = 1;
   o->keep_factors = 0;
-  o->line_search = 1;
+  o->line_search = 0;
 }
 
 static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)

@@ -33,7 +33,8 @@ typedef struct {
   long max_iterations;  /* [50] */
   long max_setup_calls; /* 1 = full Newton; > 1 modified Newton [1] */
   int keep_factors;     /* reuse factors across solve() calls [0] */
-  int line_search;      /* KINSOL line search (else plain Newton steps) [1] */
+  int line_search;      /* KINSOL line search on ||F||_2, else plain Newton steps [0]: the
+                         * residual norm of a stiff structure often rises on a good step */
 } TlNewtonOptions;
 
 typedef struct {

@@ -20,7 +20,7 @@ void tl_stepper_options_default(TlStepperOptions *o)
   o->max_iterations = 30;
   o->reuse = 1;
   o->keep_factors = 0;
-  o->line_search = 1;
+  o->line_search = 0;
   o->lumped = 0;
   o->allow_unstable = 0;
   o->blowup = 1e6;

@@ -37,7 +37,7 @@ typedef struct {
   long max_iterations; /* Newton [30] */
   long reuse;          /* Newton: refactorise every `reuse` iterations (1 = full Newton) [1] */
   int keep_factors;    /* keep the factors across steps (modified Newton) [0] */
-  int line_search;     /* [1] */
+  int line_search;     /* KINSOL line search [0] */
   int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
   double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
