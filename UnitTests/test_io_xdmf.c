@@ -332,8 +332,37 @@ static void expect_structure(const char *file, const char *const *expected, int 
                  count_lines(got), got);
 }
 
+/* A long series may defer rewriting its sidecar, but flush and destroy write
+ * every step added. */
+static void test_long_series(void)
+{
+  static char grid[300000];
+  TlXdmfSeries *s;
+  TL_TEST_STATUS(tl_xdmf_series_create("long.xmf", &s), TL_OK);
+  if (!s) return;
+  for (int k = 0; k < 12; ++k) {
+    int n = snprintf(grid, sizeof grid, "      <Grid Name=\"g%d\" GridType=\"Uniform\">\n        <Time Value=\"%d\"/>\n", k, k);
+    memset(grid + n, ' ', sizeof grid - (size_t)n - 40);
+    snprintf(grid + sizeof grid - 40, 40, "\n      </Grid>\n");
+    TL_TEST_STATUS(tl_xdmf_series_add(s, grid), TL_OK);
+  }
+  TL_TEST_ASSERT(tl_xdmf_series_steps(s) == 12, "%zu steps", tl_xdmf_series_steps(s));
+  TL_TEST_STATUS(tl_xdmf_series_flush(s), TL_OK);
+  char *text = slurp("long.xmf");
+  TL_TEST_ASSERT(text && strstr(text, "<Grid Name=\"g11\"") && strstr(text, "</Xdmf>"), "flush lost steps");
+  free(text);
+  TL_TEST_STATUS(tl_xdmf_series_add(s, grid), TL_OK);
+  tl_xdmf_series_destroy(&s);
+  text = slurp("long.xmf");
+  int count = 0;
+  for (const char *p = text; p && (p = strstr(p, "<Time Value=")); ++p) ++count;
+  TL_TEST_ASSERT(count == 13, "destroy left %d of 13 steps in the file", count);
+  free(text);
+}
+
 int main(void)
 {
+  test_long_series();
   /* a particle series with every optional array and two extra fields */
   enum { N = 5 };
   TlVec3 x[N], v[N];
