@@ -1,0 +1,1333 @@
+#include "tl_solid.h"
+
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_memory.h"
+
+/* Elements per material call: F, S and D of a chunk are evaluated in one
+ * batch. */
+#define CHUNK 32
+
+typedef struct {
+  TlMaterial *material;
+  TlQuadrature q;  /* stiffness rule */
+  TlQuadrature qm; /* mass rule */
+  int nn, nd, nq;
+  double *grad;      /* n_el x nq x nn x dim: dN_a/dxi (reference gradients) */
+  double *wdet;      /* n_el x nq: weight x det J0 */
+  double *Nm;        /* qm.n x nn: shape values at the mass points */
+  double *wdetm;     /* n_el x qm.n */
+  double *lumped;    /* n_el x nn: element lumped (HRZ) masses */
+  double *state_old; /* n_el x nq x state_size */
+  double *state_new;
+  int n_colours;
+  size_t *colour_ptr; /* n_colours + 1 */
+  size_t *colour_elements;
+  size_t offset; /* index of the block's first element in the global list */
+} SolidBlock;
+
+typedef struct {
+  int block; /* -1: all */
+  int gravity;
+  TlVec3 b;
+  TlAmplitude amp;
+  void *ctx;
+} BodyForce;
+
+typedef struct {
+  int face_set;
+  int pressure; /* follower pressure (p) or dead traction (t) */
+  TlVec3 t;
+  double p;
+  TlAmplitude amp;
+  void *ctx;
+} SurfaceLoad;
+
+typedef struct {
+  size_t node;
+  TlVec3 f;
+  TlAmplitude amp;
+  void *ctx;
+} PointForce;
+
+typedef struct {
+  size_t node;
+  int component;
+  TlPrescribed fn;
+  void *ctx;
+} Prescribed;
+
+typedef struct {
+  double *f; /* node-space vector of a dead load at amplitude 1 */
+  TlAmplitude amp;
+  void *ctx;
+} DeadLoad;
+
+/* Per-thread scratch, sized at setup. */
+typedef struct {
+  TlMat3 *F, *S;
+  double *D, *W;
+  double *state_old, *state_new;
+  double *fe, *Ke, *B, *DB, *ue;
+  TlSparseIndex *dofs;
+} Scratch;
+
+struct TlSolid {
+  TlMechSystem base;
+  const TlMesh *mesh;
+  int dim;
+  size_t n_nodes, n_elements;
+  SolidBlock *blocks;
+  unsigned char *constraint; /* n_nodes x dim: 0 free, 1 clamped, 2 prescribed */
+  Prescribed *prescribed;
+  size_t n_prescribed, cap_prescribed;
+  BodyForce *body;
+  int n_body;
+  SurfaceLoad *surface;
+  int n_surface;
+  PointForce *points;
+  size_t n_points, cap_points;
+  DeadLoad *dead;
+  int n_dead;
+  TlSparseIndex *dof; /* n_nodes x dim */
+  TlSparseIndex *elem_ptr, *elem_dofs;
+  double *lumped_nodes; /* n_nodes x dim */
+  double *un, *fn, *gn; /* node-space work vectors */
+  Scratch *scratch;
+  int n_threads;
+  int max_nd, max_nq;
+  char constraint_sets[256];
+  int ready;
+};
+
+/* ----------------------------------------------------------- utilities */
+
+static int block_of_name(const TlSolid *s, const char *name, int *b)
+{
+  if (!name) {
+    *b = -1;
+    return 1;
+  }
+  return tl_mesh_find_block(s->mesh, name, b) == TL_OK;
+}
+
+static TlStatus not_after_setup(const TlSolid *s, const char *what)
+{
+  if (s->ready)
+    TL_ERROR(TL_ERR_STATE, "solid: %s after tl_solid_setup (conditions are frozen)", what);
+  return TL_OK;
+}
+
+static void note_set(TlSolid *s, const char *name)
+{
+  if (strstr(s->constraint_sets, name)) return;
+  size_t l = strlen(s->constraint_sets);
+  if (l + strlen(name) + 3 < sizeof s->constraint_sets)
+    snprintf(s->constraint_sets + l, sizeof s->constraint_sets - l, "%s%s", l ? ", " : "", name);
+}
+
+/* Records a worker thread's error so the calling thread can re-raise it
+ * (messages are thread-local). */
+typedef struct {
+  TlStatus status;
+  char message[1024];
+} ParallelError;
+
+static void parallel_error_record(ParallelError *pe, TlStatus s)
+{
+#pragma omp critical(tl_solid_error)
+  {
+    if (pe->status == TL_OK) {
+      pe->status = s;
+      snprintf(pe->message, sizeof pe->message, "%s", tl_error_message());
+    }
+  }
+}
+
+static TlStatus parallel_error_raise(const ParallelError *pe)
+{
+  if (pe->status == TL_OK) return TL_OK;
+  return tl_error_set(pe->status, __FILE__, __LINE__, "%s", pe->message);
+}
+
+/* ----------------------------------------------------- create / config */
+
+static const TlMechSystemOps solid_ops;
+
+TlStatus tl_solid_create(const TlMesh *mesh, TlSolid **solid)
+{
+  if (!mesh || !solid) TL_ERROR(TL_ERR_ARG, "tl_solid_create: NULL argument");
+  if (!mesh->finalized) TL_ERROR(TL_ERR_STATE, "tl_solid_create: mesh not finalized");
+  TlSolid *s = NULL;
+  TL_CHECK(TL_NEW(s));
+  s->base.ops = &solid_ops;
+  s->mesh = mesh;
+  s->dim = mesh->dim;
+  s->n_nodes = mesh->n_nodes;
+  TlStatus st = TL_OK;
+  TL_CHECK_GOTO(st, tl_calloc(&s->blocks, mesh->n_blocks, sizeof *s->blocks), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&s->constraint, s->n_nodes * s->dim, 1), fail);
+  *solid = s;
+  return TL_OK;
+fail:
+  tl_free(&s->blocks);
+  tl_free(&s);
+  return st;
+}
+
+TlMechSystem *tl_solid_system(TlSolid *solid) { return &solid->base; }
+
+static void solid_destroy_content(TlMechSystem *sys)
+{
+  TlSolid *s = (TlSolid *)sys;
+  for (int b = 0; b < s->mesh->n_blocks && s->blocks; ++b) {
+    SolidBlock *B = &s->blocks[b];
+    tl_free(&B->grad);
+    tl_free(&B->wdet);
+    tl_free(&B->Nm);
+    tl_free(&B->wdetm);
+    tl_free(&B->lumped);
+    tl_free(&B->state_old);
+    tl_free(&B->state_new);
+    tl_free(&B->colour_ptr);
+    tl_free(&B->colour_elements);
+  }
+  for (int i = 0; i < s->n_dead; ++i) tl_free(&s->dead[i].f);
+  for (int t = 0; t < s->n_threads && s->scratch; ++t) {
+    Scratch *w = &s->scratch[t];
+    tl_free(&w->F);
+    tl_free(&w->S);
+    tl_free(&w->D);
+    tl_free(&w->W);
+    tl_free(&w->state_old);
+    tl_free(&w->state_new);
+    tl_free(&w->fe);
+    tl_free(&w->Ke);
+    tl_free(&w->B);
+    tl_free(&w->DB);
+    tl_free(&w->ue);
+    tl_free(&w->dofs);
+  }
+  tl_free(&s->scratch);
+  tl_free(&s->blocks);
+  tl_free(&s->constraint);
+  tl_free(&s->prescribed);
+  tl_free(&s->body);
+  tl_free(&s->surface);
+  tl_free(&s->points);
+  tl_free(&s->dead);
+  tl_free(&s->dof);
+  tl_free(&s->elem_ptr);
+  tl_free(&s->elem_dofs);
+  tl_free(&s->lumped_nodes);
+  tl_free(&s->un);
+  tl_free(&s->fn);
+  tl_free(&s->gn);
+  tl_free(&s->base.dirichlet_dofs);
+}
+
+void tl_solid_destroy(TlSolid **solid)
+{
+  if (!solid || !*solid) return;
+  TlMechSystem *sys = &(*solid)->base;
+  tl_mech_system_destroy(&sys);
+  *solid = NULL;
+}
+
+TlStatus tl_solid_set_material(TlSolid *s, const char *block, TlMaterial *material)
+{
+  TL_CHECK(not_after_setup(s, "set_material"));
+  if (!material) TL_ERROR(TL_ERR_ARG, "solid: NULL material for block %s", block ? block : "(all)");
+  int b;
+  if (!block_of_name(s, block, &b))
+    TL_ERROR(TL_ERR_NOT_FOUND, "solid: no element block '%s' for the material", block);
+  for (int k = 0; k < s->mesh->n_blocks; ++k)
+    if (b < 0 || k == b) s->blocks[k].material = material;
+  return TL_OK;
+}
+
+static TlStatus add_body(TlSolid *s, int block, int gravity, TlVec3 b, TlAmplitude amp, void *ctx)
+{
+  if (!tl_v3_isfinite(b)) TL_ERROR(TL_ERR_ARG, "solid: body force is not finite");
+  TL_CHECK(tl_realloc(&s->body, s->n_body + 1, sizeof *s->body));
+  s->body[s->n_body++] = (BodyForce){block, gravity, b, amp, ctx};
+  return TL_OK;
+}
+
+TlStatus tl_solid_add_body_force(TlSolid *s, const char *block, TlVec3 b, TlAmplitude amp, void *ctx)
+{
+  TL_CHECK(not_after_setup(s, "add_body_force"));
+  int k;
+  if (!block_of_name(s, block, &k))
+    TL_ERROR(TL_ERR_NOT_FOUND, "solid: no element block '%s' for the body force", block);
+  return add_body(s, k, 0, b, amp, ctx);
+}
+
+TlStatus tl_solid_add_gravity(TlSolid *s, TlVec3 g)
+{
+  TL_CHECK(not_after_setup(s, "add_gravity"));
+  return add_body(s, -1, 1, g, NULL, NULL);
+}
+
+static TlStatus add_surface(TlSolid *s, const char *face_set, int pressure, TlVec3 t, double p,
+                            TlAmplitude amp, void *ctx)
+{
+  TL_CHECK(not_after_setup(s, "add_traction/add_pressure"));
+  const TlFaceSet *fs = NULL;
+  TL_CHECK(tl_mesh_find_face_set(s->mesh, face_set, &fs));
+  if (!tl_v3_isfinite(t) || !isfinite(p))
+    TL_ERROR(TL_ERR_ARG, "solid: load on face set %s is not finite", face_set);
+  TL_CHECK(tl_realloc(&s->surface, s->n_surface + 1, sizeof *s->surface));
+  s->surface[s->n_surface++] =
+      (SurfaceLoad){(int)(fs - s->mesh->face_sets), pressure, t, p, amp, ctx};
+  return TL_OK;
+}
+
+TlStatus tl_solid_add_traction(TlSolid *s, const char *face_set, TlVec3 t, TlAmplitude amp, void *ctx)
+{
+  return add_surface(s, face_set, 0, t, 0.0, amp, ctx);
+}
+
+TlStatus tl_solid_add_pressure(TlSolid *s, const char *face_set, double p, TlAmplitude amp, void *ctx)
+{
+  return add_surface(s, face_set, 1, tl_v3(0, 0, 0), p, amp, ctx);
+}
+
+TlStatus tl_solid_add_point_force(TlSolid *s, size_t node, TlVec3 f, TlAmplitude amp, void *ctx)
+{
+  TL_CHECK(not_after_setup(s, "add_point_force"));
+  if (node >= s->n_nodes)
+    TL_ERROR(TL_ERR_ARG, "solid: point force on node %zu, the mesh has %zu nodes", node, s->n_nodes);
+  if (!tl_v3_isfinite(f)) TL_ERROR(TL_ERR_ARG, "solid: point force on node %zu is not finite", node);
+  TL_CHECK(tl_array_reserve(&s->points, &s->cap_points, s->n_points + 1, sizeof *s->points));
+  s->points[s->n_points++] = (PointForce){node, f, amp, ctx};
+  return TL_OK;
+}
+
+TlStatus tl_solid_fix(TlSolid *s, const char *node_set, int mask)
+{
+  TL_CHECK(not_after_setup(s, "fix"));
+  const TlNodeSet *ns = NULL;
+  TL_CHECK(tl_mesh_find_node_set(s->mesh, node_set, &ns));
+  if (mask <= 0 || mask >= (1 << s->dim))
+    TL_ERROR(TL_ERR_ARG, "solid: component mask %d for node set %s outside [1, %d]", mask, node_set,
+             (1 << s->dim) - 1);
+  for (size_t i = 0; i < ns->n; ++i)
+    for (int c = 0; c < s->dim; ++c)
+      if (mask & (1 << c)) {
+        unsigned char *k = &s->constraint[ns->nodes[i] * s->dim + c];
+        if (*k == 2)
+          TL_ERROR(TL_ERR_ARG, "solid: node %zu component %d of set %s is both fixed and prescribed",
+                   ns->nodes[i], c, node_set);
+        *k = 1;
+      }
+  note_set(s, node_set);
+  return TL_OK;
+}
+
+TlStatus tl_solid_prescribe(TlSolid *s, const char *node_set, int component, TlPrescribed fn, void *ctx)
+{
+  TL_CHECK(not_after_setup(s, "prescribe"));
+  const TlNodeSet *ns = NULL;
+  TL_CHECK(tl_mesh_find_node_set(s->mesh, node_set, &ns));
+  if (component < 0 || component >= s->dim)
+    TL_ERROR(TL_ERR_ARG, "solid: component %d for node set %s outside [0, %d]", component, node_set,
+             s->dim - 1);
+  if (!fn) TL_ERROR(TL_ERR_ARG, "solid: NULL prescribed function for node set %s", node_set);
+  for (size_t i = 0; i < ns->n; ++i) {
+    unsigned char *k = &s->constraint[ns->nodes[i] * s->dim + component];
+    if (*k)
+      TL_ERROR(TL_ERR_ARG, "solid: node %zu component %d of set %s is already constrained",
+               ns->nodes[i], component, node_set);
+    *k = 2;
+    TL_CHECK(tl_array_reserve(&s->prescribed, &s->cap_prescribed, s->n_prescribed + 1,
+                              sizeof *s->prescribed));
+    s->prescribed[s->n_prescribed++] = (Prescribed){ns->nodes[i], component, fn, ctx};
+  }
+  note_set(s, node_set);
+  return TL_OK;
+}
+
+/* --------------------------------------------------------------- setup */
+
+/* Greedy colouring of a block's elements so that no two elements of one
+ * colour share a node: assembly of one colour is race-free. */
+static TlStatus colour_block(const TlSolid *s, const TlElementBlock *blk, SolidBlock *B)
+{
+  uint64_t *used = NULL;
+  int *colour = NULL;
+  TlStatus st = TL_OK;
+  TL_CHECK_GOTO(st, tl_calloc(&used, s->n_nodes, sizeof *used), done);
+  TL_CHECK_GOTO(st, tl_calloc(&colour, blk->n_elements ? blk->n_elements : 1, sizeof *colour), done);
+  int nn = blk->type->n_nodes, nc = 0;
+  for (size_t e = 0; e < blk->n_elements; ++e) {
+    uint64_t forbidden = 0;
+    for (int a = 0; a < nn; ++a) forbidden |= used[blk->conn[e * nn + a]];
+    int c = 0;
+    while (c < 64 && (forbidden >> c & 1u)) ++c;
+    if (c == 64) {
+      st = tl_error_set(TL_ERR_UNSUPPORTED, __FILE__, __LINE__,
+                        "block %s: element %zu needs more than 64 colours (too many elements per node)",
+                        blk->name, e);
+      goto done;
+    }
+    colour[e] = c;
+    if (c + 1 > nc) nc = c + 1;
+    for (int a = 0; a < nn; ++a) used[blk->conn[e * nn + a]] |= (uint64_t)1 << c;
+  }
+  B->n_colours = nc;
+  TL_CHECK_GOTO(st, tl_calloc(&B->colour_ptr, nc + 1, sizeof(size_t)), done);
+  TL_CHECK_GOTO(st, tl_calloc(&B->colour_elements, blk->n_elements ? blk->n_elements : 1, sizeof(size_t)), done);
+  for (size_t e = 0; e < blk->n_elements; ++e) B->colour_ptr[colour[e] + 1]++;
+  for (int c = 0; c < nc; ++c) B->colour_ptr[c + 1] += B->colour_ptr[c];
+  {
+    size_t fill[64] = {0};
+    for (size_t e = 0; e < blk->n_elements; ++e)
+      B->colour_elements[B->colour_ptr[colour[e]] + fill[colour[e]]++] = e;
+  }
+done:
+  tl_free(&used);
+  tl_free(&colour);
+  return st;
+}
+
+/* Reference geometry of one block: gradients dN/dxi and weights at the
+ * stiffness points, weights at the mass points, lumped masses. */
+static TlStatus setup_block_geometry(TlSolid *s, int b)
+{
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  const TlElementType *t = blk->type;
+  int dim = s->dim, nn = t->n_nodes;
+  TL_CHECK(tl_element_quadrature(t, t->order_stiffness, &B->q));
+  TL_CHECK(tl_element_quadrature(t, t->order_mass, &B->qm));
+  B->nn = nn;
+  B->nd = nn * dim;
+  B->nq = B->q.n;
+  size_t ne = blk->n_elements ? blk->n_elements : 1;
+  TL_CHECK(tl_calloc(&B->grad, ne * B->nq * nn * dim, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->wdet, ne * B->nq, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->Nm, (size_t)B->qm.n * nn, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->wdetm, ne * B->qm.n, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->lumped, ne * nn, sizeof(double)));
+  double dNq[TL_QUADRATURE_MAX * TL_ELEMENT_MAX_NODES * 3];
+  double dNm[TL_QUADRATURE_MAX * TL_ELEMENT_MAX_NODES * 3];
+  t->eval(B->q.n, &B->q.xi[0][0], NULL, dNq);
+  t->eval(B->qm.n, &B->qm.xi[0][0], B->Nm, dNm);
+  double rho = B->material->density;
+  for (size_t e = 0; e < blk->n_elements; ++e) {
+    double x[TL_ELEMENT_MAX_NODES * 3];
+    tl_mesh_element_coords(s->mesh, b, e, x);
+    for (int pass = 0; pass < 2; ++pass) {
+      const TlQuadrature *q = pass ? &B->qm : &B->q;
+      const double *dN = pass ? dNm : dNq;
+      for (int p = 0; p < q->n; ++p) {
+        double J[3][3];
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) J[i][j] = (i == j && i >= dim) ? 1.0 : 0.0;
+        for (int a = 0; a < nn; ++a)
+          for (int i = 0; i < dim; ++i)
+            for (int j = 0; j < dim; ++j) J[i][j] += x[3 * a + i] * dN[(p * nn + a) * dim + j];
+        TlMat3 Jm, Ji;
+        memcpy(Jm.m, J, sizeof J);
+        double det = tl_m3_det(Jm);
+        if (!(det > 0.0) || !tl_m3_inverse(Jm, &Ji))
+          TL_ERROR(TL_ERR_NUMERIC, "block %s element %zu: Jacobian determinant %g at Gauss point %d",
+                   blk->name, e, det, p);
+        if (pass) {
+          B->wdetm[e * q->n + p] = q->w[p] * det;
+          continue;
+        }
+        B->wdet[e * B->nq + p] = q->w[p] * det;
+        double *g = B->grad + ((e * B->nq + p) * nn) * dim;
+        for (int a = 0; a < nn; ++a)
+          for (int d = 0; d < dim; ++d) {
+            double v = 0.0;
+            for (int j = 0; j < dim; ++j) v += dN[(p * nn + a) * dim + j] * Ji.m[j][d];
+            g[a * dim + d] = v;
+          }
+      }
+    }
+    /* HRZ lumping: diagonal of the consistent mass scaled to the element
+     * mass; positive for every element type (row sums are not for
+     * quadratic serendipity and simplex elements). */
+    double diag[TL_ELEMENT_MAX_NODES] = {0}, total = 0.0, dsum = 0.0;
+    for (int p = 0; p < B->qm.n; ++p) {
+      double w = rho * B->wdetm[e * B->qm.n + p];
+      total += w;
+      for (int a = 0; a < nn; ++a) diag[a] += w * B->Nm[p * nn + a] * B->Nm[p * nn + a];
+    }
+    for (int a = 0; a < nn; ++a) dsum += diag[a];
+    for (int a = 0; a < nn; ++a) B->lumped[e * nn + a] = diag[a] * total / dsum;
+  }
+  return TL_OK;
+}
+
+static TlStatus setup_dead_loads(TlSolid *s)
+{
+  int dim = s->dim;
+  size_t n = s->n_nodes * dim;
+  int count = s->n_body;
+  for (int i = 0; i < s->n_surface; ++i) count += !s->surface[i].pressure;
+  TL_CHECK(tl_calloc(&s->dead, count ? count : 1, sizeof *s->dead));
+  for (int i = 0; i < s->n_body; ++i) {
+    const BodyForce *bf = &s->body[i];
+    DeadLoad *dl = &s->dead[s->n_dead++];
+    dl->amp = bf->amp;
+    dl->ctx = bf->ctx;
+    TL_CHECK(tl_calloc(&dl->f, n, sizeof(double)));
+    for (int b = 0; b < s->mesh->n_blocks; ++b) {
+      if (bf->block >= 0 && bf->block != b) continue;
+      const TlElementBlock *blk = &s->mesh->blocks[b];
+      const SolidBlock *B = &s->blocks[b];
+      double scale = bf->gravity ? B->material->density : 1.0;
+      double bv[3] = {bf->b.x * scale, bf->b.y * scale, bf->b.z * scale};
+      for (size_t e = 0; e < blk->n_elements; ++e)
+        for (int p = 0; p < B->qm.n; ++p)
+          for (int a = 0; a < B->nn; ++a) {
+            double w = B->wdetm[e * B->qm.n + p] * B->Nm[p * B->nn + a];
+            size_t node = blk->conn[e * B->nn + a];
+            for (int c = 0; c < dim; ++c) dl->f[node * dim + c] += w * bv[c];
+          }
+    }
+  }
+  for (int i = 0; i < s->n_surface; ++i) {
+    const SurfaceLoad *sl = &s->surface[i];
+    if (sl->pressure) continue;
+    DeadLoad *dl = &s->dead[s->n_dead++];
+    dl->amp = sl->amp;
+    dl->ctx = sl->ctx;
+    TL_CHECK(tl_calloc(&dl->f, n, sizeof(double)));
+    const TlFaceSet *fs = &s->mesh->face_sets[sl->face_set];
+    double tv[3] = {sl->t.x, sl->t.y, sl->t.z};
+    for (size_t k = 0; k < fs->n; ++k) {
+      const TlElementType *ft = s->mesh->blocks[fs->faces[k].block].type->face_type;
+      size_t fnodes[TL_ELEMENT_MAX_FACE_NODES];
+      double fx[TL_ELEMENT_MAX_FACE_NODES * 3];
+      tl_mesh_face_nodes(s->mesh, fs->faces[k], fnodes, fx);
+      TlQuadrature q;
+      TL_CHECK(tl_element_quadrature(ft, ft->order_mass, &q));
+      for (int p = 0; p < q.n; ++p) {
+        double N[TL_ELEMENT_MAX_FACE_NODES], nA[3];
+        ft->eval(1, q.xi[p], N, NULL);
+        tl_element_face_normal(ft, dim, fx, q.xi[p], nA);
+        double dA = q.w[p] * sqrt(nA[0] * nA[0] + nA[1] * nA[1] + nA[2] * nA[2]);
+        for (int a = 0; a < ft->n_nodes; ++a)
+          for (int c = 0; c < dim; ++c) dl->f[fnodes[a] * dim + c] += dA * N[a] * tv[c];
+      }
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_solid_setup(TlSolid *s)
+{
+  if (s->ready) return TL_OK;
+  const TlMesh *mesh = s->mesh;
+  int dim = s->dim;
+  int symmetric = 1;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    if (!s->blocks[b].material)
+      TL_ERROR(TL_ERR_STATE, "solid: element block '%s' has no material", mesh->blocks[b].name);
+    TlMaterial *m = s->blocks[b].material;
+    if (!m->ready) TL_CHECK(tl_material_setup(m));
+    symmetric &= tl_material_symmetric_tangent(m);
+  }
+  for (int i = 0; i < s->n_surface; ++i) symmetric &= !s->surface[i].pressure;
+  /* Dof numbering. */
+  size_t nc = s->n_nodes * dim;
+  TL_CHECK(tl_calloc(&s->dof, nc, sizeof *s->dof));
+  TlSparseIndex ndof = 0, ndir = 0;
+  for (size_t i = 0; i < nc; ++i) {
+    s->dof[i] = s->constraint[i] == 1 ? -1 : ndof++;
+    ndir += s->constraint[i] == 2;
+  }
+  if (ndof == 0) TL_ERROR(TL_ERR_ARG, "solid: every dof is clamped, nothing to solve");
+  TL_CHECK(tl_calloc(&s->base.dirichlet_dofs, ndir ? ndir : 1, sizeof(TlSparseIndex)));
+  for (size_t i = 0, k = 0; i < nc; ++i)
+    if (s->constraint[i] == 2) s->base.dirichlet_dofs[k++] = s->dof[i];
+  s->base.ndof = ndof;
+  s->base.n_dirichlet = ndir;
+  s->base.symmetric = symmetric;
+  s->base.damped = 0;
+  /* Geometry, state, colours, element dof lists. */
+  s->n_elements = 0;
+  s->max_nd = 0;
+  s->max_nq = 0;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    SolidBlock *B = &s->blocks[b];
+    TL_CHECK(setup_block_geometry(s, b));
+    TL_CHECK(colour_block(s, &mesh->blocks[b], B));
+    B->offset = s->n_elements;
+    s->n_elements += mesh->blocks[b].n_elements;
+    if (B->nd > s->max_nd) s->max_nd = B->nd;
+    if (B->nq > s->max_nq) s->max_nq = B->nq;
+    size_t ss = B->material->state_size, nst = mesh->blocks[b].n_elements * B->nq;
+    if (ss) {
+      TL_CHECK(tl_calloc(&B->state_old, nst * ss, sizeof(double)));
+      TL_CHECK(tl_calloc(&B->state_new, nst * ss, sizeof(double)));
+      if (B->material->ops->init_state) TL_CHECK(B->material->ops->init_state(B->material, nst, B->state_old));
+      memcpy(B->state_new, B->state_old, nst * ss * sizeof(double));
+    }
+  }
+  TL_CHECK(tl_calloc(&s->elem_ptr, s->n_elements + 1, sizeof(TlSparseIndex)));
+  size_t total = 0;
+  for (int b = 0; b < mesh->n_blocks; ++b) total += mesh->blocks[b].n_elements * s->blocks[b].nd;
+  TL_CHECK(tl_calloc(&s->elem_dofs, total ? total : 1, sizeof(TlSparseIndex)));
+  size_t k = 0, g = 0;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    const TlElementBlock *blk = &mesh->blocks[b];
+    for (size_t e = 0; e < blk->n_elements; ++e, ++g) {
+      s->elem_ptr[g] = (TlSparseIndex)k;
+      for (int a = 0; a < blk->type->n_nodes; ++a)
+        for (int c = 0; c < dim; ++c) s->elem_dofs[k++] = s->dof[blk->conn[e * blk->type->n_nodes + a] * dim + c];
+    }
+  }
+  s->elem_ptr[g] = (TlSparseIndex)k;
+  /* Lumped masses. */
+  TL_CHECK(tl_calloc(&s->lumped_nodes, nc, sizeof(double)));
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    const TlElementBlock *blk = &mesh->blocks[b];
+    const SolidBlock *B = &s->blocks[b];
+    for (size_t e = 0; e < blk->n_elements; ++e)
+      for (int a = 0; a < B->nn; ++a)
+        for (int c = 0; c < dim; ++c) s->lumped_nodes[blk->conn[e * B->nn + a] * dim + c] += B->lumped[e * B->nn + a];
+  }
+  for (size_t i = 0; i < nc; ++i)
+    if (!(s->lumped_nodes[i] > 0.0))
+      TL_ERROR(TL_ERR_ARG, "solid: node %zu belongs to no element (zero mass)", i / dim);
+  TL_CHECK(setup_dead_loads(s));
+  TL_CHECK(tl_calloc(&s->un, nc, sizeof(double)));
+  TL_CHECK(tl_calloc(&s->fn, nc, sizeof(double)));
+  TL_CHECK(tl_calloc(&s->gn, nc, sizeof(double)));
+  /* Per-thread scratch. */
+  s->n_threads = omp_get_max_threads();
+  TL_CHECK(tl_calloc(&s->scratch, s->n_threads, sizeof *s->scratch));
+  size_t maxss = 0;
+  for (int b = 0; b < mesh->n_blocks; ++b)
+    if (s->blocks[b].material->state_size > maxss) maxss = s->blocks[b].material->state_size;
+  size_t npts = (size_t)CHUNK * s->max_nq, nd = s->max_nd;
+  for (int t = 0; t < s->n_threads; ++t) {
+    Scratch *w = &s->scratch[t];
+    TL_CHECK(tl_calloc(&w->F, npts, sizeof(TlMat3)));
+    TL_CHECK(tl_calloc(&w->S, npts, sizeof(TlMat3)));
+    TL_CHECK(tl_calloc(&w->D, 36 * npts, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->W, npts, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->state_old, npts * (maxss ? maxss : 1), sizeof(double)));
+    TL_CHECK(tl_calloc(&w->state_new, npts * (maxss ? maxss : 1), sizeof(double)));
+    TL_CHECK(tl_calloc(&w->fe, nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->Ke, nd * nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->B, 6 * nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->DB, 6 * nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->ue, nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->dofs, nd, sizeof(TlSparseIndex)));
+  }
+  s->ready = 1;
+  return TL_OK;
+}
+
+/* ----------------------------------------------------- element kernel */
+
+/* F at every stiffness point of element e from its displacements ue. */
+static void deformation_gradients(const SolidBlock *B, int dim, size_t e, const double *ue, TlMat3 *F)
+{
+  for (int p = 0; p < B->nq; ++p) {
+    const double *g = B->grad + ((e * B->nq + p) * B->nn) * dim;
+    TlMat3 f = tl_m3_identity();
+    for (int a = 0; a < B->nn; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) f.m[i][j] += ue[a * dim + i] * g[a * dim + j];
+    F[p] = f;
+  }
+}
+
+/* Element residual fe and tangent Ke (either may be NULL) from F, S, D at
+ * its stiffness points. */
+static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 *F, const TlMat3 *S,
+                           const double *D, double *fe, double *Ke, double *Bm, double *DB)
+{
+  int nn = B->nn, nd = B->nd;
+  if (fe) memset(fe, 0, nd * sizeof(double));
+  if (Ke) memset(Ke, 0, (size_t)nd * nd * sizeof(double));
+  static const int vi[6] = {0, 1, 2, 0, 1, 0}, vj[6] = {0, 1, 2, 1, 2, 2};
+  for (int p = 0; p < B->nq; ++p) {
+    const double *g = B->grad + ((e * B->nq + p) * nn) * dim;
+    double w = B->wdet[e * B->nq + p];
+    const TlMat3 *f = &F[p], *s = &S[p];
+    if (fe) {
+      /* R_ai = F_ik S_kj dN_a/dxi_j */
+      double FS[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double v = 0.0;
+          for (int k = 0; k < 3; ++k) v += f->m[i][k] * s->m[k][j];
+          FS[i][j] = v;
+        }
+      for (int a = 0; a < nn; ++a)
+        for (int i = 0; i < dim; ++i) {
+          double v = 0.0;
+          for (int j = 0; j < dim; ++j) v += FS[i][j] * g[a * dim + j];
+          fe[a * dim + i] += w * v;
+        }
+    }
+    if (!Ke) continue;
+    /* B: engineering strain variation of dof (a, i):
+     * dE_rs = (F_ir dN_a/dxi_s + F_is dN_a/dxi_r)/2, shear doubled. */
+    for (int a = 0; a < nn; ++a) {
+      double ga[3] = {0, 0, 0};
+      for (int d = 0; d < dim; ++d) ga[d] = g[a * dim + d];
+      for (int i = 0; i < dim; ++i) {
+        int col = a * dim + i;
+        for (int I = 0; I < 6; ++I) {
+          int r = vi[I], c = vj[I];
+          Bm[I * nd + col] = r == c ? f->m[i][r] * ga[r] : f->m[i][r] * ga[c] + f->m[i][c] * ga[r];
+        }
+      }
+    }
+    const double *Dp = D + 36 * p;
+    for (int I = 0; I < 6; ++I)
+      for (int col = 0; col < nd; ++col) {
+        double v = 0.0;
+        for (int J = 0; J < 6; ++J) v += Dp[6 * I + J] * Bm[J * nd + col];
+        DB[I * nd + col] = v;
+      }
+    for (int r = 0; r < nd; ++r)
+      for (int c = 0; c < nd; ++c) {
+        double v = 0.0;
+        for (int I = 0; I < 6; ++I) v += Bm[I * nd + r] * DB[I * nd + c];
+        Ke[r * nd + c] += w * v;
+      }
+    /* Geometric stiffness: (dN_a . S dN_b) delta_ik. */
+    for (int a = 0; a < nn; ++a)
+      for (int b = 0; b < nn; ++b) {
+        double v = 0.0;
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) v += g[a * dim + i] * s->m[i][j] * g[b * dim + j];
+        v *= w;
+        for (int i = 0; i < dim; ++i) Ke[(a * dim + i) * nd + b * dim + i] += v;
+      }
+  }
+}
+
+TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
+                               TlSparse *K, double *W)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: block forces before tl_solid_setup");
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
+  const TlMaterial *mat = B->material;
+  size_t ss = mat->state_size;
+  int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_elements;
+  ParallelError pe = {TL_OK, ""};
+  double energy = 0.0;
+  for (int colour = 0; colour < B->n_colours; ++colour) {
+    size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
+    long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
+#pragma omp parallel for schedule(dynamic) reduction(+ : energy)
+    for (long ch = 0; ch < n_chunks; ++ch) {
+      if (pe.status != TL_OK) continue;
+      Scratch *w = &s->scratch[omp_get_thread_num()];
+      size_t c0 = first + (size_t)ch * CHUNK;
+      size_t nk = count - (size_t)ch * CHUNK < CHUNK ? count - (size_t)ch * CHUNK : CHUNK;
+      for (size_t k = 0; k < nk; ++k) {
+        size_t e = B->colour_elements[c0 + k];
+        for (int a = 0; a < nn; ++a)
+          for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * nn + a] * dim + i];
+        deformation_gradients(B, dim, e, w->ue, w->F + k * nq);
+        if (ss) memcpy(w->state_old + k * nq * ss, B->state_old + e * nq * ss, nq * ss * sizeof(double));
+      }
+      TlStatus st = tl_material_evaluate(mat, nk * nq, w->F, ss ? w->state_old : NULL,
+                                         ss ? w->state_new : NULL, w->S, K ? w->D : NULL,
+                                         W ? w->W : NULL);
+      if (st != TL_OK) {
+        size_t e = B->colour_elements[c0];
+        tl_error_trace(st, __FILE__, __LINE__);
+        char msg[900];
+        snprintf(msg, sizeof msg, "%s", tl_error_message());
+        tl_error_set(st, __FILE__, __LINE__, "block %s, elements from %zu (chunk of %zu, %d points each): %s",
+                     blk->name, e, nk, nq, msg);
+        parallel_error_record(&pe, st);
+        continue;
+      }
+      for (size_t k = 0; k < nk; ++k) {
+        size_t e = B->colour_elements[c0 + k];
+        if (ss) memcpy(B->state_new + e * nq * ss, w->state_new + k * nq * ss, nq * ss * sizeof(double));
+        if (W)
+          for (int p = 0; p < nq; ++p) energy += B->wdet[e * nq + p] * w->W[k * nq + p];
+        if (!f_nodes && !K) continue;
+        element_forces(B, dim, e, w->F + k * nq, w->S + k * nq, K ? w->D + 36 * k * nq : NULL,
+                       f_nodes ? w->fe : NULL, K ? w->Ke : NULL, w->B, w->DB);
+        if (f_nodes)
+          for (int a = 0; a < nn; ++a)
+            for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
+        if (K) {
+          size_t g = B->offset + e;
+          TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
+                                : tl_sparse_add_element(K, nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
+          if (sk != TL_OK) parallel_error_record(&pe, sk);
+        }
+      }
+    }
+  }
+  TL_CHECK(parallel_error_raise(&pe));
+  if (W) *W += energy;
+  return TL_OK;
+}
+
+/* ------------------------------------------------------- system ops */
+
+void tl_solid_dofs_to_nodes(const TlSolid *s, const double *u, double *u_nodes)
+{
+  size_t nc = s->n_nodes * s->dim;
+  for (size_t i = 0; i < nc; ++i) u_nodes[i] = s->dof[i] >= 0 ? u[s->dof[i]] : 0.0;
+}
+
+void tl_solid_nodes_to_dofs(const TlSolid *s, const double *f_nodes, double *f)
+{
+  size_t nc = s->n_nodes * s->dim;
+  for (size_t i = 0; i < nc; ++i)
+    if (s->dof[i] >= 0) f[s->dof[i]] = f_nodes[i];
+}
+
+TlSparseIndex tl_solid_dof(const TlSolid *s, size_t node, int component)
+{
+  if (!s->ready || node >= s->n_nodes || component < 0 || component >= s->dim) return -1;
+  return s->dof[node * s->dim + component];
+}
+
+double tl_solid_total_mass(const TlSolid *s)
+{
+  double m = 0.0;
+  for (size_t i = 0; i < s->n_nodes; ++i) m += s->lumped_nodes[i * s->dim];
+  return m;
+}
+
+static TlStatus internal_nodes(TlSolid *s, const double *u, double *f_nodes, double c_u, TlSparse *K)
+{
+  tl_solid_dofs_to_nodes(s, u, s->un);
+  if (f_nodes) memset(f_nodes, 0, s->n_nodes * s->dim * sizeof(double));
+  for (int b = 0; b < s->mesh->n_blocks; ++b)
+    TL_CHECK(tl_solid_block_forces(s, b, s->un, f_nodes, c_u, K, NULL));
+  return TL_OK;
+}
+
+static TlStatus op_create_matrix(TlMechSystem *sys, int upper, TlSparse **K)
+{
+  TlSolid *s = (TlSolid *)sys;
+  if (upper && !sys->symmetric)
+    TL_ERROR(TL_ERR_ARG, "solid: upper-triangle storage asked for a non-symmetric system");
+  TL_CHECK(tl_sparse_create_from_elements(sys->ndof, upper, (TlSparseIndex)s->n_elements,
+                                          s->elem_ptr, s->elem_dofs, 1, K));
+  return TL_OK;
+}
+
+static TlStatus op_internal_force(TlMechSystem *sys, double t, const double *u, const double *v, double *f)
+{
+  (void)t, (void)v;
+  TlSolid *s = (TlSolid *)sys;
+  TL_CHECK(internal_nodes(s, u, s->fn, 0.0, NULL));
+  tl_solid_nodes_to_dofs(s, s->fn, f);
+  return TL_OK;
+}
+
+static TlStatus op_internal_tangent(TlMechSystem *sys, double t, const double *u, const double *v,
+                                    double c_u, double c_v, TlSparse *K)
+{
+  (void)t, (void)v, (void)c_v;
+  TlSolid *s = (TlSolid *)sys;
+  TL_CHECK(internal_nodes(s, u, NULL, c_u, K));
+  return TL_OK;
+}
+
+static double amplitude(TlAmplitude amp, void *ctx, double t) { return amp ? amp(t, ctx) : 1.0; }
+
+/* Follower pressure on the deformed faces: f_a = -p int N_a n dA with
+ * n dA = x_s x x_t (3-D) or (y_s, -x_s) (2-D), and its derivative. */
+static TlStatus pressure_loads(TlSolid *s, double t, const double *u_nodes, double *f_nodes, double c,
+                               TlSparse *K)
+{
+  int dim = s->dim;
+  for (int i = 0; i < s->n_surface; ++i) {
+    const SurfaceLoad *sl = &s->surface[i];
+    if (!sl->pressure) continue;
+    double p = sl->p * amplitude(sl->amp, sl->ctx, t);
+    const TlFaceSet *fs = &s->mesh->face_sets[sl->face_set];
+    for (size_t k = 0; k < fs->n; ++k) {
+      const TlElementType *ft = s->mesh->blocks[fs->faces[k].block].type->face_type;
+      int nf = ft->n_nodes, fd = ft->dim;
+      size_t fnodes[TL_ELEMENT_MAX_FACE_NODES];
+      double x[TL_ELEMENT_MAX_FACE_NODES * 3];
+      tl_mesh_face_nodes(s->mesh, fs->faces[k], fnodes, x);
+      for (int a = 0; a < nf; ++a)
+        for (int c_ = 0; c_ < dim; ++c_) x[3 * a + c_] += u_nodes[fnodes[a] * dim + c_];
+      TlQuadrature q;
+      TL_CHECK(tl_element_quadrature(ft, ft->order_mass, &q));
+      double Kf[(TL_ELEMENT_MAX_FACE_NODES * 3) * (TL_ELEMENT_MAX_FACE_NODES * 3)];
+      int nd = nf * dim;
+      memset(Kf, 0, sizeof(double) * nd * nd);
+      for (int qp = 0; qp < q.n; ++qp) {
+        double N[TL_ELEMENT_MAX_FACE_NODES], dN[TL_ELEMENT_MAX_FACE_NODES * 2], nA[3];
+        ft->eval(1, q.xi[qp], N, dN);
+        tl_element_face_normal(ft, dim, x, q.xi[qp], nA);
+        double w = q.w[qp];
+        if (f_nodes)
+          for (int a = 0; a < nf; ++a)
+            for (int c_ = 0; c_ < dim; ++c_) f_nodes[fnodes[a] * dim + c_] -= w * p * N[a] * nA[c_];
+        if (!K) continue;
+        double ts[3] = {0, 0, 0}, tt[3] = {0, 0, 0};
+        for (int a = 0; a < nf; ++a)
+          for (int c_ = 0; c_ < 3; ++c_) {
+            ts[c_] += x[3 * a + c_] * dN[a * fd];
+            if (fd > 1) tt[c_] += x[3 * a + c_] * dN[a * fd + 1];
+          }
+        for (int b = 0; b < nf; ++b)
+          for (int kc = 0; kc < dim; ++kc) {
+            /* dn/dx_{b,kc} */
+            double dn[3] = {0, 0, 0};
+            if (dim == 3) {
+              double e[3] = {0, 0, 0};
+              e[kc] = 1.0;
+              double gs = dN[b * fd], gt = dN[b * fd + 1];
+              /* gs (e x tt) + gt (ts x e) */
+              dn[0] = gs * (e[1] * tt[2] - e[2] * tt[1]) + gt * (ts[1] * e[2] - ts[2] * e[1]);
+              dn[1] = gs * (e[2] * tt[0] - e[0] * tt[2]) + gt * (ts[2] * e[0] - ts[0] * e[2]);
+              dn[2] = gs * (e[0] * tt[1] - e[1] * tt[0]) + gt * (ts[0] * e[1] - ts[1] * e[0]);
+            } else {
+              double gs = dN[b];
+              if (kc == 0) dn[1] = -gs;
+              else dn[0] = gs;
+            }
+            for (int a = 0; a < nf; ++a)
+              for (int ic = 0; ic < dim; ++ic) Kf[(a * dim + ic) * nd + b * dim + kc] -= w * p * N[a] * dn[ic];
+          }
+      }
+      if (K) {
+        TlSparseIndex dofs[TL_ELEMENT_MAX_FACE_NODES * 3];
+        for (int a = 0; a < nf; ++a)
+          for (int c_ = 0; c_ < dim; ++c_) dofs[a * dim + c_] = s->dof[fnodes[a] * dim + c_];
+        TL_CHECK(tl_sparse_add_element(K, nd, dofs, c, Kf));
+      }
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus external_nodes(TlSolid *s, double t, const double *u, double *f_nodes)
+{
+  size_t nc = s->n_nodes * s->dim;
+  memset(f_nodes, 0, nc * sizeof(double));
+  for (int i = 0; i < s->n_dead; ++i) {
+    double a = amplitude(s->dead[i].amp, s->dead[i].ctx, t);
+    if (a == 0.0) continue;
+    for (size_t k = 0; k < nc; ++k) f_nodes[k] += a * s->dead[i].f[k];
+  }
+  for (size_t i = 0; i < s->n_points; ++i) {
+    const PointForce *pf = &s->points[i];
+    double a = amplitude(pf->amp, pf->ctx, t);
+    double fv[3] = {pf->f.x, pf->f.y, pf->f.z};
+    for (int c = 0; c < s->dim; ++c) f_nodes[pf->node * s->dim + c] += a * fv[c];
+  }
+  tl_solid_dofs_to_nodes(s, u, s->un);
+  TL_CHECK(pressure_loads(s, t, s->un, f_nodes, 0.0, NULL));
+  return TL_OK;
+}
+
+static TlStatus op_external_force(TlMechSystem *sys, double t, const double *u, double *f)
+{
+  TlSolid *s = (TlSolid *)sys;
+  TL_CHECK(external_nodes(s, t, u, s->gn));
+  tl_solid_nodes_to_dofs(s, s->gn, f);
+  return TL_OK;
+}
+
+static TlStatus op_external_tangent(TlMechSystem *sys, double t, const double *u, double c, TlSparse *K)
+{
+  TlSolid *s = (TlSolid *)sys;
+  tl_solid_dofs_to_nodes(s, u, s->un);
+  TL_CHECK(pressure_loads(s, t, s->un, NULL, c, K));
+  return TL_OK;
+}
+
+static TlStatus op_lumped_mass(TlMechSystem *sys, double *m)
+{
+  TlSolid *s = (TlSolid *)sys;
+  tl_solid_nodes_to_dofs(s, s->lumped_nodes, m);
+  return TL_OK;
+}
+
+/* Consistent mass of element e of block b: Me[a][b] = int rho N_a N_b. */
+static void element_mass(const TlSolid *s, int b, size_t e, double *Mab)
+{
+  const SolidBlock *B = &s->blocks[b];
+  int nn = B->nn;
+  double rho = B->material->density;
+  memset(Mab, 0, (size_t)nn * nn * sizeof(double));
+  for (int p = 0; p < B->qm.n; ++p) {
+    double w = rho * B->wdetm[e * B->qm.n + p];
+    const double *N = B->Nm + p * nn;
+    for (int a = 0; a < nn; ++a)
+      for (int c = 0; c < nn; ++c) Mab[a * nn + c] += w * N[a] * N[c];
+  }
+}
+
+static TlStatus op_consistent_mass(TlMechSystem *sys, double c, TlSparse *M)
+{
+  TlSolid *s = (TlSolid *)sys;
+  int dim = s->dim;
+  int indexed = M->elem_pos_ptr && M->n_elements == (TlSparseIndex)s->n_elements;
+  double *Mab = s->scratch[0].DB, *Me = s->scratch[0].Ke; /* nn^2 <= 6 nd */
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    const SolidBlock *B = &s->blocks[b];
+    int nn = B->nn, nd = B->nd;
+    for (size_t e = 0; e < s->mesh->blocks[b].n_elements; ++e) {
+      element_mass(s, b, e, Mab);
+      memset(Me, 0, (size_t)nd * nd * sizeof(double));
+      for (int a = 0; a < nn; ++a)
+        for (int q = 0; q < nn; ++q)
+          for (int i = 0; i < dim; ++i) Me[(a * dim + i) * nd + q * dim + i] = Mab[a * nn + q];
+      size_t g = B->offset + e;
+      if (indexed) TL_CHECK(tl_sparse_add_element_indexed(M, (TlSparseIndex)g, c, Me));
+      else TL_CHECK(tl_sparse_add_element(M, nd, s->elem_dofs + s->elem_ptr[g], c, Me));
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus op_dirichlet(TlMechSystem *sys, double t, double *u, double *v, double *a)
+{
+  TlSolid *s = (TlSolid *)sys;
+  for (size_t i = 0; i < s->n_prescribed; ++i) {
+    const Prescribed *p = &s->prescribed[i];
+    double out[3] = {0, 0, 0};
+    p->fn(t, s->mesh->x + 3 * p->node, p->component, p->ctx, out);
+    for (int k = 0; k < 3; ++k)
+      if (!isfinite(out[k]))
+        TL_ERROR(TL_ERR_NUMERIC, "solid: prescribed value %d of node %zu component %d at t = %g is %g", k,
+                 p->node, p->component, t, out[k]);
+    TlSparseIndex d = s->dof[p->node * s->dim + p->component];
+    if (u) u[d] = out[0];
+    if (v) v[d] = out[1];
+    if (a) a[d] = out[2];
+  }
+  return TL_OK;
+}
+
+TlStatus tl_solid_strain_energy(TlSolid *s, const double *u, double *W)
+{
+  tl_solid_dofs_to_nodes(s, u, s->un);
+  *W = 0.0;
+  for (int b = 0; b < s->mesh->n_blocks; ++b) TL_CHECK(tl_solid_block_forces(s, b, s->un, NULL, 0.0, NULL, W));
+  return TL_OK;
+}
+
+static TlStatus op_strain_energy(TlMechSystem *sys, const double *u, double *W)
+{
+  return tl_solid_strain_energy((TlSolid *)sys, u, W);
+}
+
+static TlStatus op_commit(TlMechSystem *sys)
+{
+  TlSolid *s = (TlSolid *)sys;
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    SolidBlock *B = &s->blocks[b];
+    size_t ss = B->material->state_size;
+    if (!ss) continue;
+    double *tmp = B->state_old;
+    B->state_old = B->state_new;
+    B->state_new = tmp;
+    memcpy(B->state_new, B->state_old, s->mesh->blocks[b].n_elements * B->nq * ss * sizeof(double));
+  }
+  return TL_OK;
+}
+
+static TlStatus op_rollback(TlMechSystem *sys)
+{
+  TlSolid *s = (TlSolid *)sys;
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    SolidBlock *B = &s->blocks[b];
+    size_t ss = B->material->state_size;
+    if (ss) memcpy(B->state_new, B->state_old, s->mesh->blocks[b].n_elements * B->nq * ss * sizeof(double));
+  }
+  return TL_OK;
+}
+
+TlStatus tl_solid_element_matrices(TlSolid *s, int b, size_t e, const double *ue, double *fe, double *Ke,
+                                   double *Me)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: element matrices before tl_solid_setup");
+  if (b < 0 || b >= s->mesh->n_blocks || e >= s->mesh->blocks[b].n_elements)
+    TL_ERROR(TL_ERR_ARG, "solid: no element %zu in block %d", e, b);
+  const SolidBlock *B = &s->blocks[b];
+  Scratch *w = &s->scratch[0];
+  size_t ss = B->material->state_size;
+  deformation_gradients(B, s->dim, e, ue, w->F);
+  if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
+  TL_CHECK(tl_material_evaluate(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
+                                w->S, w->D, NULL));
+  if (fe || Ke) element_forces(B, s->dim, e, w->F, w->S, w->D, fe, Ke, w->B, w->DB);
+  if (Me) {
+    int nn = B->nn, nd = B->nd, dim = s->dim;
+    double Mab[TL_ELEMENT_MAX_NODES * TL_ELEMENT_MAX_NODES];
+    element_mass(s, b, e, Mab);
+    memset(Me, 0, (size_t)nd * nd * sizeof(double));
+    for (int a = 0; a < nn; ++a)
+      for (int q = 0; q < nn; ++q)
+        for (int i = 0; i < dim; ++i) Me[(a * dim + i) * nd + q * dim + i] = Mab[a * nn + q];
+  }
+  return TL_OK;
+}
+
+TlStatus tl_solid_gauss_stress(TlSolid *s, int b, size_t e, int q, const double *u_nodes, TlMat3 *F, TlMat3 *S)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: stress before tl_solid_setup");
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  const SolidBlock *B = &s->blocks[b];
+  if (q < 0 || q >= B->nq) TL_ERROR(TL_ERR_ARG, "solid: Gauss point %d outside [0, %d)", q, B->nq);
+  Scratch *w = &s->scratch[0];
+  int dim = s->dim;
+  for (int a = 0; a < B->nn; ++a)
+    for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * B->nn + a] * dim + i];
+  deformation_gradients(B, dim, e, w->ue, w->F);
+  size_t ss = B->material->state_size;
+  if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
+  TL_CHECK(tl_material_evaluate(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
+                                w->S, NULL, NULL));
+  *F = w->F[q];
+  *S = w->S[q];
+  return TL_OK;
+}
+
+/* Element-by-element bound of the largest eigenvalue of M^-1 K: the largest
+ * Gershgorin row bound of M_e^-1 K_e over the elements (the element
+ * eigenvalue theorem makes it an upper bound of the assembled one). */
+static TlStatus op_max_frequency_squared(TlMechSystem *sys, const double *u, double *omega2)
+{
+  TlSolid *s = (TlSolid *)sys;
+  tl_solid_dofs_to_nodes(s, u, s->un);
+  double best = 0.0;
+  double *ue = NULL, *Ke = NULL;
+  TL_CHECK(tl_calloc(&ue, s->max_nd, sizeof(double)));
+  TlStatus st = tl_calloc(&Ke, (size_t)s->max_nd * s->max_nd, sizeof(double));
+  for (int b = 0; b < s->mesh->n_blocks && st == TL_OK; ++b) {
+    const TlElementBlock *blk = &s->mesh->blocks[b];
+    const SolidBlock *B = &s->blocks[b];
+    int nn = B->nn, nd = B->nd, dim = s->dim;
+    for (size_t e = 0; e < blk->n_elements && st == TL_OK; ++e) {
+      for (int a = 0; a < nn; ++a)
+        for (int i = 0; i < dim; ++i) ue[a * dim + i] = s->un[blk->conn[e * nn + a] * dim + i];
+      st = tl_solid_element_matrices(s, b, e, ue, NULL, Ke, NULL);
+      for (int r = 0; r < nd && st == TL_OK; ++r) {
+        double row = 0.0;
+        for (int c = 0; c < nd; ++c) row += fabs(Ke[r * nd + c]);
+        best = fmax(best, row / B->lumped[e * nn + r / dim]);
+      }
+    }
+  }
+  tl_free(&ue);
+  tl_free(&Ke);
+  if (st != TL_OK) return tl_error_trace(st, __FILE__, __LINE__);
+  *omega2 = best;
+  return TL_OK;
+}
+
+static const TlMechSystemOps solid_ops = {
+    .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},
+    .create_matrix = op_create_matrix,
+    .internal_force = op_internal_force,
+    .internal_tangent = op_internal_tangent,
+    .external_force = op_external_force,
+    .lumped_mass = op_lumped_mass,
+    .external_tangent = op_external_tangent,
+    .consistent_mass = op_consistent_mass,
+    .dirichlet = op_dirichlet,
+    .strain_energy = op_strain_energy,
+    .commit = op_commit,
+    .rollback = op_rollback,
+    .max_frequency_squared = op_max_frequency_squared,
+    .destroy = solid_destroy_content,
+};
+
+/* ------------------------------------------------ energies, reactions */
+
+/* out_nodes = M a_nodes with the consistent mass, element by element. */
+static void mass_times(const TlSolid *s, const double *a_nodes, double *out_nodes)
+{
+  int dim = s->dim;
+  double Mab[TL_ELEMENT_MAX_NODES * TL_ELEMENT_MAX_NODES];
+  memset(out_nodes, 0, s->n_nodes * dim * sizeof(double));
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    const TlElementBlock *blk = &s->mesh->blocks[b];
+    int nn = blk->type->n_nodes;
+    for (size_t e = 0; e < blk->n_elements; ++e) {
+      element_mass(s, b, e, Mab);
+      for (int a = 0; a < nn; ++a)
+        for (int q = 0; q < nn; ++q)
+          for (int i = 0; i < dim; ++i)
+            out_nodes[blk->conn[e * nn + a] * dim + i] += Mab[a * nn + q] * a_nodes[blk->conn[e * nn + q] * dim + i];
+    }
+  }
+}
+
+TlStatus tl_solid_kinetic_energy(TlSolid *s, const double *v, double *K)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: kinetic energy before tl_solid_setup");
+  tl_solid_dofs_to_nodes(s, v, s->un);
+  mass_times(s, s->un, s->gn);
+  double k = 0.0;
+  for (size_t i = 0; i < s->n_nodes * s->dim; ++i) k += s->un[i] * s->gn[i];
+  *K = 0.5 * k;
+  return TL_OK;
+}
+
+TlStatus tl_solid_work_increment(TlSolid *s, double t0, const double *u0, double t1, const double *u1, double *dW)
+{
+  size_t nc = s->n_nodes * s->dim;
+  double w = 0.0;
+  TL_CHECK(external_nodes(s, t0, u0, s->fn));
+  double *d = s->gn;
+  tl_solid_dofs_to_nodes(s, u1, d);
+  tl_solid_dofs_to_nodes(s, u0, s->un);
+  for (size_t i = 0; i < nc; ++i) d[i] -= s->un[i];
+  for (size_t i = 0; i < nc; ++i) w += 0.5 * s->fn[i] * d[i];
+  TL_CHECK(external_nodes(s, t1, u1, s->fn));
+  tl_solid_dofs_to_nodes(s, u1, d);
+  tl_solid_dofs_to_nodes(s, u0, s->un);
+  for (size_t i = 0; i < nc; ++i) w += 0.5 * s->fn[i] * (d[i] - s->un[i]);
+  *dW = w;
+  return TL_OK;
+}
+
+TlStatus tl_solid_reactions(TlSolid *s, double t, const double *u, const double *a, double *R)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: reactions before tl_solid_setup");
+  size_t nc = s->n_nodes * s->dim;
+  TL_CHECK(internal_nodes(s, u, R, 0.0, NULL));
+  TL_CHECK(external_nodes(s, t, u, s->fn));
+  for (size_t i = 0; i < nc; ++i) R[i] -= s->fn[i];
+  if (a) {
+    double *an = NULL, *ma = NULL;
+    TL_CHECK(tl_calloc(&an, nc, sizeof(double)));
+    TlStatus st = tl_calloc(&ma, nc, sizeof(double));
+    if (st == TL_OK) {
+      tl_solid_dofs_to_nodes(s, a, an);
+      mass_times(s, an, ma);
+      for (size_t i = 0; i < nc; ++i) R[i] += ma[i];
+    }
+    tl_free(&an);
+    tl_free(&ma);
+    if (st != TL_OK) return tl_error_trace(st, __FILE__, __LINE__);
+  }
+  for (size_t i = 0; i < nc; ++i)
+    if (!s->constraint[i]) R[i] = 0.0;
+  return TL_OK;
+}
+
+/* ------------------------------------------------- rigid-body check */
+
+static size_t find_root(size_t *parent, size_t i)
+{
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+TlStatus tl_solid_check_constraints(const TlSolid *s)
+{
+  const TlMesh *mesh = s->mesh;
+  int dim = s->dim, nm = dim == 3 ? 6 : 3;
+  size_t n = s->n_nodes;
+  size_t *parent = NULL;
+  TL_CHECK(tl_calloc(&parent, n, sizeof(size_t)));
+  for (size_t i = 0; i < n; ++i) parent[i] = i;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    const TlElementBlock *blk = &mesh->blocks[b];
+    int nn = blk->type->n_nodes;
+    for (size_t e = 0; e < blk->n_elements; ++e)
+      for (int a = 1; a < nn; ++a) {
+        size_t r0 = find_root(parent, blk->conn[e * nn]), r1 = find_root(parent, blk->conn[e * nn + a]);
+        if (r0 != r1) parent[r1] = r0;
+      }
+  }
+  TlStatus st = TL_OK;
+  for (size_t root = 0; root < n && st == TL_OK; ++root) {
+    if (find_root(parent, root) != root) continue;
+    /* Rigid modes of this component about its centroid; Gram matrix of
+     * their values at the constrained dofs. */
+    double c[3] = {0, 0, 0}, count = 0, scale = 0.0;
+    for (size_t i = 0; i < n; ++i)
+      if (find_root(parent, i) == root) {
+        for (int k = 0; k < 3; ++k) c[k] += mesh->x[3 * i + k];
+        count += 1;
+      }
+    for (int k = 0; k < 3; ++k) c[k] /= count;
+    for (size_t i = 0; i < n; ++i)
+      if (find_root(parent, i) == root)
+        for (int k = 0; k < 3; ++k) scale = fmax(scale, fabs(mesh->x[3 * i + k] - c[k]));
+    if (scale == 0.0) scale = 1.0;
+    double G[6][6] = {{0}};
+    for (size_t i = 0; i < n; ++i) {
+      if (find_root(parent, i) != root) continue;
+      double r[3];
+      for (int k = 0; k < 3; ++k) r[k] = (mesh->x[3 * i + k] - c[k]) / scale;
+      for (int comp = 0; comp < dim; ++comp) {
+        if (!s->constraint[i * dim + comp]) continue;
+        double m[6] = {0};
+        m[comp] = 1.0; /* translations */
+        if (dim == 3) {
+          /* rotation about axis k: (e_k x r)_comp */
+          double e0[3] = {0, -r[2], r[1]}, e1[3] = {r[2], 0, -r[0]}, e2[3] = {-r[1], r[0], 0};
+          m[3] = e0[comp], m[4] = e1[comp], m[5] = e2[comp];
+        } else {
+          m[2] = comp == 0 ? -r[1] : r[0];
+        }
+        for (int p = 0; p < nm; ++p)
+          for (int q = 0; q < nm; ++q) G[p][q] += m[p] * m[q];
+      }
+    }
+    /* Cholesky with a relative pivot test: a (near-)zero pivot is a mode
+     * that no constraint touches. */
+    double L[6][6] = {{0}};
+    int free_mode = -1;
+    for (int j = 0; j < nm && free_mode < 0; ++j) {
+      double d = G[j][j];
+      for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k];
+      if (!(d > 1e-10 * (G[j][j] > 1.0 ? G[j][j] : 1.0))) {
+        free_mode = j;
+        break;
+      }
+      L[j][j] = sqrt(d);
+      for (int i = j + 1; i < nm; ++i) {
+        double v = G[i][j];
+        for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k];
+        L[i][j] = v / L[j][j];
+      }
+    }
+    if (free_mode >= 0) {
+      static const char *const names3[6] = {"translation along x", "translation along y", "translation along z",
+                                            "rotation about x",    "rotation about y",    "rotation about z"};
+      static const char *const names2[3] = {"translation along x", "translation along y", "rotation in the plane"};
+      int block = 0;
+      for (int b = 0; b < mesh->n_blocks; ++b)
+        for (size_t e = 0; e < mesh->blocks[b].n_elements; ++e)
+          if (find_root(parent, mesh->blocks[b].conn[e * mesh->blocks[b].type->n_nodes]) == root) {
+            block = b;
+            b = mesh->n_blocks;
+            break;
+          }
+      st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                        "solid: the part of element block '%s' containing node %zu can move rigidly "
+                        "(%s is not constrained); constrained node sets: %s",
+                        mesh->blocks[block].name, root, dim == 3 ? names3[free_mode] : names2[free_mode],
+                        s->constraint_sets[0] ? s->constraint_sets : "none");
+    }
+  }
+  tl_free(&parent);
+  return st;
+}

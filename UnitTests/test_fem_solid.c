@@ -1,0 +1,461 @@
+/* The total-Lagrangian solid: patch tests (constant finite strain, exact to
+ * round-off) for every element type, zero stress and residual under rigid
+ * rotations (90 degrees and an arbitrary one), element tangents against
+ * finite differences for every element type and law, the assembled tangent
+ * with a follower pressure, mass matrices summing to the total mass,
+ * energies, reactions, the rigid-body-mode check, and a uniaxial finite-
+ * strain solve through the quasi-static stepper against the closed form. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_mesh.h"
+#include "tl_solid.h"
+#include "tl_stepper.h"
+#include "tl_test.h"
+
+static const TlElementType *const types[] = {&tl_element_hex8, &tl_element_hex27, &tl_element_tet4,
+                                             &tl_element_tet10, &tl_element_quad4, &tl_element_quad8};
+static const double E_mod = 1e8;
+
+static double urand(void) { return 2.0 * rand() / RAND_MAX - 1.0; }
+
+/* A 2 x 2 (x 2) mesh of [0, 1.2] x [0, 1] (x [0, 0.8]) whose interior nodes
+ * are moved at random, so that elements are distorted (and curved for the
+ * quadratic types). */
+static TlMesh *distorted_mesh(const TlElementType *t)
+{
+  TlMesh *m = NULL;
+  TlStatus s;
+  if (t->dim == 3) {
+    size_t n[3] = {2, 2, 2};
+    double lo[3] = {0, 0, 0}, hi[3] = {1.2, 1.0, 0.8};
+    s = tl_mesh_create_box(t, n, lo, hi, &m);
+  } else {
+    size_t n[2] = {2, 2};
+    double lo[2] = {0, 0}, hi[2] = {1.2, 1.0};
+    s = tl_mesh_create_rectangle(t, n, lo, hi, &m);
+  }
+  TL_TEST_STATUS(s, TL_OK);
+  if (!m) return NULL;
+  double hi[3] = {1.2, 1.0, 0.8};
+  for (size_t i = 0; i < m->n_nodes; ++i) {
+    double *x = m->x + 3 * i;
+    int interior = 1;
+    for (int d = 0; d < t->dim; ++d) interior &= x[d] > 1e-12 && x[d] < hi[d] - 1e-12;
+    if (interior)
+      for (int d = 0; d < t->dim; ++d) x[d] += (t->n_nodes == t->n_corners ? 0.06 : 0.015) * urand();
+  }
+  TL_TEST_STATUS(tl_mesh_finalize(m), TL_OK);
+  return m;
+}
+
+static TlMaterial *make_law(const char *name, double nu)
+{
+  TlMaterial *m = NULL;
+  TL_TEST_STATUS(tl_material_create(name, &m), TL_OK);
+  tl_material_set(m, "E", E_mod);
+  tl_material_set(m, "nu", nu);
+  tl_material_set(m, "density", 1309.0);
+  TL_TEST_STATUS(tl_material_setup(m), TL_OK);
+  return m;
+}
+
+static double max_abs(const double *v, size_t n)
+{
+  double m = 0.0;
+  for (size_t i = 0; i < n; ++i) m = fmax(m, fabs(v[i]));
+  return m;
+}
+
+/* Constant-strain patch: u = A X; tractions P N on every boundary face set
+ * must balance the internal forces at every node, to round-off. */
+static void patch_test(const TlElementType *t, const char *law)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law(law, 0.3);
+  if (!mesh || !mat) return;
+  int dim = t->dim;
+  double A[3][3] = {{0.02, 0.01, -0.005}, {0.003, -0.01, 0.008}, {0.004, 0.002, 0.015}};
+  TlMat3 F = tl_m3_identity(), S;
+  for (int i = 0; i < dim; ++i)
+    for (int j = 0; j < dim; ++j) F.m[i][j] += A[i][j];
+  double st[64] = {0}, st2[64] = {0};
+  if (mat->state_size) mat->ops->init_state(mat, 1, st);
+  TL_TEST_STATUS(tl_material_evaluate(mat, 1, &F, mat->state_size ? st : NULL, mat->state_size ? st2 : NULL, &S, NULL, NULL), TL_OK);
+  TlMat3 P = tl_m3_mul(F, S);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_set_material(solid, NULL, mat), TL_OK);
+  const char *names[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  for (int f = 0; f < 2 * dim; ++f) {
+    TlVec3 N = tl_v3(0, 0, 0);
+    double sign = f % 2 ? 1.0 : -1.0;
+    if (f / 2 == 0) N.x = sign;
+    if (f / 2 == 1) N.y = sign;
+    if (f / 2 == 2) N.z = sign;
+    TL_TEST_STATUS(tl_solid_add_traction(solid, names[f], tl_m3_mulv(P, N), NULL, NULL), TL_OK);
+  }
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *fi = calloc(n, sizeof *fi), *fe = calloc(n, sizeof *fe);
+  for (size_t a = 0; a < mesh->n_nodes; ++a)
+    for (int i = 0; i < dim; ++i) {
+      double v = 0.0;
+      for (int j = 0; j < dim; ++j) v += A[i][j] * mesh->x[3 * a + j];
+      u[tl_solid_dof(solid, a, i)] = v;
+    }
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, fi), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, fe), TL_OK);
+  double scale = max_abs(fe, n), err = 0.0;
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs(fi[i] - fe[i]));
+  TL_TEST_ASSERT(scale > 0 && err <= 1e-12 * scale, "patch %s/%s: |f_int - f_ext| = %g of %g", t->header.name,
+                 law, err, scale);
+  /* F is the imposed one at every Gauss point. */
+  double *un = calloc(mesh->n_nodes * dim, sizeof *un);
+  tl_solid_dofs_to_nodes(solid, u, un);
+  double ferr = 0.0;
+  for (size_t e = 0; e < mesh->blocks[0].n_elements; ++e) {
+    TlMat3 Fq, Sq;
+    TL_TEST_STATUS(tl_solid_gauss_stress(solid, 0, e, 0, un, &Fq, &Sq), TL_OK);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) ferr = fmax(ferr, fabs(Fq.m[i][j] - F.m[i][j]));
+  }
+  TL_TEST_ASSERT(ferr < 1e-14, "patch %s/%s: F off by %g", t->header.name, law, ferr);
+  /* Strain energy of the patch: W(F) V (potential laws). */
+  if (!strcmp(law, "neo_hookean")) {
+    double W = 0.0, Wd;
+    TL_TEST_STATUS(tl_solid_strain_energy(solid, u, &W), TL_OK);
+    tl_material_evaluate(mat, 1, &F, NULL, NULL, &S, NULL, &Wd);
+    TL_TEST_CLOSE(W / (Wd * tl_mesh_volume(mesh)), 1.0, 1e-12);
+  }
+  free(u), free(fi), free(fe), free(un);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* Rigid motion u = (R - 1) X + c: zero stress and zero residual. */
+static void rotation_test(const TlElementType *t, TlMat3 R, const char *what)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law("hooke", 0.3);
+  if (!mesh || !mat) return;
+  int dim = t->dim;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *f = calloc(n, sizeof *f);
+  double c[3] = {0.3, -0.7, 1.1};
+  for (size_t a = 0; a < mesh->n_nodes; ++a) {
+    TlVec3 X = tl_v3(mesh->x[3 * a], mesh->x[3 * a + 1], mesh->x[3 * a + 2]);
+    TlVec3 x = tl_m3_mulv(R, X);
+    double d[3] = {x.x - X.x + c[0], x.y - X.y + c[1], x.z - X.z + c[2]};
+    for (int i = 0; i < dim; ++i) u[tl_solid_dof(solid, a, i)] = d[i];
+  }
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f), TL_OK);
+  double fscale = E_mod * 0.25; /* stress scale x element face area */
+  TL_TEST_ASSERT(max_abs(f, n) < 1e-12 * fscale, "%s rotation %s: residual %g", t->header.name, what, max_abs(f, n));
+  double *un = calloc(mesh->n_nodes * dim, sizeof *un);
+  tl_solid_dofs_to_nodes(solid, u, un);
+  double smax = 0.0;
+  for (size_t e = 0; e < mesh->blocks[0].n_elements; ++e) {
+    TlMat3 Fq, Sq;
+    tl_solid_gauss_stress(solid, 0, e, 0, un, &Fq, &Sq);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) smax = fmax(smax, fabs(Sq.m[i][j]));
+  }
+  TL_TEST_ASSERT(smax < 1e-12 * E_mod, "%s rotation %s: stress %g", t->header.name, what, smax);
+  free(u), free(f), free(un);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* Element tangent against central differences of the element residual. */
+static void tangent_test(const TlElementType *t, const char *law, double nu)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law(law, nu);
+  if (!mesh || !mat) return;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  int nd = t->n_nodes * t->dim;
+  double *ue = calloc(nd, sizeof *ue), *f0 = calloc(nd, sizeof *f0), *fp = calloc(nd, sizeof *fp),
+         *fm = calloc(nd, sizeof *fm), *K = calloc((size_t)nd * nd, sizeof *K);
+  double worst = 0.0;
+  for (size_t e = 0; e < mesh->blocks[0].n_elements && e < 3; ++e) {
+    for (int i = 0; i < nd; ++i) ue[i] = 0.04 * urand();
+    TL_TEST_STATUS(tl_solid_element_matrices(solid, 0, e, ue, f0, K, NULL), TL_OK);
+    double kmax = max_abs(K, (size_t)nd * nd), err = 0.0;
+    /* Central differences with Richardson extrapolation (steps h and h/2):
+     * truncation O(h^4), so strongly deformed elements are checked as
+     * sharply as mildly deformed ones. */
+    for (int c = 0; c < nd; ++c) {
+      double keep = ue[c], h = 1e-5;
+      for (int r = 0; r < nd; ++r) f0[r] = 0.0;
+      for (int level = 0; level < 2; ++level) {
+        double hl = level ? 0.5 * h : h, wgt = level ? 4.0 / 3.0 : -1.0 / 3.0;
+        ue[c] = keep + hl;
+        tl_solid_element_matrices(solid, 0, e, ue, fp, NULL, NULL);
+        ue[c] = keep - hl;
+        tl_solid_element_matrices(solid, 0, e, ue, fm, NULL, NULL);
+        for (int r = 0; r < nd; ++r) f0[r] += wgt * (fp[r] - fm[r]) / (2 * hl);
+      }
+      ue[c] = keep;
+      for (int r = 0; r < nd; ++r) err = fmax(err, fabs(f0[r] - K[r * nd + c]));
+    }
+    worst = fmax(worst, err / kmax);
+  }
+  printf("tangent %s/%s nu=%g: max relative error %.2e\n", t->header.name, law, nu, worst);
+  TL_TEST_ASSERT(worst < 1e-6, "%s/%s nu=%g: tangent off finite differences by %g (relative)", t->header.name,
+                 law, nu, worst);
+  free(ue), free(f0), free(fp), free(fm), free(K);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* Assembled tangent (internal minus follower-load tangent) against
+ * differences of the assembled residual; masses; energies; reactions. */
+static void system_test(const TlElementType *t)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  int dim = t->dim;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_add_pressure(solid, "xmax", 3e6, NULL, NULL), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_gravity(solid, tl_v3(0, -9.81, 0)), TL_OK);
+  TL_TEST_STATUS(tl_solid_fix(solid, "xmin", (1 << dim) - 1), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_check_constraints(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  TL_TEST_ASSERT(!sys->symmetric, "follower pressure must make the system non-symmetric");
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up),
+         *rp = calloc(n, sizeof *rp), *rm = calloc(n, sizeof *rm), *fx = calloc(n, sizeof *fx),
+         *Kd = calloc(n, sizeof *Kd), *ones = calloc(n, sizeof *ones), *Mo = calloc(n, sizeof *Mo);
+  for (size_t i = 0; i < n; ++i) {
+    u[i] = 0.03 * urand();
+    d[i] = urand();
+  }
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 0, &K), TL_OK);
+  if (!K) return;
+  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_tangent(sys, 0.0, u, -1.0, K), TL_OK);
+  tl_sparse_matvec(K, d, Kd);
+  double h = 1e-7;
+  for (int sgn = 0; sgn < 2; ++sgn) {
+    double *r = sgn ? rm : rp;
+    for (size_t i = 0; i < n; ++i) up[i] = u[i] + (sgn ? -h : h) * d[i];
+    sys->ops->internal_force(sys, 0.0, up, NULL, r);
+    sys->ops->external_force(sys, 0.0, up, fx);
+    for (size_t i = 0; i < n; ++i) r[i] -= fx[i];
+  }
+  double err = 0.0;
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
+  TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "%s: assembled tangent off by %g of %g", t->header.name, err,
+                 max_abs(Kd, n));
+  /* Masses: consistent and lumped both sum to rho V per direction. */
+  double mass = 1309.0 * tl_mesh_volume(mesh);
+  TL_TEST_CLOSE(tl_solid_total_mass(solid) / mass, 1.0, 1e-13);
+  tl_sparse_zero(K);
+  TL_TEST_STATUS(sys->ops->consistent_mass(sys, 1.0, K), TL_OK);
+  /* Free-body check on the unconstrained nodes is incomplete here (xmin is
+   * clamped), so compare M 1 summed over free dofs with the lumped sum. */
+  for (size_t a = 0; a < mesh->n_nodes; ++a) {
+    TlSparseIndex k = tl_solid_dof(solid, a, 0);
+    if (k >= 0) ones[k] = 1.0;
+  }
+  double *ml = calloc(n, sizeof *ml);
+  sys->ops->lumped_mass(sys, ml);
+  tl_sparse_matvec(K, ones, Mo);
+  double sum_c = 0.0, sum_l = 0.0;
+  for (size_t i = 0; i < n; ++i) sum_c += ones[i] * Mo[i], sum_l += ones[i] * ml[i];
+  TL_TEST_ASSERT(sum_c > 0 && sum_l > 0 && sum_c < mass && sum_l < mass, "free-dof masses %g %g of %g", sum_c,
+                 sum_l, mass);
+  /* Kinetic energy of a uniform velocity on the free dofs equals 1/2 1.M.1. */
+  double Ek = 0.0;
+  TL_TEST_STATUS(tl_solid_kinetic_energy(solid, ones, &Ek), TL_OK);
+  TL_TEST_CLOSE(Ek, 0.5 * sum_c, 1e-12);
+  tl_sparse_destroy(&K);
+  free(u), free(d), free(up), free(rp), free(rm), free(fx), free(Kd), free(ones), free(Mo), free(ml);
+  tl_solid_destroy(&solid);
+  tl_mesh_destroy(&mesh);
+
+  /* An unconstrained copy: the full consistent mass sums to rho V in each
+   * direction, and so does the lumped one. */
+  mesh = distorted_mesh(t);
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  sys = tl_solid_system(solid);
+  n = (size_t)sys->ndof;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, sys->symmetric, &K), TL_OK);
+  TL_TEST_STATUS(sys->ops->consistent_mass(sys, 1.0, K), TL_OK);
+  ones = calloc(n, sizeof *ones), Mo = calloc(n, sizeof *Mo);
+  mass = 1309.0 * tl_mesh_volume(mesh);
+  for (int c = 0; c < dim; ++c) {
+    memset(ones, 0, n * sizeof *ones);
+    for (size_t a = 0; a < mesh->n_nodes; ++a) ones[tl_solid_dof(solid, a, c)] = 1.0;
+    tl_sparse_matvec(K, ones, Mo);
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += ones[i] * Mo[i];
+    TL_TEST_CLOSE(sum / mass, 1.0, 1e-13);
+  }
+  TL_TEST_STATUS(tl_solid_check_constraints(solid), TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "body") && strstr(tl_error_message(), "translation along x"),
+                 "free-body message: %s", tl_error_message());
+  tl_sparse_destroy(&K);
+  free(ones), free(Mo);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* Prescribed displacement u = A X on xmin: the reactions there balance the
+ * tractions on the other faces. */
+static void prescribed_affine(double t, const double X[3], int component, void *ctx, double out[3])
+{
+  const double *A = ctx;
+  out[0] = t * (A[3 * component] * X[0] + A[3 * component + 1] * X[1] + A[3 * component + 2] * X[2]);
+  out[1] = out[0] / (t == 0.0 ? 1.0 : t);
+  out[2] = 0.0;
+}
+
+static void reaction_test(void)
+{
+  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
+  TlMaterial *mat = make_law("neo_hookean", 0.25);
+  if (!mesh || !mat) return;
+  double A[9] = {0.02, 0.0, 0.0, 0.0, -0.005, 0.0, 0.0, 0.0, -0.005};
+  TlMat3 F = {{{1.02, 0, 0}, {0, 0.995, 0}, {0, 0, 0.995}}}, S;
+  tl_material_evaluate(mat, 1, &F, NULL, NULL, &S, NULL, NULL);
+  TlMat3 P = tl_m3_mul(F, S);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  for (int c = 0; c < 3; ++c) TL_TEST_STATUS(tl_solid_prescribe(solid, "xmin", c, prescribed_affine, A), TL_OK);
+  const char *names[5] = {"xmax", "ymin", "ymax", "zmin", "zmax"};
+  TlVec3 normals[5] = {{1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  for (int f = 0; f < 5; ++f) tl_solid_add_traction(solid, names[f], tl_m3_mulv(P, normals[f]), NULL, NULL);
+  TL_TEST_STATUS(tl_solid_fix(solid, "xmin", 1), TL_ERR_ARG); /* already prescribed */
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_check_constraints(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof, nc = mesh->n_nodes * 3;
+  TL_TEST_ASSERT(sys->n_dirichlet == 27, "%ld Dirichlet dofs", (long)sys->n_dirichlet);
+  double *u = calloc(n, sizeof *u), *R = calloc(nc, sizeof *R);
+  for (size_t a = 0; a < mesh->n_nodes; ++a)
+    for (int c = 0; c < 3; ++c) {
+      double out[3];
+      prescribed_affine(1.0, mesh->x + 3 * a, c, A, out);
+      u[tl_solid_dof(solid, a, c)] = out[0];
+    }
+  double *check = calloc(n, sizeof *check);
+  memcpy(check, u, n * sizeof *u);
+  TL_TEST_STATUS(sys->ops->dirichlet(sys, 1.0, check, NULL, NULL), TL_OK);
+  double derr = 0.0;
+  for (size_t i = 0; i < n; ++i) derr = fmax(derr, fabs(check[i] - u[i]));
+  TL_TEST_ASSERT(derr == 0.0, "dirichlet values differ by %g", derr);
+  TL_TEST_STATUS(tl_solid_reactions(solid, 1.0, u, NULL, R), TL_OK);
+  double sum[3] = {0, 0, 0};
+  for (size_t a = 0; a < mesh->n_nodes; ++a)
+    for (int c = 0; c < 3; ++c) sum[c] += R[3 * a + c];
+  /* Expected: the traction P (-e_x) over the xmin face (area 1 x 0.8). */
+  TlVec3 expect = tl_v3_scale(tl_m3_mulv(P, tl_v3(-1, 0, 0)), 0.8);
+  TL_TEST_CLOSE(sum[0] / expect.x, 1.0, 1e-11);
+  TL_TEST_ASSERT(fabs(sum[1]) < 1e-9 * fabs(expect.x) && fabs(sum[2]) < 1e-9 * fabs(expect.x), "shear reactions %g %g",
+                 sum[1], sum[2]);
+  free(u), free(R), free(check);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* Uniaxial stretch of a bar with symmetry conditions under a dead traction
+ * P on xmax, solved by the quasi-static stepper.  For Eq. 34 with nu = 0,
+ * F = diag(lambda, 1, 1) and P = E (lambda^2 - 1) / (2 lambda^3)
+ * (contravariant reading) or E lambda^5 (lambda^2 - 1) / 2 (covariant). */
+static void uniaxial_test(const char *law, double lambda)
+{
+  size_t n[3] = {4, 1, 1};
+  double lo[3] = {0, 0, 0}, hi[3] = {2.0, 0.5, 0.5};
+  TlMesh *mesh = NULL;
+  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, n, lo, hi, &mesh), TL_OK);
+  TlMaterial *mat = make_law(law, 0.0);
+  if (!mesh || !mat) return;
+  double P = !strcmp(law, "hooke") ? E_mod * (lambda * lambda - 1) / (2 * pow(lambda, 3))
+                                   : E_mod * pow(lambda, 5) * (lambda * lambda - 1) / 2;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  tl_solid_fix(solid, "xmin", 1);
+  tl_solid_fix(solid, "ymin", 2);
+  tl_solid_fix(solid, "zmin", 4);
+  tl_solid_add_traction(solid, "xmax", tl_v3(P, 0, 0), NULL, NULL);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_check_constraints(solid), TL_OK);
+  TlStepperOptions opt;
+  tl_stepper_options_default(&opt);
+  opt.ramp_time = 1.0;
+  TlStepper *st = NULL;
+  TL_TEST_STATUS(tl_stepper_create("quasi_static", tl_solid_system(solid), &opt, &st), TL_OK);
+  if (!st) return;
+  TL_TEST_STATUS(tl_stepper_set_state(st, 0.0, NULL, NULL), TL_OK);
+  for (int k = 0; k < 4; ++k) TL_TEST_STATUS(tl_stepper_step(st, 0.25), TL_OK);
+  double err = 0.0;
+  for (size_t a = 0; a < mesh->n_nodes; ++a) {
+    const double *X = mesh->x + 3 * a;
+    double expect[3] = {(lambda - 1) * X[0], 0, 0};
+    for (int c = 0; c < 3; ++c) {
+      TlSparseIndex d = tl_solid_dof(solid, a, c);
+      double v = d >= 0 ? st->u[d] : 0.0;
+      err = fmax(err, fabs(v - expect[c]));
+    }
+  }
+  TL_TEST_ASSERT(err < 1e-9 * (lambda - 1) * 2.0, "%s uniaxial lambda=%g: displacement off by %g", law, lambda, err);
+  tl_stepper_destroy(&st);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+int main(void)
+{
+  TL_TEST_STATUS(tl_initialize(), TL_OK);
+  srand(11);
+  TlMat3 R90 = tl_m3_rotation(tl_v3(0, 0, 1), M_PI / 2);
+  TlMat3 Rany = tl_m3_rotation(tl_v3(0.4, -1.1, 0.7), 1.234);
+  TlMat3 Rplane = tl_m3_rotation(tl_v3(0, 0, 1), 2.345);
+  for (size_t k = 0; k < sizeof types / sizeof types[0]; ++k) {
+    const TlElementType *t = types[k];
+    patch_test(t, "hooke");
+    patch_test(t, "hooke_covariant");
+    patch_test(t, "neo_hookean");
+    rotation_test(t, R90, "90 degrees about z");
+    rotation_test(t, t->dim == 3 ? Rany : Rplane, "arbitrary");
+    tangent_test(t, "hooke", 0.0);
+    tangent_test(t, "hooke", 0.3);
+    tangent_test(t, "hooke_covariant", 0.3);
+    tangent_test(t, "neo_hookean", 0.3);
+  }
+  system_test(&tl_element_hex8);
+  system_test(&tl_element_tet10);
+  system_test(&tl_element_quad8);
+  reaction_test();
+  uniaxial_test("hooke", 1.05);
+  uniaxial_test("hooke_covariant", 1.02);
+  return tl_test_report();
+}
