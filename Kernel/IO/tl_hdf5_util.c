@@ -26,6 +26,19 @@ static const char *tl_h5_reason(void)
 
 static void tl_h5_silence(void) { H5Eset_auto2(H5E_DEFAULT, NULL, NULL); }
 
+/* File access without HDF5's file locks: every file is written once under a
+ * private temporary name and only read after the rename, so locks protect
+ * nothing here, and they fail on file systems without lock support (some
+ * network and container mounts). */
+static hid_t tl_h5_fapl(void)
+{
+  hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+#if H5_VERSION_GE(1, 10, 7)
+  if (fapl >= 0) H5Pset_file_locking(fapl, 0, 1);
+#endif
+  return fapl;
+}
+
 #define TL_H5_FAIL(file, what, obj)                                                                  \
   tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot %s '%s' in '%s' (%s)", (what), (obj),   \
                (file)->path, tl_h5_reason())
@@ -47,7 +60,9 @@ TlStatus tl_h5_create(const char *path, TlH5File *file)
   TL_CHECK(tl_strdup(path, &file->path));
   TlStatus s;
   TL_CHECK_GOTO(s, tl_atomic_temp_name(path, &file->temp), fail);
-  file->id = H5Fcreate(file->temp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t fapl = tl_h5_fapl();
+  file->id = H5Fcreate(file->temp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  H5Pclose(fapl);
   if (file->id < 0) {
     s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot create '%s' (temporary for '%s'): %s",
                      file->temp, path, tl_h5_reason());
@@ -97,7 +112,9 @@ TlStatus tl_h5_open(const char *path, TlH5File *file)
   if (access(path, R_OK) != 0)
     TL_ERROR(TL_ERR_IO, "cannot read '%s': no such file or no permission", path);
   TL_CHECK(tl_strdup(path, &file->path));
-  file->id = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t fapl = tl_h5_fapl();
+  file->id = H5Fopen(path, H5F_ACC_RDONLY, fapl);
+  H5Pclose(fapl);
   if (file->id < 0) {
     TlStatus s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "HDF5: cannot open '%s' (not an HDF5 file? %s)",
                               path, tl_h5_reason());
