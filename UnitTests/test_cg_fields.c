@@ -177,6 +177,55 @@ static void test_search_vs_brute(int periodic)
   cloud_free(&cl);
 }
 
+/* Grid fields (scatter from sources) against point fields at the nodes
+ * (gather through the bins), open and periodic: every field. */
+static void test_grid_vs_points(int periodic)
+{
+  TlVec3 L = tl_v3(6, 5, 4);
+  Cloud cl;
+  cloud_make(&cl, 300, L, 555u + (uint64_t)periodic, 0.6);
+  TlCGKernel *k;
+  TL_TEST_STATUS(tl_cg_kernel_create("gaussian", 1.1, 3, &k), TL_OK);
+  TlCGBox box = {tl_v3(0, 0, 0), L, {periodic, periodic, 0}};
+  TlCG *cg;
+  TL_TEST_STATUS(tl_cg_create(k, periodic ? &box : NULL, 0, &cg), TL_OK);
+  TlCGParticleArrays p = {cl.n, cl.x, cl.m, cl.v};
+  TlCGContactArrays c = {cl.nc, cl.cx, cl.cb, cl.cf};
+  TlCGWallContactArrays w = {cl.nw, cl.wp, cl.wf, cl.wc};
+  TL_TEST_STATUS(tl_cg_set_data(cg, &p, &c, &w), TL_OK);
+  /* a grid that does not tile the periodic box, with nodes outside it */
+  TlCGGrid g = {tl_v3(-0.7, -0.3, -1.0), tl_v3(0.45, 0.5, 0.55), {17, 13, 12}};
+  size_t nodes = 17 * 13 * 12;
+  TlVec3 *pts = malloc(nodes * sizeof *pts);
+  for (int kk = 0; kk < 12; ++kk)
+    for (int j = 0; j < 13; ++j)
+      for (int i = 0; i < 17; ++i) pts[i + 17 * (j + 13 * kk)] = tl_cg_grid_node(&g, i, j, kk);
+  TlCGFields *a, *b;
+  TL_TEST_STATUS(tl_cg_fields_create(nodes, TL_CG_ALL, &a), TL_OK);
+  TL_TEST_STATUS(tl_cg_fields_create(nodes, TL_CG_ALL, &b), TL_OK);
+  TL_TEST_STATUS(tl_cg_evaluate_grid(cg, &g, a), TL_OK);
+  TL_TEST_STATUS(tl_cg_evaluate_points(cg, nodes, pts, b), TL_OK);
+  double worst = 0.0, scale = 0.0;
+  for (size_t i = 0; i < nodes; ++i) {
+    worst = fmax(worst, fabs(a->density[i] - b->density[i]));
+    worst = fmax(worst, tl_v3_norm(tl_v3_sub(a->momentum[i], b->momentum[i])));
+    worst = fmax(worst, tl_v3_norm(tl_v3_sub(a->velocity[i], b->velocity[i])));
+    worst = fmax(worst, mat_diff(a->stress_contact[i], b->stress_contact[i]));
+    worst = fmax(worst, mat_diff(a->stress_kinetic[i], b->stress_kinetic[i]));
+    worst = fmax(worst, mat_diff(a->fabric[i], b->fabric[i]));
+    worst = fmax(worst, tl_v3_norm(tl_v3_sub(a->boundary_force[i], b->boundary_force[i])));
+    scale = fmax(scale, b->density[i]);
+  }
+  TL_TEST_ASSERT(scale > 1.0, "grid sees data (max density %g)", scale);
+  TL_TEST_ASSERT(worst < 1e-12 * scale, "periodic %d: grid scatter vs point gather differ by %g", periodic, worst);
+  free(pts);
+  tl_cg_fields_destroy(&a);
+  tl_cg_fields_destroy(&b);
+  tl_cg_destroy(&cg);
+  tl_cg_kernel_destroy(&k);
+  cloud_free(&cl);
+}
+
 /* Overlapping particles: grid integral of density and momentum over a
  * grid enclosing them (trapezoid rule of the Lucy kernel, C^2 at r = c). */
 static void test_mass_grid(void)
@@ -455,6 +504,8 @@ int main(void)
   test_mass_isolated("heaviside");
   test_search_vs_brute(0);
   test_search_vs_brute(1);
+  test_grid_vs_points(0);
+  test_grid_vs_points(1);
   test_mass_grid();
   test_stress_periodic("dirac", 0.0, 1e-12);
   test_stress_periodic("lucy", 1.5, 1e-4);

@@ -44,6 +44,8 @@ struct TlCG {
   TlCGBins bins[3]; /* particles, lines, wall points */
   int n_threads;
   TlCGWork *work;
+  TlMat3 *mvv; /* grid scatter: sum m v v W per node */
+  size_t cap_mvv;
 };
 
 /* ---------------------------------------------------------------- fields */
@@ -53,6 +55,9 @@ TlStatus tl_cg_fields_create(size_t n, unsigned which, TlCGFields **fields)
   *fields = NULL;
   if (which == 0 || (which & ~(unsigned)TL_CG_ALL))
     TL_ERROR(TL_ERR_ARG, "field mask 0x%x is empty or has unknown bits (known 0x%x)", which, (unsigned)TL_CG_ALL);
+  /* velocity needs the density, the kinetic stress the velocity */
+  if (which & TL_CG_STRESS_KINETIC) which |= TL_CG_MOMENTUM;
+  if (which & TL_CG_MOMENTUM) which |= TL_CG_DENSITY;
   TlCGFields *f;
   TL_CHECK(TL_NEW(f));
   f->n = n;
@@ -223,6 +228,7 @@ void tl_cg_destroy(TlCG **cg)
   tl_free(&c->lf);
   tl_free(&c->lmid);
   tl_free(&c->work);
+  tl_free(&c->mvv);
   tl_free(cg);
 }
 
@@ -719,6 +725,228 @@ static TlStatus evaluate_dirac_grid(TlCG *c, const TlCGGrid *g, TlCGFields *out)
   return TL_OK;
 }
 
+/* ------------------------------------------- smooth kernels on a grid */
+
+/* Grid scatter: every source visits the nodes within its reach (its
+ * bounding box enlarged by c, for each periodic image that reaches the
+ * grid), so a grid costs O(sources x nodes per kernel) with no search.
+ * Threads own slabs of node layers along z and each visits every source
+ * whose box meets its slab: no two threads write the same node. */
+typedef struct {
+  int i0[3], i1[3];
+  TlVec3 shift;
+} TlCGImageBox;
+
+static int image_boxes(const TlCG *c, const TlCGGrid *g, TlVec3 blo, TlVec3 bhi, int k0, int k1, TlCGImageBox *out)
+{
+  int span[3];
+  for (int d = 0; d < 3; ++d) span[d] = c->has_box && c->box.periodic[d] ? 1 : 0;
+  int m = 0;
+  for (int sz = -span[2]; sz <= span[2]; ++sz)
+    for (int sy = -span[1]; sy <= span[1]; ++sy)
+      for (int sx = -span[0]; sx <= span[0]; ++sx) {
+        TlVec3 sh = tl_v3(sx * c->length.x, sy * c->length.y, sz * c->length.z);
+        TlCGImageBox b;
+        b.shift = sh;
+        int empty = 0;
+        for (int d = 0; d < 3 && !empty; ++d) {
+          double glo = (&g->lo.x)[d], h = (&g->h.x)[d];
+          double a = ceil(((&blo.x)[d] + (&sh.x)[d] - glo) / h), z = floor(((&bhi.x)[d] + (&sh.x)[d] - glo) / h);
+          double lo_lim = d == 2 ? k0 : 0, hi_lim = d == 2 ? k1 - 1 : g->n[d] - 1;
+          a = fmax(a, lo_lim);
+          z = fmin(z, hi_lim);
+          if (!(a <= z)) empty = 1;
+          else {
+            b.i0[d] = (int)a;
+            b.i1[d] = (int)z;
+          }
+        }
+        if (!empty) out[m++] = b;
+      }
+  return m;
+}
+
+static TlStatus scatter_particle(const TlCG *c, TlCGWork *w, size_t i, TlCGFields *out, TlMat3 *mvv)
+{
+  if (!w->count) return TL_OK;
+  TL_CHECK(tl_cg_kernel_eval(c->kernel, w->count, w->r2, w->w, NULL));
+  const TlCGParticleArrays *p = &c->particles;
+  double m = p->mass[i];
+  TlVec3 v = p->v ? p->v[i] : tl_v3(0, 0, 0);
+  TlMat3 vv = tl_m3_outer(v, v);
+  for (size_t e = 0; e < w->count; ++e) {
+    size_t n = w->src[e];
+    double mw = m * w->w[e];
+    if (out->density) out->density[n] += mw;
+    if (out->momentum) out->momentum[n] = tl_v3_axpy(out->momentum[n], mw, v);
+    if (mvv) mvv[n] = tl_m3_add(mvv[n], tl_m3_scale(vv, mw));
+  }
+  w->count = 0;
+  return TL_OK;
+}
+
+static TlStatus scatter_line(const TlCG *c, TlCGWork *w, size_t i, TlCGFields *out)
+{
+  if (!w->count) return TL_OK;
+  TL_CHECK(tl_cg_kernel_eval(c->kernel, w->count, w->r2, w->w, NULL));
+  TlMat3 fb = tl_m3_outer(c->lf[i], c->lb[i]);
+  TlVec3 nb = tl_v3_normalize(c->lb[i]);
+  TlMat3 nn = tl_m3_outer(nb, nb);
+  size_t e = 0;
+  while (e < w->count) {
+    size_t n = w->src[e];
+    double s = 0.0;
+    for (; e < w->count && w->src[e] == n; ++e) s += w->aux[e] * w->w[e];
+    if (out->stress_contact) out->stress_contact[n] = tl_m3_add(out->stress_contact[n], tl_m3_scale(fb, s));
+    if (out->fabric) out->fabric[n] = tl_m3_add(out->fabric[n], tl_m3_scale(nn, s));
+  }
+  w->count = 0;
+  return TL_OK;
+}
+
+static TlStatus scatter_wall(const TlCG *c, TlCGWork *w, size_t i, TlCGFields *out)
+{
+  if (!w->count) return TL_OK;
+  TL_CHECK(tl_cg_kernel_eval(c->kernel, w->count, w->r2, w->w, NULL));
+  for (size_t e = 0; e < w->count; ++e)
+    out->boundary_force[w->src[e]] = tl_v3_axpy(out->boundary_force[w->src[e]], -w->w[e], c->walls.force[i]);
+  w->count = 0;
+  return TL_OK;
+}
+
+#define TL_CG_FOR_BOX_NODES(g, b, node, pos, ...)                                                  \
+  for (int k_ = (b).i0[2]; k_ <= (b).i1[2]; ++k_)                                                  \
+    for (int j_ = (b).i0[1]; j_ <= (b).i1[1]; ++j_)                                                \
+      for (int i_ = (b).i0[0]; i_ <= (b).i1[0]; ++i_) {                                            \
+        size_t node = (size_t)i_ + (size_t)(g)->n[0] * ((size_t)j_ + (size_t)(g)->n[1] * (size_t)k_); \
+        TlVec3 pos = tl_cg_grid_node((g), i_, j_, k_);                                             \
+        __VA_ARGS__                                                                                \
+      }
+
+static TlStatus scatter_slab(const TlCG *c, TlCGWork *w, const TlCGGrid *g, int k0, int k1, TlCGFields *out,
+                             TlMat3 *mvv)
+{
+  unsigned which = out->which;
+  const double cw = c->kernel->c, c2 = cw * cw;
+  TlCGImageBox boxes[27];
+  if (which & (TL_CG_DENSITY | TL_CG_MOMENTUM | TL_CG_STRESS_KINETIC)) {
+    const TlCGParticleArrays *p = &c->particles;
+    for (size_t i = 0; i < p->n; ++i) {
+      TlVec3 x = p->x[i];
+      int nb = image_boxes(c, g, tl_v3(x.x - cw, x.y - cw, x.z - cw), tl_v3(x.x + cw, x.y + cw, x.z + cw), k0, k1, boxes);
+      w->count = 0;
+      for (int q = 0; q < nb; ++q) {
+        TlVec3 xs = tl_v3_add(x, boxes[q].shift);
+        TL_CG_FOR_BOX_NODES(g, boxes[q], node, pos, {
+          double r2 = tl_v3_norm2(tl_v3_sub(pos, xs));
+          if (r2 < c2) {
+            if (w->count == TL_CG_CHUNK) TL_CHECK(scatter_particle(c, w, i, out, mvv));
+            w->r2[w->count] = r2;
+            w->src[w->count++] = node;
+          }
+        })
+      }
+      TL_CHECK(scatter_particle(c, w, i, out, mvv));
+    }
+  }
+  if (which & (TL_CG_STRESS_CONTACT | TL_CG_FABRIC)) {
+    int ng = c->n_gauss;
+    for (size_t i = 0; i < c->n_lines; ++i) {
+      TlVec3 a = c->la[i], b = c->lb[i], e = tl_v3_add(a, b);
+      double bb = tl_v3_norm2(b);
+      if (!(bb > 0.0)) continue;
+      TlVec3 blo = tl_v3(fmin(a.x, e.x) - cw, fmin(a.y, e.y) - cw, fmin(a.z, e.z) - cw);
+      TlVec3 bhi = tl_v3(fmax(a.x, e.x) + cw, fmax(a.y, e.y) + cw, fmax(a.z, e.z) + cw);
+      int nb = image_boxes(c, g, blo, bhi, k0, k1, boxes);
+      w->count = 0;
+      for (int q = 0; q < nb; ++q) {
+        TlVec3 as = tl_v3_add(a, boxes[q].shift);
+        TL_CG_FOR_BOX_NODES(g, boxes[q], node, pos, {
+          TlVec3 d = tl_v3_sub(pos, as);
+          double db = tl_v3_dot(d, b), disc = db * db - bb * (tl_v3_norm2(d) - c2);
+          if (disc > 0.0) {
+            double sq = sqrt(disc);
+            double s0 = fmax(0.0, (db - sq) / bb), s1 = fmin(1.0, (db + sq) / bb);
+            if (s1 > s0) {
+              if (w->count + (size_t)ng > TL_CG_CHUNK) TL_CHECK(scatter_line(c, w, i, out));
+              for (int gq = 0; gq < ng; ++gq) {
+                double s = s0 + (s1 - s0) * c->gx[gq];
+                w->r2[w->count] = tl_v3_norm2(tl_v3_axpy(d, -s, b));
+                w->aux[w->count] = (s1 - s0) * c->gw[gq];
+                w->src[w->count++] = node;
+              }
+            }
+          }
+        })
+      }
+      TL_CHECK(scatter_line(c, w, i, out));
+    }
+  }
+  if (which & TL_CG_BOUNDARY_FORCE) {
+    for (size_t i = 0; i < c->walls.n; ++i) {
+      TlVec3 x = c->walls.point[i];
+      int nb = image_boxes(c, g, tl_v3(x.x - cw, x.y - cw, x.z - cw), tl_v3(x.x + cw, x.y + cw, x.z + cw), k0, k1, boxes);
+      w->count = 0;
+      for (int q = 0; q < nb; ++q) {
+        TlVec3 xs = tl_v3_add(x, boxes[q].shift);
+        TL_CG_FOR_BOX_NODES(g, boxes[q], node, pos, {
+          double r2 = tl_v3_norm2(tl_v3_sub(pos, xs));
+          if (r2 < c2) {
+            if (w->count == TL_CG_CHUNK) TL_CHECK(scatter_wall(c, w, i, out));
+            w->r2[w->count] = r2;
+            w->src[w->count++] = node;
+          }
+        })
+      }
+      TL_CHECK(scatter_wall(c, w, i, out));
+    }
+  }
+  /* velocity and kinetic stress of the slab's nodes */
+  size_t layer = (size_t)g->n[0] * (size_t)g->n[1];
+  for (size_t n = (size_t)k0 * layer; n < (size_t)k1 * layer; ++n) {
+    double rho = out->density ? out->density[n] : 0.0;
+    if (!out->momentum) continue;
+    TlVec3 V = rho > 0.0 ? tl_v3_scale(out->momentum[n], 1.0 / rho) : tl_v3(0, 0, 0);
+    out->velocity[n] = V;
+    if (mvv) out->stress_kinetic[n] = tl_m3_add(tl_m3_scale(mvv[n], -1.0), tl_m3_outer(out->momentum[n], V));
+  }
+  return TL_OK;
+}
+
+static TlStatus evaluate_grid_scatter(TlCG *c, const TlCGGrid *g, TlCGFields *out)
+{
+  unsigned which = out->which;
+  if ((which & (TL_CG_MOMENTUM | TL_CG_STRESS_KINETIC)) && c->particles.n && !c->particles.v)
+    TL_ERROR(TL_ERR_ARG, "momentum or kinetic stress asked for, but no particle velocities were given");
+  TlMat3 *mvv = NULL;
+  if (which & TL_CG_STRESS_KINETIC) {
+    TL_CHECK(tl_array_reserve(&c->mvv, &c->cap_mvv, out->n, sizeof(TlMat3)));
+    memset(c->mvv, 0, out->n * sizeof(TlMat3));
+    mvv = c->mvv;
+  }
+  TlStatus status = TL_OK;
+  int nz = g->n[2];
+#pragma omp parallel
+  {
+    int t = 0, nt = 1;
+#ifdef _OPENMP
+    t = omp_get_thread_num();
+    nt = omp_get_num_threads();
+#endif
+    if (t < c->n_threads) {
+      int used = nt < c->n_threads ? nt : c->n_threads;
+      int k0 = (int)((long)nz * t / used), k1 = (int)((long)nz * (t + 1) / used);
+      TlStatus s = k1 > k0 ? scatter_slab(c, &c->work[t], g, k0, k1, out, mvv) : TL_OK;
+      if (s != TL_OK) {
+#pragma omp critical(tl_cg_error)
+        if (status == TL_OK) status = s;
+      }
+    }
+  }
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  return TL_OK;
+}
+
 TlStatus tl_cg_evaluate_grid(TlCG *c, const TlCGGrid *g, TlCGFields *out)
 {
   for (int d = 0; d < 3; ++d) {
@@ -732,7 +960,7 @@ TlStatus tl_cg_evaluate_grid(TlCG *c, const TlCGGrid *g, TlCGFields *out)
   if (tl_cg_kernel_is_dirac(c->kernel)) {
     TL_CHECK(evaluate_dirac_grid(c, g, out));
   } else {
-    TL_CHECK(evaluate_points(c, nodes, NULL, g, 0, out));
+    TL_CHECK(evaluate_grid_scatter(c, g, out));
   }
   out->weight = 1.0;
   return TL_OK;

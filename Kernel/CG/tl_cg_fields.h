@@ -87,7 +87,9 @@ enum {
   TL_CG_ALL = (1u << 6) - 1
 };
 
-/* Fields on n points; arrays of the fields not requested are NULL. */
+/* Fields on n points; arrays of the fields not requested are NULL.  The
+ * kinetic stress brings the momentum and velocity with it, and those the
+ * density (each is computed from the previous). */
 typedef struct {
   size_t n;
   unsigned which;
