@@ -19,6 +19,8 @@ void tl_tricontacts_destroy(TlTriContactSet **set)
   tl_free(&(*set)->history);
   tl_free(&(*set)->link);
   tl_free(&(*set)->used);
+  tl_free(&(*set)->bucket);
+  tl_free(&(*set)->sorted);
   tl_free(set);
 }
 
@@ -45,10 +47,13 @@ TlStatus tl_tricontacts_append(TlTriContactSet *set, const TlTriContactRecord *r
 TlStatus tl_tricontacts_test(TlTriContactSet *set, const TlTriSurface *s, const TlDomain *domain,
                              int32_t t, int32_t p, TlVec3 x, double r)
 {
-  if (domain && domain->any_periodic) {
-    TlVec3 anchor = s->x[s->tri[3 * (size_t)t]];
-    x = tl_v3_add(anchor, tl_domain_branch(domain, anchor, x));
-  }
+  TlVec3 anchor = s->x[s->tri[3 * (size_t)t]];
+  if (domain && domain->any_periodic) x = tl_v3_add(anchor, tl_domain_branch(domain, anchor, x));
+  /* cheap rejections first: the triangle's plane and its box */
+  if (fabs(tl_v3_dot(s->normal[t], tl_v3_sub(x, anchor))) >= r) return TL_OK;
+  TlVec3 lo = s->box_lo[t], hi = s->box_hi[t];
+  if (x.x + r < lo.x || x.x - r > hi.x || x.y + r < lo.y || x.y - r > hi.y || x.z + r < lo.z || x.z - r > hi.z)
+    return TL_OK;
   TlTriContact con;
   if (!tl_trisurface_sphere_contact(s, t, x, r, &con)) return TL_OK;
   TlTriContactRecord rec = {.particle = p, .triangle = t, .feature = con.feature, .active = 1,
@@ -93,9 +98,36 @@ static TlStatus tl_tricontacts_build_groups(TlTriContactSet *set)
 TlStatus tl_tricontacts_sort(TlTriContactSet *set)
 {
   /* Detection order depends on the grid and the threads; sorting makes every
-   * later decision (ties included) independent of both. */
-  if (set->count > 1) qsort(set->c, set->count, sizeof *set->c, tl_record_compare);
+   * later decision (ties included) independent of both.  Counting sort by
+   * particle (O(count + particles)), then insertion sort by triangle within
+   * each particle's few contacts. */
+  size_t n = set->count;
+  if (n > 1) {
+    int32_t pmax = 0;
+    for (size_t i = 0; i < n; ++i) pmax = set->c[i].particle > pmax ? set->c[i].particle : pmax;
+    size_t np = (size_t)pmax + 2;
+    TL_CHECK(tl_array_reserve(&set->bucket, &set->bucket_capacity, np, sizeof *set->bucket));
+    TL_CHECK(tl_array_reserve(&set->sorted, &set->sorted_capacity, n, sizeof *set->sorted));
+    memset(set->bucket, 0, np * sizeof *set->bucket);
+    for (size_t i = 0; i < n; ++i) ++set->bucket[set->c[i].particle + 1];
+    for (size_t p = 1; p < np; ++p) set->bucket[p] += set->bucket[p - 1];
+    for (size_t i = 0; i < n; ++i) set->sorted[set->bucket[set->c[i].particle]++] = set->c[i];
+    TlTriContactRecord *tmp = set->c;
+    size_t cap = set->capacity;
+    set->c = set->sorted, set->capacity = set->sorted_capacity;
+    set->sorted = tmp, set->sorted_capacity = cap;
+  }
   TL_CHECK(tl_tricontacts_build_groups(set));
+  for (size_t g = 0; g < set->n_groups; ++g)
+    for (size_t i = set->group[g] + 1; i < set->group[g + 1]; ++i) {
+      TlTriContactRecord r = set->c[i];
+      size_t j = i;
+      while (j > set->group[g] && set->c[j - 1].triangle > r.triangle) {
+        set->c[j] = set->c[j - 1];
+        --j;
+      }
+      set->c[j] = r;
+    }
   return TL_OK;
 }
 
@@ -173,18 +205,6 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
   return TL_OK;
 }
 
-/* Group of particle p in set, or -1. */
-static long tl_find_group(const TlTriContactSet *set, int32_t p)
-{
-  size_t lo = 0, hi = set->n_groups;
-  while (lo < hi) {
-    size_t mid = lo + (hi - lo) / 2;
-    if (set->c[set->group[mid]].particle < p) lo = mid + 1;
-    else hi = mid;
-  }
-  return (lo < set->n_groups && set->c[set->group[lo]].particle == p) ? (long)lo : -1;
-}
-
 TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSet *prev,
                                       size_t history_doubles)
 {
@@ -201,11 +221,20 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
   unsigned char *used = set->used;
   int32_t *done = set->link;
   long ng = (long)set->n_groups;
+  /* the previous group of each particle, by one merge of the two sorted
+   * group lists (kept in the scratch `bucket`) */
+  TL_CHECK(tl_array_reserve(&set->bucket, &set->bucket_capacity, set->n_groups + 1, sizeof *set->bucket));
+  size_t *match = set->bucket;
+  for (size_t g = 0, h = 0; g < set->n_groups; ++g) {
+    int32_t p = c[set->group[g]].particle;
+    while (h < prev->n_groups && pc[prev->group[h]].particle < p) ++h;
+    match[g] = (h < prev->n_groups && pc[prev->group[h]].particle == p) ? h : SIZE_MAX;
+  }
 #pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
   for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
-    long h = tl_find_group(prev, c[g0].particle);
-    if (h < 0) continue;
+    if (match[g] == SIZE_MAX) continue;
+    size_t h = match[g];
     size_t h0 = prev->group[h], h1 = prev->group[h + 1];
     /* the same triangle first */
     for (size_t i = g0; i < g1; ++i) {

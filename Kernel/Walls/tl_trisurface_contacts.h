@@ -67,6 +67,8 @@ typedef struct {
   /* scratch */
   int32_t *link; size_t link_capacity;
   unsigned char *used; size_t used_capacity;
+  size_t *bucket; size_t bucket_capacity;
+  TlTriContactRecord *sorted; size_t sorted_capacity;
 } TlTriContactSet;
 
 TlStatus tl_tricontacts_create(TlTriContactSet **set);

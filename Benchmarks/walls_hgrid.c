@@ -1,0 +1,383 @@
+/* Walls in the hierarchical grid (seeds/001 §5.1.1, Algorithm 2).
+ *
+ * 1. Scaling: 10 000 spheres (r = 1 mm) resting in a square patch on a flat
+ *    triangulated floor of 10^3 ... 10^6 triangles of fixed size (the floor
+ *    grows around the patch).  Time per particle-step of the whole DEM step
+ *    and of the wall alone must stay flat as the triangle count grows; the
+ *    wall's cost is compared with brute force (every particle against every
+ *    triangle), measured where it fits in -brute_max tests per step.
+ * 2. The peer scene mesh_wall of the peers' README: 5 000 settled spheres on
+ *    LIGGGHTS's 3 200-triangle floor, periodic in x and y, Hertz contacts
+ *    (E = 5 MPa, nu = 0.45, e = 0.3, mu = 0.5), dt = 1e-5 s; Talus and
+ *    LIGGGHTS run in the same invocation (Benchmarks/peers/run_peer.sh) and
+ *    the ratio of their times per particle-step is printed.  -peer_sweep also
+ *    runs both over the README's floors of 200 ... 12 800 triangles.
+ *
+ * Output: <output_dir>/scaling.csv and peer.csv; last line
+ *   summary: ... ratio=<talus/liggghts> ... wall=<s> */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "peers/tl_peer.h"
+#include "talus.h"
+#include "tl_atomic_file.h"
+#include "tl_contact_law.h"
+#include "tl_dem.h"
+#include "tl_lammps_data.h"
+#include "tl_wall_trisurface.h"
+
+typedef struct {
+  double radius, density, youngs, poisson, restitution, mu, dt;
+  long n_particles, steps, warmup, brute_steps;
+  double brute_max;
+  double triangles[8];
+  int n_sizes;
+  int peer, peer_sweep, peer_repeat;
+  long peer_steps, peer_warmup;
+  const char *output_dir;
+} Setup;
+
+/* The Hertz law of the peers' scene: Talus's k_n, k_t are LIGGGHTS's
+ * (4/3 Y*, 8 G*); LIGGGHTS's damping sqrt(s m)-form is matched at the
+ * resting overlap of a sphere under its weight. */
+static TlStatus make_law(const Setup *s, TlContactLaw **law)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.youngs_modulus = s->youngs;
+  cp.poisson_ratio = s->poisson;
+  cp.mu = s->mu;
+  double kn = 2.0 / 3.0 * s->youngs / (1 - s->poisson * s->poisson);
+  double m = s->density * 4.0 / 3.0 * TL_PI * pow(s->radius, 3);
+  double delta = pow(m * 9.81 / (kn * sqrt(s->radius)), 2.0 / 3.0);
+  double sq = sqrt(delta * s->radius), le = log(s->restitution);
+  double beta = le / sqrt(le * le + TL_PI * TL_PI);
+  double ystar = s->youngs / (2 * (1 - s->poisson * s->poisson));
+  double gstar = s->youngs / (4 * (2 - s->poisson) * (1 + s->poisson));
+  double cn = -2 * sqrt(5.0 / 6.0) * beta * sqrt(2 * ystar * sq * m);
+  double ct = -2 * sqrt(5.0 / 6.0) * beta * sqrt(8 * gstar * sq * m);
+  cp.gamma_n = cn / (sq * m);
+  cp.gamma_t = ct / (sq * m);
+  TL_CHECK(tl_contact_law_create_hertz(&cp, law));
+  return TL_OK;
+}
+
+static double resting_overlap(const Setup *s)
+{
+  double kn = 2.0 / 3.0 * s->youngs / (1 - s->poisson * s->poisson);
+  double m = s->density * 4.0 / 3.0 * TL_PI * pow(s->radius, 3);
+  return pow(m * 9.81 / (kn * sqrt(s->radius)), 2.0 / 3.0);
+}
+
+/* Runs `steps` DEM steps with a progress bar; returns the wall time. */
+static TlStatus timed_steps(TlDem *dem, long steps, const char *label, double *seconds)
+{
+  TlProgress bar;
+  tl_progress_init(&bar, label, (double)steps);
+  double t0 = tl_wtime();
+  long chunk = steps < 100 ? steps : 100;
+  for (long done = 0; done < steps; done += chunk) {
+    long n = steps - done < chunk ? steps - done : chunk;
+    TL_CHECK(tl_dem_step(dem, n));
+    tl_progress_update(&bar, (double)(done + n));
+  }
+  *seconds = tl_wtime() - t0;
+  tl_progress_finish(&bar);
+  return TL_OK;
+}
+
+/* Seconds per call of the wall's interact on the current state. */
+static TlStatus time_wall(TlDem *dem, TlWall *w, const TlContactLaw *law, long calls, double *seconds)
+{
+  TlWallStep st = {.particles = tl_dem_particles(dem), .grid = tl_dem_grid(dem), .domain = tl_dem_domain(dem),
+                   .law = law, .t = tl_dem_time(dem), .dt = tl_dem_timestep(dem)};
+  TlParticles *P = st.particles;
+  double t0 = tl_wtime();
+  for (long k = 0; k < calls; ++k) {
+    for (size_t i = 0; i < P->n; ++i) P->f[i] = tl_v3(0, 0, 0);
+    TL_CHECK(w->ops->interact(w, &st));
+  }
+  *seconds = (tl_wtime() - t0) / (double)calls;
+  return TL_OK;
+}
+
+typedef struct {
+  double triangles, floor_side, us_step, us_wall, us_brute, brute_ratio;
+  size_t wall_contacts;
+  int brute_measured;
+} ScalingRow;
+
+static TlStatus scaling_case(const Setup *s, double n_triangles, ScalingRow *row)
+{
+  /* 100 x 100 lattice of spheres at pitch 2.2 r, resting at the Hertz
+   * overlap of their weight; the floor's squares are sized so that the
+   * smallest floor (-triangles' first value) just carries the patch */
+  long side = (long)ceil(sqrt((double)s->n_particles));
+  double pitch = 2.2 * s->radius, patch = side * pitch;
+  int n_min = (int)floor(sqrt(s->triangles[0] / 2.0));
+  if (n_min < 1) n_min = 1;
+  double a = patch / n_min;
+  int n = (int)floor(sqrt(n_triangles / 2.0));
+  if (n < n_min) n = n_min;
+  double L = n * a;
+  TlDem *dem = NULL;
+  TlContactLaw *law = NULL;
+  TlTriSurface *surface = NULL;
+  TlWall *wall = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
+  TlDomain dom;
+  TL_CHECK_GOTO(status, tl_domain_init_open(&dom, tl_v3(-0.5 * patch, -0.5 * patch, -s->radius),
+                                            tl_v3(0.5 * patch, 0.5 * patch, 3 * s->radius)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  TL_CHECK_GOTO(status, tl_particles_reserve(P, (size_t)s->n_particles), done);
+  double z = s->radius - resting_overlap(s);
+  for (long k = 0; k < s->n_particles; ++k) {
+    double x = -0.5 * patch + (k % side + 0.5) * pitch, y = -0.5 * patch + (k / side + 0.5) * pitch;
+    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, tl_v3(x, y, z), tl_v3(0, 0, 0), s->radius, sp, NULL), done);
+  }
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  const TlContactLaw *law_ref = law;
+  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
+  law = NULL;
+  TL_CHECK_GOTO(status, tl_trisurface_create_rectangle(-0.5 * L, -0.5 * L, L, L, 0.0, n, n, 0, &surface), done);
+  row->triangles = (double)surface->n_triangles;
+  row->floor_side = L;
+  TL_CHECK_GOTO(status, tl_wall_trisurface_create(surface, &wall), done);
+  surface = NULL;
+  TlWall *w = wall;
+  TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
+  wall = NULL;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
+  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
+  TL_CHECK_GOTO(status, tl_dem_step(dem, s->warmup), done);
+  double sec = 0.0;
+  char label[64];
+  snprintf(label, sizeof label, "%.0f triangles", row->triangles);
+  TL_CHECK_GOTO(status, timed_steps(dem, s->steps, label, &sec), done);
+  row->us_step = 1e6 * sec / ((double)s->steps * (double)P->n);
+  row->wall_contacts = w->n_contacts;
+  TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->steps / 4 + 1, &sec), done);
+  row->us_wall = 1e6 * sec / (double)P->n;
+  row->brute_measured = (double)P->n * row->triangles <= s->brute_max;
+  if (row->brute_measured) {
+    TL_CHECK_GOTO(status, tl_wall_trisurface_set_brute_force(w, 1), done);
+    TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->brute_steps, &sec), done);
+    TL_CHECK_GOTO(status, tl_wall_trisurface_set_brute_force(w, 0), done);
+    row->us_brute = 1e6 * sec / (double)P->n;
+    row->brute_ratio = row->us_brute / row->us_wall;
+  }
+done:
+  tl_contact_law_destroy(&law);
+  tl_trisurface_destroy(&surface);
+  tl_wall_destroy(&wall);
+  tl_dem_destroy(&dem);
+  return status;
+}
+
+/* Talus on the peer scene: the settled spheres of `data` on an n x n floor. */
+static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, double *us, size_t *particles)
+{
+  TlLammpsData *data = NULL;
+  TlDem *dem = NULL;
+  TlContactLaw *law = NULL;
+  TlWall *wall = NULL;
+  TlTriSurface *surface = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_lammps_data_read(data_path, &data), done);
+  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
+  TlDomain dom;
+  int per[3] = {1, 1, 0};
+  TL_CHECK_GOTO(status, tl_domain_init_periodic_box(&dom, tl_v3(data->lo[0], data->lo[1], data->lo[2]),
+                                                    tl_v3(data->hi[0], data->hi[1], data->hi[2]), per), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  TL_CHECK_GOTO(status, tl_particles_reserve(P, data->n), done);
+  for (size_t i = 0; i < data->n; ++i)
+    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL), done);
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
+  law = NULL;
+  double lx = data->hi[0] - data->lo[0], ly = data->hi[1] - data->lo[1];
+  TL_CHECK_GOTO(status, tl_trisurface_create_rectangle(data->lo[0], data->lo[1], lx, ly, 0.0, n, n, 0, &surface), done);
+  TL_CHECK_GOTO(status, tl_wall_trisurface_create(surface, &wall), done);
+  surface = NULL;
+  TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
+  wall = NULL;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK_GOTO(status, tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
+  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
+  if (P->w)
+    for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
+  TL_CHECK_GOTO(status, tl_dem_step(dem, s->peer_warmup), done);
+  double sec = 0.0;
+  char label[64];
+  snprintf(label, sizeof label, "talus %d triangles", 2 * n * n);
+  TL_CHECK_GOTO(status, timed_steps(dem, s->peer_steps, label, &sec), done);
+  *particles = P->n;
+  *us = 1e6 * sec / ((double)s->peer_steps * (double)P->n);
+done:
+  tl_contact_law_destroy(&law);
+  tl_trisurface_destroy(&surface);
+  tl_wall_destroy(&wall);
+  tl_dem_destroy(&dem);
+  tl_lammps_data_destroy(&data);
+  return status;
+}
+
+static TlStatus run(int argc, char **argv, TlSummary *summary)
+{
+  double wall0 = tl_wtime();
+  TlOptions *o = NULL;
+  TL_CHECK(tl_options_create(argc, argv,
+                             "Triangulated walls through the hierarchical grid: time per step against the "
+                             "triangle count, against brute force, and against LIGGGHTS's mesh walls.",
+                             &o));
+  Setup s;
+  memset(&s, 0, sizeof s);
+  long threads;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-n_particles", 10000, 1, 10000000, "spheres in the scaling scene", &s.n_particles), done);
+  TL_CHECK_GOTO(status, tl_options_get_real_list(o, "-triangles", "1e3,1e4,1e5,1e6", "", "triangle counts of the scaling floors (ascending; the first carries the particle patch)", s.triangles, 8, &s.n_sizes), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-steps", 200, 1, 100000000, "timed steps per scaling case", &s.steps), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-warmup", 20, 0, 100000000, "untimed steps before timing", &s.warmup), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-brute_max", 2e8, 0, 1e12, "", "largest particle x triangle count for which brute force is measured", &s.brute_max), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-brute_steps", 3, 1, 1000, "brute-force wall evaluations timed", &s.brute_steps), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-radius", 1e-3, 1e-9, 1e3, "m", "sphere radius", &s.radius), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "sphere density", &s.density), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-youngs_modulus", 5e6, 1, 1e13, "Pa", "Young's modulus (Hertz)", &s.youngs), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-poisson_ratio", 0.45, -0.99, 0.499, "", "Poisson ratio", &s.poisson), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-restitution", 0.3, 1e-3, 1, "", "coefficient of restitution", &s.restitution), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-mu", 0.5, 0, 10, "", "friction coefficient", &s.mu), done);
+  TL_CHECK_GOTO(status, tl_options_get_real(o, "-dt", 1e-5, 1e-12, 1, "s", "time step", &s.dt), done);
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-peer", 1, "run the LIGGGHTS mesh-wall scene and its Talus twin", &s.peer), done);
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-peer_sweep", 0, "also run both over floors of 200, 800, 3200, 12800 triangles", &s.peer_sweep), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-peer_repeat", 3, 1, 100, "LIGGGHTS runs (the median is used)", &threads), done);
+  s.peer_repeat = (int)threads;
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-peer_steps", 5000, 1, 100000000, "timed steps of the peer scene (both codes)", &s.peer_steps), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-peer_warmup", 500, 0, 100000000, "warm-up steps of the peer scene (as the LIGGGHTS deck)", &s.peer_warmup), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-threads", 1, 1, 1024, "OpenMP threads for Talus (LIGGGHTS runs on 1 rank)", &threads), done);
+  TL_CHECK_GOTO(status, tl_options_get_string(o, "-output_dir", "results/walls_hgrid", "output folder", &s.output_dir), done);
+  status = tl_options_finish(o, stdout);
+  if (status != TL_OK) goto done;
+  for (int k = 1; k < s.n_sizes; ++k)
+    if (!(s.triangles[k] >= s.triangles[k - 1])) {
+      status = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-triangles must ascend: %g after %g", s.triangles[k], s.triangles[k - 1]);
+      goto done;
+    }
+  omp_set_num_threads((int)threads);
+  TL_CHECK_GOTO(status, tl_initialize(), done);
+  TL_CHECK_GOTO(status, tl_mkdir_p(s.output_dir), done);
+
+  /* ---- 1. scaling ---- */
+  ScalingRow rows[8];
+  memset(rows, 0, sizeof rows);
+  printf("scaling: %ld spheres (r = %g m) on floors of growing triangle count, %ld thread(s), %ld steps each\n",
+         s.n_particles, s.radius, threads, s.steps);
+  printf("%12s %10s %14s %14s %14s %12s %10s\n", "triangles", "floor_m", "us/part-step", "wall us/part", "brute us/part",
+         "brute/talus", "contacts");
+  for (int k = 0; k < s.n_sizes; ++k) {
+    TL_CHECK_GOTO(status, scaling_case(&s, s.triangles[k], &rows[k]), done);
+    ScalingRow *r = &rows[k];
+    char brute[32], ratio[32];
+    if (r->brute_measured) snprintf(brute, sizeof brute, "%.4g", r->us_brute), snprintf(ratio, sizeof ratio, "%.1f", r->brute_ratio);
+    else snprintf(brute, sizeof brute, "(skipped)"), snprintf(ratio, sizeof ratio, "-");
+    printf("%12.0f %10.3f %14.4f %14.4f %14s %12s %10zu\n", r->triangles, r->floor_side, r->us_step, r->us_wall, brute,
+           ratio, r->wall_contacts);
+    fflush(stdout);
+  }
+  double flat = rows[s.n_sizes - 1].us_step / rows[0].us_step;
+  double flat_wall = rows[s.n_sizes - 1].us_wall / rows[0].us_wall;
+  printf("time per step, largest / smallest floor: %.2f (whole step), %.2f (wall alone)\n", flat, flat_wall);
+  {
+    char *path = NULL;
+    TlAtomicFile *f = NULL;
+    TL_CHECK_GOTO(status, tl_path_join(s.output_dir, "scaling.csv", &path), done);
+    status = tl_atomic_file_open(path, &f);
+    tl_free(&path);
+    if (status != TL_OK) goto done;
+    FILE *out = tl_atomic_file_stream(f);
+    fprintf(out, "triangles,floor_m,us_per_particle_step,wall_us_per_particle,brute_us_per_particle,brute_over_talus,wall_contacts\n");
+    for (int k = 0; k < s.n_sizes; ++k)
+      fprintf(out, "%.0f,%.6g,%.6g,%.6g,%.6g,%.6g,%zu\n", rows[k].triangles, rows[k].floor_side, rows[k].us_step,
+              rows[k].us_wall, rows[k].brute_measured ? rows[k].us_brute : NAN,
+              rows[k].brute_measured ? rows[k].brute_ratio : NAN, rows[k].wall_contacts);
+    TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
+  }
+  tl_summary_real(summary, "flat_step", flat);
+  tl_summary_real(summary, "flat_wall", flat_wall);
+  double best_brute = 0;
+  for (int k = 0; k < s.n_sizes; ++k)
+    if (rows[k].brute_measured) best_brute = fmax(best_brute, rows[k].brute_ratio);
+  tl_summary_real(summary, "brute_over_talus", best_brute);
+
+  /* ---- 2. the LIGGGHTS scene ---- */
+  if (s.peer) {
+    char data[4096], stl[4096];
+    TL_CHECK_GOTO(status, tl_peer_prepare("mesh_liggghts_rest", data, sizeof data, stl, sizeof stl), done);
+    int sides[4] = {40, 10, 20, 80};
+    int n_cases = s.peer_sweep ? 4 : 1;
+    double ratio40 = NAN, talus40 = NAN, lig40 = NAN;
+    char *path = NULL;
+    TlAtomicFile *f = NULL;
+    TL_CHECK_GOTO(status, tl_path_join(s.output_dir, "peer.csv", &path), done);
+    status = tl_atomic_file_open(path, &f);
+    tl_free(&path);
+    if (status != TL_OK) goto done;
+    FILE *out = tl_atomic_file_stream(f);
+    fprintf(out, "triangles,talus_us_per_particle_step,liggghts_us_min,liggghts_us_median,talus_over_liggghts\n");
+    for (int c = 0; c < n_cases; ++c) {
+      int n = sides[c];
+      double us = 0.0;
+      size_t np = 0;
+      status = peer_scene_talus(&s, data, n, &us, &np);
+      if (status != TL_OK) {
+        tl_atomic_file_abort(&f);
+        goto done;
+      }
+      char scene[64];
+      if (n == 40) snprintf(scene, sizeof scene, "mesh_liggghts_rest");
+      else snprintf(scene, sizeof scene, "mesh_liggghts_ntri=%d", 2 * n * n);
+      TlPeerResult peer;
+      status = tl_peer_run(scene, 1, s.peer_steps, s.peer_repeat, &peer);
+      if (status != TL_OK) {
+        tl_atomic_file_abort(&f);
+        goto done;
+      }
+      double ratio = us / peer.us_median;
+      printf("peer scene, %d triangles, %zu spheres: talus %.4f us/particle-step (%ld thread(s)), liggghts %.4f "
+             "(min %.4f), talus/liggghts = %.3f\n",
+             2 * n * n, np, us, threads, peer.us_median, peer.us_min, ratio);
+      fprintf(out, "%d,%.6g,%.6g,%.6g,%.6g\n", 2 * n * n, us, peer.us_min, peer.us_median, ratio);
+      if (n == 40) ratio40 = ratio, talus40 = us, lig40 = peer.us_median;
+      fflush(stdout);
+    }
+    TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
+    tl_summary_real(summary, "talus_us", talus40);
+    tl_summary_real(summary, "liggghts_us", lig40);
+    tl_summary_real(summary, "ratio", ratio40);
+  }
+  tl_summary_int(summary, "threads", threads);
+  tl_summary_real(summary, "wall", tl_wtime() - wall0);
+done:
+  tl_options_destroy(&o);
+  return status;
+}
+
+int main(int argc, char **argv)
+{
+  TlSummary summary;
+  tl_summary_init(&summary);
+  TlStatus status = run(argc, argv, &summary);
+  if (status == TL_OK) tl_summary_print(&summary, stdout);
+  return tl_driver_exit(status);
+}
