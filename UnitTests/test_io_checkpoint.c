@@ -179,8 +179,22 @@ static void test_sections(void)
   TL_TEST_ASSERT(cp == NULL && cp4 == NULL, "destroy must null");
 }
 
+/* A checkpoint with no section is valid (a driver before any module is added). */
+static void test_empty(void)
+{
+  TlCheckpoint *cp;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_save(cp, "empty.h5", -1.5, -3), TL_OK);
+  double t = 0;
+  int64_t step = 0;
+  TL_TEST_STATUS(tl_checkpoint_load(cp, "empty.h5", &t, &step), TL_OK);
+  TL_TEST_ASSERT(t == -1.5 && step == -3, "time %g step %lld", t, (long long)step);
+  tl_checkpoint_destroy(&cp);
+}
+
 int main(void)
 {
+  test_empty();
   test_low_level();
   test_sections();
   return tl_test_report();

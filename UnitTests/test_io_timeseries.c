@@ -177,8 +177,24 @@ static void test_errors(void)
                  tl_error_message());
 }
 
+/* A table closed before any row still writes valid files with the header. */
+static void test_empty(void)
+{
+  TlTimeSeries *ts;
+  TL_TEST_STATUS(tl_timeseries_create("empty", TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, 3, columns, &ts), TL_OK);
+  TL_TEST_STATUS(tl_timeseries_close(&ts), TL_OK);
+  TlTable t;
+  TL_TEST_STATUS(tl_table_read_csv("empty.csv", &t), TL_OK);
+  TL_TEST_ASSERT(t.rows == 0 && t.cols == 3, "empty CSV: %zu x %zu", t.rows, t.cols);
+  tl_table_free(&t);
+  TL_TEST_STATUS(tl_table_read_hdf5("empty.h5", &t), TL_OK);
+  TL_TEST_ASSERT(t.rows == 0 && t.cols == 3, "empty HDF5: %zu x %zu", t.rows, t.cols);
+  tl_table_free(&t);
+}
+
 int main(void)
 {
+  test_empty();
   test_round_trip();
   test_restart();
   test_errors();

@@ -316,7 +316,8 @@ static TlStatus tl_h5_attr_write(TlH5File *file, const char *object, const char 
   if (o < 0) return TL_H5_FAIL(file, "open object", object);
   if (H5Aexists(o, name) > 0) H5Adelete(o, name);
   hid_t a = H5Acreate2(o, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  herr_t e = a >= 0 ? H5Awrite(a, type, value) : -1;
+  /* an empty array attribute has nothing to write (and HDF5 refuses a NULL buffer) */
+  herr_t e = a < 0 ? -1 : H5Sget_simple_extent_npoints(space) == 0 ? 0 : H5Awrite(a, type, value);
   TlStatus s = TL_OK;
   if (e < 0)
     s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot write attribute '%s' of '%s' in '%s' (%s)", name,
