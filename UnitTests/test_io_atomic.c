@@ -11,7 +11,37 @@
 #include "talus.h"
 #include "tl_atomic_file.h"
 #include "tl_checkpoint.h"
+#include "tl_output_dir.h"
 #include "tl_test.h"
+
+#include <sys/stat.h>
+
+static int is_folder(const char *path)
+{
+  struct stat st;
+  return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* -output_dir: the default results/<program>, or the given folder; created. */
+static void test_output_dir(void)
+{
+  char *argv1[] = {"/usr/bin/some_driver", NULL};
+  TlOptions *o;
+  char *dir = NULL;
+  TL_TEST_STATUS(tl_options_create(1, argv1, "test", &o), TL_OK);
+  TL_TEST_STATUS(tl_output_dir(o, &dir), TL_OK);
+  TL_TEST_ASSERT(dir && strcmp(dir, "results/some_driver") == 0 && is_folder(dir), "default dir '%s'", dir ? dir : "");
+  TL_TEST_STATUS(tl_options_finish(o, stdout), TL_OK);
+  tl_free(&dir);
+  tl_options_destroy(&o);
+  char *argv2[] = {"drv", "-output_dir", "runs/a/b", NULL};
+  TL_TEST_STATUS(tl_options_create(3, argv2, "test", &o), TL_OK);
+  TL_TEST_STATUS(tl_output_dir(o, &dir), TL_OK);
+  TL_TEST_ASSERT(dir && strcmp(dir, "runs/a/b") == 0 && is_folder(dir), "given dir '%s'", dir ? dir : "");
+  TL_TEST_STATUS(tl_options_finish(o, stdout), TL_OK);
+  tl_free(&dir);
+  tl_options_destroy(&o);
+}
 
 typedef struct {
   const char *text;
@@ -190,6 +220,7 @@ static void test_checkpoint(void)
 
 int main(void)
 {
+  test_output_dir();
   test_text();
   test_checkpoint();
   return tl_test_report();

@@ -7,6 +7,7 @@
 #include "tl_atomic_file.h"
 #include "tl_checkpoint.h"
 #include "tl_mesh_snapshot.h"
+#include "tl_output_dir.h"
 #include "tl_particle_snapshot.h"
 #include "tl_timeseries.h"
 #include "tl_xdmf.h"

@@ -1,0 +1,27 @@
+#include "tl_output_dir.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_atomic_file.h"
+#include "tl_memory.h"
+
+TlStatus tl_output_dir(TlOptions *options, char **dir)
+{
+  *dir = NULL;
+  char def[512];
+  const char *program = tl_options_program(options);
+  snprintf(def, sizeof def, "results/%s", program && program[0] ? program : "talus");
+  const char *value;
+  TL_CHECK(tl_options_get_string(options, "-output_dir", def, "folder for every output file", &value));
+  if (!value || !value[0]) TL_ERROR(TL_ERR_ARG, "option -output_dir: empty folder name");
+  size_t n = strlen(value);
+  TL_CHECK(tl_calloc(dir, n + 1, 1));
+  memcpy(*dir, value, n);
+  TlStatus s = tl_mkdir_p(*dir);
+  if (s != TL_OK) {
+    tl_free(dir);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  return TL_OK;
+}
