@@ -142,6 +142,15 @@ int main(void)
   /* Constraining: rows and columns zeroed, unit diagonal, symmetry kept. */
   TlSparseIndex con[2] = {2, mid};
   tl_sparse_constrain(A, 2, con, 1.0);
+  /* The upper-triangle copy, constrained the same way, is the same matrix
+   * (row `mid` has entries in later columns there). */
+  tl_sparse_constrain(Ui, 2, con, 1.0);
+  for (TlSparseIndex i = 0; i < n; ++i) x[i] = rnd(&seed);
+  tl_sparse_matvec(A, x, y);
+  tl_sparse_matvec(Ui, x, z);
+  double eu = 0;
+  for (TlSparseIndex i = 0; i < n; ++i) eu = fmax(eu, fabs(y[i] - z[i]));
+  TL_TEST_ASSERT(eu < 1e-13, "constrained full vs upper storage differ by %g", eu);
   memset(x, 0, (size_t)n * sizeof *x);
   x[mid] = 1.0;
   tl_sparse_matvec(A, x, y);

@@ -22,7 +22,7 @@ struct TlNewton {
   void *ctx;
   SUNContext sunctx;
   void *kin;
-  N_Vector x, scale;
+  N_Vector x, scale, uscale;
   SUNMatrix Jmat;
   SUNLinearSolver Lsol;
   TlNewtonStats stats;
@@ -163,6 +163,7 @@ void tl_newton_options_default(TlNewtonOptions *o)
 {
   o->ftol = 1e-8;
   o->step_tol = 1e-14;
+  o->u_scale = 1.0;
   o->max_iterations = 50;
   o->max_setup_calls = 1;
   o->keep_factors = 0;
@@ -171,9 +172,9 @@ void tl_newton_options_default(TlNewtonOptions *o)
 
 static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)
 {
-  if (!(o->ftol > 0.0) || !(o->step_tol >= 0.0))
-    TL_ERROR(TL_ERR_ARG, "Newton tolerances must be positive (ftol = %g, step_tol = %g)", o->ftol,
-             o->step_tol);
+  if (!(o->ftol > 0.0) || !(o->step_tol >= 0.0) || !(o->u_scale > 0.0))
+    TL_ERROR(TL_ERR_ARG, "Newton tolerances must be positive (ftol = %g, step_tol = %g, u_scale = %g)",
+             o->ftol, o->step_tol, o->u_scale);
   if (o->max_iterations < 1 || o->max_setup_calls < 1)
     TL_ERROR(TL_ERR_ARG, "max_iterations = %ld and max_setup_calls = %ld must be >= 1",
              o->max_iterations, o->max_setup_calls);
@@ -213,10 +214,11 @@ TlStatus tl_newton_create(TlSparseIndex n, TlSparse *J, const char *solver_type,
   }
   nw->x = N_VNew_Serial((sunindextype)n, nw->sunctx);
   nw->scale = N_VNew_Serial((sunindextype)n, nw->sunctx);
+  nw->uscale = N_VNew_Serial((sunindextype)n, nw->sunctx);
   nw->kin = KINCreate(nw->sunctx);
   nw->Jmat = SUNMatNewEmpty(nw->sunctx);
   nw->Lsol = SUNLinSolNewEmpty(nw->sunctx);
-  if (!nw->x || !nw->scale || !nw->kin || !nw->Jmat || !nw->Lsol) {
+  if (!nw->x || !nw->scale || !nw->uscale || !nw->kin || !nw->Jmat || !nw->Lsol) {
     st = tl_error_set(TL_ERR_MEM, __FILE__, __LINE__, "KINSOL objects for %lld unknowns",
                       (long long)n);
     goto fail;
@@ -277,7 +279,10 @@ TlStatus tl_newton_solve(TlNewton *nw, double *x)
   /* Reusing factors across solves: tell KINSOL not to set up at the start
    * when valid factors are kept. */
   KINSetNoInitSetup(nw->kin, (nw->opt.keep_factors && nw->factored) ? SUNTRUE : SUNFALSE);
-  int flag = KINSol(nw->kin, nw->x, nw->opt.line_search ? KIN_LINESEARCH : KIN_NONE, nw->scale,
+  /* KINSOL scales steps by uscale: 1 / u_scale makes the step test relative
+   * to the problem's displacement size; residuals stay unscaled. */
+  N_VConst(1.0 / nw->opt.u_scale, nw->uscale);
+  int flag = KINSol(nw->kin, nw->x, nw->opt.line_search ? KIN_LINESEARCH : KIN_NONE, nw->uscale,
                     nw->scale);
   long iters = 0;
   KINGetNumNonlinSolvIters(nw->kin, &iters);
@@ -325,6 +330,7 @@ void tl_newton_destroy(TlNewton **nw)
   if (p->Jmat) SUNMatDestroy(p->Jmat);
   if (p->x) N_VDestroy(p->x);
   if (p->scale) N_VDestroy(p->scale);
+  if (p->uscale) N_VDestroy(p->uscale);
   if (p->sunctx) SUNContext_Free(&p->sunctx);
   tl_linear_solver_destroy(&p->ls);
   tl_free(nw);

@@ -29,7 +29,8 @@ typedef TlStatus (*TlNewtonJacobian)(void *ctx, const double *x, TlSparse *J);
 
 typedef struct {
   double ftol;          /* absolute residual tolerance, ||F||_inf */
-  double step_tol;      /* stop when the scaled step is below this [1e-14] */
+  double step_tol;      /* stop when max |dx| / (|x| + u_scale) is below this [1e-14] */
+  double u_scale;       /* typical size of x (step test, line search) [1] */
   long max_iterations;  /* [50] */
   long max_setup_calls; /* 1 = full Newton; > 1 modified Newton [1] */
   int keep_factors;     /* reuse factors across solve() calls [0] */

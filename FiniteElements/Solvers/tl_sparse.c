@@ -116,6 +116,7 @@ TlStatus tl_sparse_create_from_elements(TlSparseIndex n, int symmetric, TlSparse
   TL_CHECK_GOTO(st, tl_calloc(&A->rowind, (size_t)nnz, sizeof *A->rowind), fail);
   TL_CHECK_GOTO(st, tl_calloc(&A->values, (size_t)nnz, sizeof *A->values), fail);
   TL_CHECK_GOTO(st, tl_calloc(&A->diag, (size_t)n, sizeof *A->diag), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&A->mark, (size_t)n, sizeof *A->mark), fail);
   for (TlSparseIndex j = 0; j < n; ++j) {
     A->colptr[j + 1] = A->colptr[j] + count[j];
     memcpy(A->rowind + A->colptr[j], rows + start[j], (size_t)count[j] * sizeof *rows);
@@ -148,6 +149,7 @@ TlStatus tl_sparse_duplicate(const TlSparse *A, TlSparse **Bout)
   TL_CHECK_GOTO(st, tl_calloc(&B->rowind, (size_t)A->nnz, sizeof *B->rowind), fail);
   TL_CHECK_GOTO(st, tl_calloc(&B->values, (size_t)A->nnz, sizeof *B->values), fail);
   TL_CHECK_GOTO(st, tl_calloc(&B->diag, (size_t)A->n, sizeof *B->diag), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&B->mark, (size_t)A->n, sizeof *B->mark), fail);
   memcpy(B->colptr, A->colptr, (size_t)(A->n + 1) * sizeof *B->colptr);
   memcpy(B->rowind, A->rowind, (size_t)A->nnz * sizeof *B->rowind);
   memcpy(B->diag, A->diag, (size_t)A->n * sizeof *B->diag);
@@ -173,6 +175,7 @@ void tl_sparse_destroy(TlSparse **A)
   tl_free(&(*A)->rowind);
   tl_free(&(*A)->values);
   tl_free(&(*A)->diag);
+  tl_free(&(*A)->mark);
   tl_free(&(*A)->elem_pos_ptr);
   tl_free(&(*A)->elem_pos);
   tl_free(A);
@@ -283,21 +286,23 @@ void tl_sparse_matvec(const TlSparse *A, const double *x, double *y)
 
 void tl_sparse_constrain(TlSparse *A, TlSparseIndex count, const TlSparseIndex *dofs, double diag)
 {
-  /* The pattern is structurally symmetric (built from element pairs), so the
-   * rows of column c are the columns of row c: zero column c, and for each of
-   * its rows r the mirror entry (c, r) stored in column r. */
-  for (TlSparseIndex k = 0; k < count; ++k) {
-    TlSparseIndex c = dofs[k];
-    if (c < 0 || c >= A->n) continue;
-    for (TlSparseIndex p = A->colptr[c]; p < A->colptr[c + 1]; ++p) {
-      TlSparseIndex r = A->rowind[p];
-      A->values[p] = 0.0;
-      if (r == c || (A->symmetric && r < c)) continue;
-      TlSparseIndex q = find_slot(A, c, r);
-      if (q >= 0) A->values[q] = 0.0;
+  if (count <= 0) return;
+  /* One pass over the stored entries zeroes every entry in a marked row or
+   * column; this covers both triangles of a full matrix and the entries of
+   * row c kept in later columns of an upper-triangle one. */
+  for (TlSparseIndex k = 0; k < count; ++k)
+    if (dofs[k] >= 0 && dofs[k] < A->n) A->mark[dofs[k]] = 1;
+  for (TlSparseIndex j = 0; j < A->n; ++j) {
+    if (A->mark[j]) {
+      for (TlSparseIndex p = A->colptr[j]; p < A->colptr[j + 1]; ++p) A->values[p] = 0.0;
+      A->values[A->diag[j]] = diag;
+      continue;
     }
-    A->values[A->diag[c]] = diag;
+    for (TlSparseIndex p = A->colptr[j]; p < A->colptr[j + 1]; ++p)
+      if (A->mark[A->rowind[p]]) A->values[p] = 0.0;
   }
+  for (TlSparseIndex k = 0; k < count; ++k)
+    if (dofs[k] >= 0 && dofs[k] < A->n) A->mark[dofs[k]] = 0;
 }
 
 TlStatus tl_sparse_colour_elements(TlSparseIndex n, TlSparseIndex n_elements,

@@ -47,6 +47,7 @@ typedef struct {
   TlSparseIndex n_elements;
   TlSparseIndex *elem_pos_ptr; /* n_elements + 1, NULL when not built */
   TlSparseIndex *elem_pos;
+  unsigned char *mark; /* n bytes of scratch (tl_sparse_constrain) */
 } TlSparse;
 
 /* Builds the pattern of an n x n matrix from n_elements dof lists: element e

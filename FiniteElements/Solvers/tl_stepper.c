@@ -229,6 +229,9 @@ TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
   no.max_setup_calls = st->opt.reuse;
   no.keep_factors = st->opt.keep_factors;
   no.line_search = st->opt.line_search;
+  double us = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) us = fmax(us, fabs(x[i]));
+  no.u_scale = fmax(st->u_scale, us) > 0.0 ? fmax(st->u_scale, us) : 1.0;
   TL_CHECK(tl_newton_set_options(st->newton, &no));
   TL_CHECK(tl_newton_solve(st->newton, x));
   return TL_OK;

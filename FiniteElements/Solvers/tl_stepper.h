@@ -85,6 +85,7 @@ struct TlStepper {
   double t_new, dt, lambda;
   double force_scale;
   double force_floor; /* round-off level of the residual (inertia terms) */
+  double u_scale;     /* displacement size for Newton's step test */
   TlStepperStats stats;
   void *impl;
 };

@@ -137,26 +137,29 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   st->t_new = st->t + dt;
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
-  /* Force scale for the tolerance: inertia, internal and applied forces at
-   * the start of the step. */
-  tl_stepper_mass_times(st, st->a0, st->work);
-  TL_CHECK(sys->ops->internal_force(sys, st->t, st->u0, st->v0, st->f_int));
-  st->force_scale = fmax(fmax(max_abs(st->work, st->n), max_abs(st->f_int, st->n)),
-                         max_abs(st->f_ext0, st->n) + max_abs(st->f_hook, st->n));
-  TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u0, st->f_ext));
-  st->force_scale = fmax(st->force_scale, max_abs(st->f_ext, st->n));
-  /* The residual cannot be resolved below the round-off of its inertia term
-   * M (u - u_pred) / (beta dt^2), whose parts are of size m |u| / (beta dt^2). */
-  double mmax = max_abs(st->m, st->n), umax = 0.0;
-  for (TlSparseIndex i = 0; i < st->n; ++i)
-    umax = fmax(umax, fabs(st->u0[i]) + dt * fabs(st->v0[i]) + dt * dt * fabs(st->a0[i]));
-  st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);
   /* Predictor: constant acceleration; prescribed values at t_{n+1}. */
   for (TlSparseIndex i = 0; i < st->n; ++i)
     nm->x[i] = st->u0[i] + dt * st->v0[i] + 0.5 * dt * dt * st->a0[i];
   for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) nm->x[sys->dirichlet_dofs[k]] = st->u0[sys->dirichlet_dofs[k]];
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
   memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
+  /* Force scale for the tolerance: inertia at the start, and the internal,
+   * applied and residual forces at the predictor (which carries the
+   * prescribed motion of the step). */
+  tl_stepper_mass_times(st, st->a0, st->f_int);
+  double scale = fmax(max_abs(st->f_int, st->n), max_abs(st->f_ext0, st->n) + max_abs(st->f_hook, st->n));
+  TL_CHECK(newmark_residual(st, nm->x, st->work));
+  scale = fmax(scale, fmax(max_abs(st->work, st->n), fmax(max_abs(st->f_int, st->n), max_abs(st->f_ext, st->n))));
+  st->force_scale = scale;
+  /* The residual cannot be resolved below the round-off of its inertia term
+   * M (u - u_pred) / (beta dt^2), whose parts are of size m |u| / (beta dt^2). */
+  double mmax = max_abs(st->m, st->n), umax = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i)
+    umax = fmax(umax, fmax(fabs(st->u0[i]), fabs(nm->x[i])));
+  st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);
+  st->u_scale = umax;
+  memcpy(st->v, st->v0, bytes);
+  memcpy(st->a, st->a0, bytes);
   TlStatus s = tl_stepper_newton_solve(st, nm->x);
   if (s != TL_OK) return tl_stepper_reject(st, s, "Newmark", dt);
   memcpy(st->u, nm->x, bytes);
