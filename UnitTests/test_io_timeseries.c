@@ -4,6 +4,7 @@
  * writes byte-identical files; bad column names refused. */
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "talus.h"
 #include "tl_io.h"
@@ -164,9 +165,14 @@ static void test_errors(void)
   TL_TEST_STATUS(tl_timeseries_create("bad", TL_TIMESERIES_CSV, 1, bad_unit, &ts), TL_ERR_ARG);
   TL_TEST_STATUS(tl_timeseries_create("bad", TL_TIMESERIES_CSV, 0, columns, &ts), TL_ERR_ARG);
   TL_TEST_STATUS(tl_timeseries_create("bad", 8, 3, columns, &ts), TL_ERR_ARG);
-  TL_TEST_STATUS(tl_timeseries_create("nodir/x", TL_TIMESERIES_CSV, 3, columns, &ts), TL_OK);
+  /* a missing folder is reported when the table is created, not at its first flush */
+  TL_TEST_STATUS(tl_timeseries_create("nodir/x", TL_TIMESERIES_CSV, 3, columns, &ts), TL_ERR_IO);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "'nodir'") != NULL, "message: %s", tl_error_message());
+  TL_TEST_STATUS(tl_mkdir_p("later"), TL_OK);
+  TL_TEST_STATUS(tl_timeseries_create("later/x", TL_TIMESERIES_CSV, 3, columns, &ts), TL_OK);
   TL_TEST_STATUS(tl_timeseries_set_flush(ts, 0, -1.0), TL_ERR_ARG);
-  TL_TEST_STATUS(tl_timeseries_close(&ts), TL_ERR_IO); /* the folder does not exist */
+  rmdir("later"); /* removed during the run: close reports it and still frees */
+  TL_TEST_STATUS(tl_timeseries_close(&ts), TL_ERR_IO);
   TL_TEST_ASSERT(ts == NULL, "close must free even on failure");
   FILE *f = fopen("garbage.csv", "w");
   fputs("a [m],b\n1,2\n3,x\n", f);

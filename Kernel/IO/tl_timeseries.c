@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "tl_atomic_file.h"
 #include "tl_hdf5_util.h"
@@ -96,6 +97,14 @@ TlStatus tl_timeseries_create(const char *base, int formats, size_t n_columns, c
     for (size_t k = 0; k < j; ++k)
       if (strcmp(columns[k].name, columns[j].name) == 0)
         TL_ERROR(TL_ERR_ARG, "time series '%s': column name '%s' used twice", base, columns[j].name);
+  }
+  {
+    /* a folder that cannot take the files is reported now, not at the end of a long run */
+    const char *slash = strrchr(base, '/');
+    char dir[4096];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (slash == base ? 1 : (int)(slash - base)) : 1, slash ? base : ".");
+    if (access(dir, W_OK | X_OK) != 0)
+      TL_ERROR(TL_ERR_IO, "time series '%s': folder '%s' does not exist or is not writable", base, dir);
   }
   TlTimeSeries *t;
   TL_CHECK(TL_NEW(t));
