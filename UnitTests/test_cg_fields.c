@@ -177,6 +177,63 @@ static void test_search_vs_brute(int periodic)
   cloud_free(&cl);
 }
 
+/* Particle candidates through the DEM world's hierarchical grid against the
+ * brute-force oracle, open and periodic. */
+static void test_hgrid(int periodic)
+{
+  TlVec3 L = tl_v3(6, 5, 4);
+  Cloud cl;
+  cloud_make(&cl, 500, L, 4321u + (uint64_t)periodic, 0.6);
+  double *radius = malloc(cl.n * sizeof *radius);
+  uint64_t s = 3;
+  for (size_t i = 0; i < cl.n; ++i) radius[i] = 0.05 + 0.1 * uniform(&s);
+  TlDomain dom;
+  int per[3] = {periodic, periodic, 0};
+  if (periodic) TL_TEST_STATUS(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), L, per), TL_OK);
+  else TL_TEST_STATUS(tl_domain_init_open(&dom, tl_v3(0, 0, 0), L), TL_OK);
+  TlHGrid *hg = NULL;
+  TL_TEST_STATUS(tl_hgrid_create(&hg), TL_OK);
+  TL_TEST_STATUS(tl_hgrid_build(hg, &dom, cl.n, cl.x, radius, 0.02), TL_OK);
+  TlCGKernel *k;
+  TL_TEST_STATUS(tl_cg_kernel_create("lucy", 0.8, 3, &k), TL_OK);
+  TlCGBox box = {tl_v3(0, 0, 0), L, {periodic, periodic, 0}};
+  TlCG *cg;
+  TL_TEST_STATUS(tl_cg_create(k, periodic ? &box : NULL, 0, &cg), TL_OK);
+  TL_TEST_STATUS(tl_cg_use_hgrid(cg, hg), TL_OK);
+  TlCGParticleArrays p = {cl.n, cl.x, cl.m, cl.v};
+  TlCGContactArrays c = {cl.nc, cl.cx, cl.cb, cl.cf};
+  TL_TEST_STATUS(tl_cg_set_data(cg, &p, &c, NULL), TL_OK);
+  enum { NP = 300 };
+  TlVec3 pts[NP];
+  for (int i = 0; i < NP; ++i) pts[i] = tl_v3(L.x * uniform(&s), L.y * uniform(&s), L.z * (1.4 * uniform(&s) - 0.2));
+  TlCGFields *a, *b;
+  TL_TEST_STATUS(tl_cg_fields_create(NP, TL_CG_ALL, &a), TL_OK);
+  TL_TEST_STATUS(tl_cg_fields_create(NP, TL_CG_ALL, &b), TL_OK);
+  TL_TEST_STATUS(tl_cg_evaluate_points(cg, NP, pts, a), TL_OK);
+  TL_TEST_STATUS(tl_cg_evaluate_points_brute_force(cg, NP, pts, b), TL_OK);
+  double worst = 0.0, scale = 0.0;
+  for (int i = 0; i < NP; ++i) {
+    worst = fmax(worst, fabs(a->density[i] - b->density[i]));
+    worst = fmax(worst, tl_v3_norm(tl_v3_sub(a->momentum[i], b->momentum[i])));
+    worst = fmax(worst, mat_diff(a->stress_kinetic[i], b->stress_kinetic[i]));
+    worst = fmax(worst, mat_diff(a->stress_contact[i], b->stress_contact[i]));
+    scale = fmax(scale, b->density[i]);
+  }
+  TL_TEST_ASSERT(scale > 1.0, "hgrid comparison sees data (max density %g)", scale);
+  TL_TEST_ASSERT(worst < 1e-12 * scale, "periodic %d: hierarchical-grid candidates vs brute force differ by %g", periodic,
+                 worst);
+  /* a grid built on other particles is refused */
+  TlCGParticleArrays fewer = {cl.n - 1, cl.x, cl.m, cl.v};
+  TL_TEST_STATUS(tl_cg_set_data(cg, &fewer, NULL, NULL), TL_ERR_ARG);
+  tl_cg_fields_destroy(&a);
+  tl_cg_fields_destroy(&b);
+  tl_cg_destroy(&cg);
+  tl_cg_kernel_destroy(&k);
+  tl_hgrid_destroy(&hg);
+  free(radius);
+  cloud_free(&cl);
+}
+
 /* Grid fields (scatter from sources) against point fields at the nodes
  * (gather through the bins), open and periodic: every field. */
 static void test_grid_vs_points(int periodic)
@@ -504,6 +561,8 @@ int main(void)
   test_mass_isolated("heaviside");
   test_search_vs_brute(0);
   test_search_vs_brute(1);
+  test_hgrid(0);
+  test_hgrid(1);
   test_grid_vs_points(0);
   test_grid_vs_points(1);
   test_mass_grid();

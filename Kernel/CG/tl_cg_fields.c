@@ -26,6 +26,7 @@ typedef struct {
   double r2[TL_CG_CHUNK], w[TL_CG_CHUNK], aux[TL_CG_CHUNK];
   size_t src[TL_CG_CHUNK];
   size_t count;
+  size_t *cand, cap_cand; /* hierarchical-grid candidates */
 } TlCGWork;
 
 struct TlCG {
@@ -46,6 +47,7 @@ struct TlCG {
   TlCGWork *work;
   TlMat3 *mvv; /* grid scatter: sum m v v W per node */
   size_t cap_mvv;
+  const TlHGrid *hgrid; /* particle candidates of point evaluations, if set */
 };
 
 /* ---------------------------------------------------------------- fields */
@@ -227,6 +229,7 @@ void tl_cg_destroy(TlCG **cg)
   tl_free(&c->lb);
   tl_free(&c->lf);
   tl_free(&c->lmid);
+  for (int t = 0; t < c->n_threads; ++t) tl_free(&c->work[t].cand);
   tl_free(&c->work);
   tl_free(&c->mvv);
   tl_free(cg);
@@ -394,7 +397,10 @@ TlStatus tl_cg_set_data(TlCG *c, const TlCGParticleArrays *particles, const TlCG
         TL_ERROR(TL_ERR_ARG,
                  "periodic length %g along direction %d is below 2 (c + |b|max/2) = %g: a source would meet itself",
                  (&c->length.x)[d], d, 2.0 * (cw + hb));
-  TL_CHECK(bins_build(c, &c->bins[0], p->n, p->x, cw));
+  if (c->hgrid && c->hgrid->n_particles != p->n)
+    TL_ERROR(TL_ERR_ARG, "the hierarchical grid holds %zu particles, the CG data %zu", c->hgrid->n_particles, p->n);
+  if (!c->hgrid) TL_CHECK(bins_build(c, &c->bins[0], p->n, p->x, cw));
+  else c->bins[0].n_src = p->n; /* the brute-force oracle still visits them all */
   TL_CHECK(bins_build(c, &c->bins[1], nl, c->lmid, cw + hb));
   TL_CHECK(bins_build(c, &c->bins[2], w->n, w->point, cw));
   return TL_OK;
@@ -507,15 +513,29 @@ static TlStatus evaluate_one(const TlCG *c, TlCGWork *w, TlVec3 x, int brute, Tl
   if (which & (TL_CG_DENSITY | TL_CG_MOMENTUM | TL_CG_STRESS_KINETIC)) {
     const TlCGParticleArrays *p = &c->particles;
     w->count = 0;
-    TL_CG_FOR_CANDIDATES(c, 0, x, brute, i, {
-      TlVec3 d = nearest_image(c, tl_v3_sub(x, p->x[i]));
-      double r2 = tl_v3_norm2(d);
-      if (r2 < c2) {
-        if (w->count == TL_CG_CHUNK) TL_CHECK(flush_particles(c, w, &a));
-        w->r2[w->count] = r2;
-        w->src[w->count++] = i;
+#define TL_CG_PARTICLE_BODY                                                     \
+  {                                                                             \
+    TlVec3 d = nearest_image(c, tl_v3_sub(x, p->x[i]));                         \
+    double r2 = tl_v3_norm2(d);                                                 \
+    if (r2 < c2) {                                                              \
+      if (w->count == TL_CG_CHUNK) TL_CHECK(flush_particles(c, w, &a));         \
+      w->r2[w->count] = r2;                                                     \
+      w->src[w->count++] = i;                                                   \
+    }                                                                           \
+  }
+    if (c->hgrid && !brute) {
+      size_t nc = 0;
+      double cw = c->kernel->c;
+      TL_CHECK(tl_hgrid_query_box(c->hgrid, tl_v3(x.x - cw, x.y - cw, x.z - cw), tl_v3(x.x + cw, x.y + cw, x.z + cw),
+                                  &w->cand, &w->cap_cand, &nc));
+      for (size_t e = 0; e < nc; ++e) {
+        size_t i = w->cand[e];
+        TL_CG_PARTICLE_BODY
       }
-    });
+    } else {
+      TL_CG_FOR_CANDIDATES(c, 0, x, brute, i, TL_CG_PARTICLE_BODY);
+    }
+#undef TL_CG_PARTICLE_BODY
     TL_CHECK(flush_particles(c, w, &a));
   }
   if (which & (TL_CG_STRESS_CONTACT | TL_CG_FABRIC)) {
@@ -606,6 +626,12 @@ static TlStatus evaluate_points(TlCG *c, size_t n, const TlVec3 *points, const T
     }
   }
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  return TL_OK;
+}
+
+TlStatus tl_cg_use_hgrid(TlCG *c, const TlHGrid *grid)
+{
+  c->hgrid = grid;
   return TL_OK;
 }
 

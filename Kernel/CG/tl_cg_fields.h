@@ -25,11 +25,16 @@
  * The branch-line integral is Gauss-Legendre on the part of the segment
  * inside the kernel's support, found in closed form.
  *
- * Neighbour search: sources are binned in a uniform grid whose cell is the
- * kernel's reach, so a field on P points costs O(P x neighbours);
- * tl_cg_evaluate_points_brute_force is the test oracle.  Periodic boxes are
- * handled by nearest images (the box must be at least 2c long along each
- * periodic direction).
+ * Neighbour search.  At arbitrary points (gather): particles come from the
+ * DEM world's hierarchical grid when one is given (tl_cg_use_hgrid), else
+ * from bins of the evaluator's own; contacts (by branch midpoint) and wall
+ * contacts always from its own bins, cells as wide as the kernel's reach.
+ * On a grid (scatter): every source visits the nodes within c of it, found
+ * by index arithmetic, threads owning slabs of node layers.  Either way a
+ * field on P points costs O(P x neighbours);
+ * tl_cg_evaluate_points_brute_force is the test oracle.  Periodic
+ * (orthogonal) boxes are handled by nearest images (the box must be at
+ * least 2c long along each periodic direction).
  *
  * The Dirac kernel has no point values; on a grid its closed form is the
  * cell average (each node owns the cell of size h around it): particles and
@@ -41,6 +46,7 @@
 #include <stddef.h>
 #include "tl_cg_kernel.h"
 #include "tl_error.h"
+#include "tl_hgrid.h"
 #include "tl_math.h"
 
 typedef struct {
@@ -122,6 +128,14 @@ void tl_cg_destroy(TlCG **cg);
  * data outgrow the buffers, so calling it every step is cheap. */
 TlStatus tl_cg_set_data(TlCG *cg, const TlCGParticleArrays *particles, const TlCGContactArrays *contacts,
                         const TlCGWallContactArrays *walls);
+/* Point evaluations take their particle candidates from the DEM world's
+ * hierarchical grid (tl_hgrid_query_box) instead of bins of their own
+ * (NULL: back to the own bins).  The grid must have been built on the same
+ * particle arrays (same indices) and within the last rebuild, which the
+ * DEM world guarantees between its steps; set it before tl_cg_set_data,
+ * which then builds bins for contacts and wall contacts only.  The
+ * domain's periodicity must be the CG box's (orthogonal boxes). */
+TlStatus tl_cg_use_hgrid(TlCG *cg, const TlHGrid *grid);
 /* Fields `out->which` at n points (not for the Dirac kernel). */
 TlStatus tl_cg_evaluate_points(TlCG *cg, size_t n, const TlVec3 *points, TlCGFields *out);
 /* The same by visiting every source for every point (test oracle). */
