@@ -18,38 +18,39 @@ static inline double tl_damping_ratio_from_restitution(double e)
   return -l / sqrt(TL_PI * TL_PI + l * l);
 }
 
-/* Friction history layout: stored tangential force (3), normal of the
- * previous step (3). */
-enum { TL_FRICTION_HISTORY = 6 };
+/* Friction history: the stored tangential force (3 doubles). */
+enum { TL_FRICTION_HISTORY = 3 };
 
-/* Frame-invariant tangential force (seeds/004 Eqs. 23-26).
- *   h        history: f_T^i and n^i of the previous step (zero at first touch)
+/* Frame-invariant tangential force, the semi-explicit scheme of seeds/004
+ * that the paper's implementation uses (Eq. 11 with Eqs. 23 and 26):
+ *   f_T^fe = (I - n^f ⊗ n^f) f_T^i + dt C_N^f n^f ∧ f_T^i + k_T Δu_T,
+ *   Δu_T = dt P_Π V^r,  C_N = ½ (ω_i + ω_j) · n^f,
+ * then cut to the Coulomb cone μ <f_N>_+.  The projection on the current
+ * plane carries the stored force with the tilting contact plane and the
+ * C_N term with the mean spin about the normal, which makes the law
+ * objective (§2.3.2).
+ *   h        history: f_T^i (zero at first touch), updated to f_T^f
  *   n        current normal n^f (i -> j)
  *   vrel     relative velocity of j w.r.t. i at the contact point
  *   spin     (ω_i + ω_j) / 2
  *   k_t      current tangential stiffness (N/m)
  *   c_t      tangential viscous coefficient (N s/m), 0 for none
- *   fn_plus  <f_N>_+, the repulsive normal force magnitude clamped at 0
- * Returns the tangential force on i and updates the history; *elastic
- * receives the energy stored in the tangential spring. */
+ *   fn_plus  <f_N>_+, the repulsive normal force clamped at 0
+ * Returns the tangential force on i; *elastic (if not NULL) receives the
+ * energy stored in the tangential spring. */
 static inline TlVec3 tl_friction_force(double *h, TlVec3 n, TlVec3 vrel, TlVec3 spin, double k_t,
                                        double c_t, double mu, double fn_plus, double dt,
                                        double *elastic)
 {
   TlVec3 f = {h[0], h[1], h[2]};
-  TlVec3 n0 = {h[3], h[4], h[5]};
-  /* Eq. 23: tangential relative displacement increment */
+  /* Eq. 23: tangential relative velocity */
   double vn = tl_v3_dot(vrel, n);
   TlVec3 vt = tl_v3_axpy(vrel, -vn, n);
-  /* Eq. 24: (I - n^i ⊗ n^f) f^i + dt C_N n^f ∧ f^i + k_T Δu_T */
-  double fn_dot = tl_v3_dot(f, n);
-  TlVec3 trial = tl_v3_axpy(f, -fn_dot, n0);
+  /* Eq. 11 */
+  TlVec3 trial = tl_v3_axpy(f, -tl_v3_dot(f, n), n);
   double cn = dt * tl_v3_dot(spin, n);
   trial = tl_v3_add(trial, tl_v3_scale(tl_v3_cross(n, f), cn));
   trial = tl_v3_axpy(trial, k_t * dt, vt);
-  /* keep it exactly in the current plane (round-off, and n^i = 0 at the
-   * first touch) */
-  trial = tl_v3_axpy(trial, -tl_v3_dot(trial, n), n);
   double cap = mu * fn_plus;
   TlVec3 total;
   double t2 = tl_v3_norm2(trial);
@@ -67,8 +68,7 @@ static inline TlVec3 tl_friction_force(double *h, TlVec3 n, TlVec3 vrel, TlVec3 
     if (c_t > 0.0 && q2 > cap * cap) total = tl_v3_scale(total, cap / sqrt(q2));
   }
   h[0] = trial.x; h[1] = trial.y; h[2] = trial.z;
-  h[3] = n.x; h[4] = n.y; h[5] = n.z;
-  *elastic = k_t > 0.0 ? 0.5 * tl_v3_norm2(trial) / k_t : 0.0;
+  if (elastic) *elastic = k_t > 0.0 ? 0.5 * tl_v3_norm2(trial) / k_t : 0.0;
   return total;
 }
 

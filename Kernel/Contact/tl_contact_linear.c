@@ -40,9 +40,9 @@ static TlStatus linear_evaluate(const TlContactLaw *base, const TlContactBatch *
     TlVec3 couple = {0, 0, 0};
     double fn_plus = fn > 0.0 ? fn : 0.0;
     if (friction) {
-      double et;
+      double et = 0.0;
       TlVec3 ft = tl_friction_force(g->history, g->normal, g->vrel, g->spin_mean, kt,
-                                    p->gamma_t_linear, mu, fn_plus, dt, &et);
+                                    p->gamma_t_linear, mu, fn_plus, dt, b->want_energy ? &et : NULL);
       force = tl_v3_add(force, ft);
       e_el += et;
     }

@@ -65,7 +65,7 @@ struct TlDem {
   Prescribed *presc;
   size_t n_presc, presc_cap;
   double dt, t;
-  int allow_above, setup_done, need_rebuild, rotation;
+  int allow_above, setup_done, need_rebuild, rotation, orientation;
   long steps, rebuilds;
   size_t n_touching;
   /* energy bookkeeping */
@@ -86,6 +86,7 @@ TlStatus tl_dem_create(TlDem **out)
   d->sort_every = 10;
   d->skip_fixed = 1;
   d->track_energy = 1;
+  d->orientation = 1;
   d->need_rebuild = 1;
   *out = d;
   return TL_OK;
@@ -138,6 +139,7 @@ void tl_dem_set_gravity(TlDem *d, TlVec3 g) { d->gravity = g; }
 void tl_dem_set_threads(TlDem *d, int threads) { d->threads = threads; }
 void tl_dem_skip_fixed_pairs(TlDem *d, int skip) { d->skip_fixed = skip; d->need_rebuild = 1; }
 void tl_dem_track_energy(TlDem *d, int on) { d->track_energy = on; }
+void tl_dem_track_orientation(TlDem *d, int on) { d->orientation = on; }
 void tl_dem_set_sort_interval(TlDem *d, int rebuilds) { d->sort_every = rebuilds < 0 ? 0 : rebuilds; }
 
 TlStatus tl_dem_set_domain(TlDem *d, const TlDomain *domain)
@@ -530,94 +532,177 @@ typedef struct {
   size_t touching;
 } Accum;
 
+/* What one chunk of contacts needs; filled once per list evaluation. */
+typedef struct {
+  TlDem *d;
+  TlContactList *L;
+  const TlVec3 *x, *v, *w;
+  const double *radius, *inv_mass, *mass;
+  TlVec3 *F, *T;
+  double len[3], half[3];
+  int bonded, want_energy;
+  size_t hd;
+  double el, pw;
+  size_t touching;
+  TlStatus status;
+} ChunkCtx;
+
+/* The contact loop of one chunk, specialised at compile time on the domain
+ * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
+ * and on rotation, so the common cases carry no dead branches. */
+static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chunk ch, const int ORTHO,
+                                                                const int GENERAL, const int ROT)
+{
+  TlDem *d = c->d;
+  TlContactList *L = c->L;
+  const TlVec3 *x = c->x, *v = c->v, *w = c->w;
+  const double *radius = c->radius;
+  const TlDomain *dom = &d->domain;
+  const size_t hd = c->hd;
+  const int bonded = c->bonded;
+  TlContactGeometry g[CHUNK];
+  TlContactResult r[CHUNK];
+  uint32_t idx[CHUNK];
+  size_t m = 0;
+  for (size_t k = ch.start; k < ch.end; ++k) {
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 b;
+    if (GENERAL) {
+      b = tl_domain_branch(dom, x[i], x[j]);
+    } else {
+      b.x = x[j].x - x[i].x;
+      b.y = x[j].y - x[i].y;
+      b.z = x[j].z - x[i].z;
+      if (ORTHO) {
+        double *bc = &b.x;
+        for (int q = 0; q < 3; ++q) {
+          if (c->len[q] <= 0.0) continue;
+          if (bc[q] > c->half[q]) bc[q] -= c->len[q];
+          else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
+        }
+      }
+    }
+    const double ri = radius[i], rj = radius[j], cut = ri + rj;
+    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+    if (r2 >= cut * cut && !bonded) {
+      if (L->touching[k]) {
+        L->touching[k] = 0;
+        L->force[k] = tl_v3(0, 0, 0);
+        if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+      }
+      continue;
+    }
+    const double dist = sqrt(r2);
+    TlContactGeometry *G = &g[m];
+    const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
+    G->normal = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
+    G->overlap = cut - dist;
+    G->branch_i = tl_v3_scale(G->normal, ri - 0.5 * G->overlap);
+    G->branch_j = tl_v3_scale(G->normal, -(rj - 0.5 * G->overlap));
+    TlVec3 vr = tl_v3_sub(v[j], v[i]);
+    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+    if (ROT) {
+      const TlVec3 wi = w[i], wj = w[j];
+      vr = tl_v3_add(vr, tl_v3_sub(tl_v3_cross(wj, G->branch_j), tl_v3_cross(wi, G->branch_i)));
+      G->spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+      G->spin_rel = tl_v3_sub(wj, wi);
+    } else {
+      G->spin_mean = G->spin_rel = tl_v3(0, 0, 0);
+    }
+    G->vrel = vr;
+    const double isum = c->inv_mass[i] + c->inv_mass[j];
+    G->meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
+    G->reff = ri * rj / cut;
+    G->history = hd ? L->history + k * hd : NULL;
+    G->bonded = bonded;
+    idx[m++] = (uint32_t)k;
+  }
+  if (!m) return;
+  const TlContactLaw *law = d->laws[ch.law];
+  TlContactBatch batch = {m, g, r, d->dt, c->want_energy};
+  TlStatus s = law->ops->evaluate(law, &batch);
+  if (s != TL_OK) c->status = s;
+  TlVec3 *F = c->F, *T = c->T;
+  for (size_t q = 0; q < m; ++q) {
+    const size_t k = idx[q];
+    const uint32_t i = L->i[k], j = L->j[k];
+    const TlVec3 f = r[q].force;
+    L->force[k] = f;
+    L->touching[k] = 1;
+    F[i] = tl_v3_add(F[i], f);
+    F[j] = tl_v3_sub(F[j], f);
+    if (ROT) {
+      T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, f), r[q].couple));
+      T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, f), r[q].couple));
+    }
+    if (c->want_energy) {
+      c->el += r[q].elastic_energy;
+      c->pw += r[q].power;
+    }
+  }
+  c->touching += m;
+}
+
+static void process_range(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
+{
+  const TlDomain *dom = &c->d->domain;
+  const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);
+  const int ortho = dom->any_periodic && !general;
+  const int rot = c->w != NULL;
+  if (general) {
+    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 1, 1);
+    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 1, 0);
+  } else if (ortho) {
+    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 1, 0, 1);
+    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 1, 0, 0);
+  } else {
+    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 0, 1);
+    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 0, 0);
+  }
+}
+
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
                               int want_energy, Accum *acc)
 {
   TlParticles *P = d->P;
-  const size_t n = P->n, hd = L->history_doubles;
+  const size_t n = P->n;
   const int rot = P->w != NULL;
   const int nt = d->nt_now;
   const TlDomain *dom = &d->domain;
-  const int periodic = dom->any_periodic, deforming = dom->deforming;
-  const double dt = d->dt;
   double el = 0.0, pw = 0.0;
   size_t touching = 0;
   TlStatus status = TL_OK;
 #pragma omp parallel num_threads(nt) reduction(+ : el, pw, touching) if (nt > 1)
   {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
-    TlVec3 *F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
-    TlVec3 *T = nt > 1 ? (rot ? d->tt + (size_t)tid * n : NULL) : P->torque;
-    TlContactGeometry g[CHUNK];
-    TlContactResult r[CHUNK];
-    size_t idx[CHUNK];
-#pragma omp for schedule(static)
-    for (size_t c = 0; c < n_chunks; ++c) {
-      const Chunk ch = chunks[c];
-      const TlContactLaw *law = d->laws[ch.law];
-      size_t m = 0;
-      for (size_t k = ch.start; k < ch.end; ++k) {
-        const uint32_t i = L->i[k], j = L->j[k];
-        TlVec3 b = periodic ? tl_domain_branch(dom, P->x[i], P->x[j]) : tl_v3_sub(P->x[j], P->x[i]);
-        const double ri = P->radius[i], rj = P->radius[j], cut = ri + rj;
-        const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
-        if (r2 >= cut * cut && !bonded) {
-          if (L->touching[k]) {
-            L->touching[k] = 0;
-            L->force[k] = tl_v3(0, 0, 0);
-            if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
-          }
-          continue;
-        }
-        double dist = sqrt(r2);
-        TlContactGeometry *G = &g[m];
-        G->normal = dist > 0.0 ? tl_v3_scale(b, 1.0 / dist) : tl_v3(1, 0, 0);
-        G->overlap = cut - dist;
-        G->branch_i = tl_v3_scale(G->normal, ri - 0.5 * G->overlap);
-        G->branch_j = tl_v3_scale(G->normal, -(rj - 0.5 * G->overlap));
-        TlVec3 vr = tl_v3_sub(P->v[j], P->v[i]);
-        if (deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
-        if (rot) {
-          TlVec3 wi = P->w[i], wj = P->w[j];
-          vr = tl_v3_add(vr, tl_v3_sub(tl_v3_cross(wj, G->branch_j), tl_v3_cross(wi, G->branch_i)));
-          G->spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
-          G->spin_rel = tl_v3_sub(wj, wi);
-        } else {
-          G->spin_mean = G->spin_rel = tl_v3(0, 0, 0);
-        }
-        G->vrel = vr;
-        const double isum = P->inv_mass[i] + P->inv_mass[j];
-        G->meff = isum > 0.0 ? 1.0 / isum : 0.5 * (P->mass[i] + P->mass[j]);
-        G->reff = ri * rj / cut;
-        G->history = hd ? L->history + k * hd : NULL;
-        G->bonded = bonded;
-        idx[m++] = k;
-      }
-      if (!m) continue;
-      TlContactBatch batch = {m, g, r, dt, want_energy};
-      TlStatus s = law->ops->evaluate(law, &batch);
-      if (s != TL_OK) {
+    ChunkCtx c;
+    memset(&c, 0, sizeof c);
+    c.d = d;
+    c.L = L;
+    c.x = P->x;
+    c.v = P->v;
+    c.w = rot ? P->w : NULL;
+    c.radius = P->radius;
+    c.inv_mass = P->inv_mass;
+    c.mass = P->mass;
+    c.F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
+    c.T = nt > 1 ? (rot ? d->tt + (size_t)tid * n : NULL) : P->torque;
+    for (int q = 0; q < 3; ++q) {
+      c.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
+      c.half[q] = 0.5 * c.len[q];
+    }
+    c.bonded = bonded;
+    c.want_energy = want_energy;
+    c.hd = L->history_doubles;
+    /* static contiguous ranges: each thread walks its own part of the list */
+    size_t lo = n_chunks * (size_t)tid / (size_t)nt, hi = n_chunks * (size_t)(tid + 1) / (size_t)nt;
+    process_range(&c, chunks, lo, hi);
+    el += c.el;
+    pw += c.pw;
+    touching += c.touching;
+    if (c.status != TL_OK) {
 #pragma omp critical
-        status = s;
-      }
-      for (size_t q = 0; q < m; ++q) {
-        const size_t k = idx[q];
-        const uint32_t i = L->i[k], j = L->j[k];
-        const TlVec3 f = r[q].force;
-        L->force[k] = f;
-        L->touching[k] = 1;
-        F[i] = tl_v3_add(F[i], f);
-        F[j] = tl_v3_sub(F[j], f);
-        if (T) {
-          T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, f), r[q].couple));
-          T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, f), r[q].couple));
-        }
-        if (want_energy) {
-          el += r[q].elastic_energy;
-          pw += r[q].power;
-        }
-      }
-      touching += m;
+      status = c.status;
     }
   }
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
@@ -826,7 +911,14 @@ static TlStatus one_step(TlDem *d)
       if (P->motion[i] != TL_MOTION_FREE) continue;
       TlVec3 w = tl_v3_axpy(P->w[i], h * P->inv_inertia[i], P->torque[i]);
       P->w[i] = w;
-      P->q[i] = tl_q_integrate(P->q[i], w, dt);
+      if (!d->orientation) continue;
+      /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
+       * then renormalised */
+      TlQuat q = P->q[i];
+      TlQuat dq = tl_q_mul((TlQuat){0.0, w.x, w.y, w.z}, q);
+      q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
+      double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+      P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
     }
   }
   for (size_t w = 0; w < d->n_walls; ++w)

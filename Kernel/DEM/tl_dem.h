@@ -132,6 +132,10 @@ TlStatus tl_dem_remove_particle(TlDem *dem, size_t index);
 /* Energies; energy bookkeeping (work, dissipation) is accumulated only after
  * tl_dem_track_energy(dem, 1) (it costs a little per contact). */
 void tl_dem_track_energy(TlDem *dem, int on);
+/* Whether sphere orientations (quaternions) are integrated (default on).  No
+ * contact law between spheres depends on them: they serve output only, so a
+ * scene that never writes them may switch them off. */
+void tl_dem_track_orientation(TlDem *dem, int on);
 TlStatus tl_dem_energy(TlDem *dem, TlDemEnergy *e);
 /* Cauchy-Poisson stress of the contacts (seeds/004 Eq. 27, walls excluded)
  * and the kinetic part -Σ m v⊗v / V, both over the domain volume (the cell

@@ -217,6 +217,16 @@ static inline TlStatus push_pair(TlPair **pairs, size_t *capacity, size_t *count
   return TL_OK;
 }
 
+static inline TlStatus check_pair(const TlDomain *dom, const TlVec3 *x, const double *radius, const uint8_t *skip,
+                                  double skin, size_t i, size_t j, TlPair **pairs, size_t *capacity, size_t *count)
+{
+  if (skip && skip[i] && skip[j]) return TL_OK;
+  TlVec3 b = tl_domain_branch(dom, x[i], x[j]);
+  double cut = radius[i] + radius[j] + skin;
+  if (b.x * b.x + b.y * b.y + b.z * b.z <= cut * cut) return push_pair(pairs, capacity, count, i, j);
+  return TL_OK;
+}
+
 TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius, const uint8_t *skip,
                         TlPair **pairs, size_t *capacity, size_t *count)
 {
@@ -225,30 +235,52 @@ TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius,
   *count = 0;
   for (int l = 0; l < g->n_levels; ++l) {
     const TlHGridLevel *Lv = &g->level[l];
-    for (size_t a = Lv->first; a < Lv->first + Lv->count; ++a) {
-      size_t i = g->index[a];
-      TlVec3 s = g->reduced[i];
-      for (int m = l; m < g->n_levels; ++m) {
-        const TlHGridLevel *M = &g->level[m];
-        int nx[3], ny[3], nz[3];
-        int mx = neighbours_1d(g, m, 0, cell_coord(g, m, 0, s.x), nx);
-        int my = neighbours_1d(g, m, 1, cell_coord(g, m, 1, s.y), ny);
-        int mz = neighbours_1d(g, m, 2, cell_coord(g, m, 2, s.z), nz);
-        for (int iz = 0; iz < mz; ++iz)
-          for (int iy = 0; iy < my; ++iy)
-            for (int ix = 0; ix < mx; ++ix) {
-              size_t c = cell_id(M, nx[ix], ny[iy], nz[iz]);
-              for (size_t q = M->cell_start[c]; q < M->cell_start[c + 1]; ++q) {
-                size_t j = g->index[q];
-                if (m == l && j <= i) continue;
-                if (skip && skip[i] && skip[j]) continue;
-                TlVec3 b = tl_domain_branch(dom, x[i], x[j]);
-                double cut = radius[i] + radius[j] + skin;
-                if (tl_v3_norm2(b) <= cut * cut) TL_CHECK(push_pair(pairs, capacity, count, i, j));
+    if (!Lv->count) continue;
+    for (int cz = 0; cz < Lv->n[2]; ++cz)
+      for (int cy = 0; cy < Lv->n[1]; ++cy)
+        for (int cx = 0; cx < Lv->n[0]; ++cx) {
+          size_t c = cell_id(Lv, cx, cy, cz);
+          size_t a0 = Lv->cell_start[c], a1 = Lv->cell_start[c + 1];
+          if (a0 == a1) continue;
+          /* same level: pairs inside the cell, then with each neighbouring
+           * cell of larger number (each cell pair once) */
+          for (size_t a = a0; a < a1; ++a)
+            for (size_t b = a + 1; b < a1; ++b)
+              TL_CHECK(check_pair(dom, x, radius, skip, skin, g->index[a], g->index[b], pairs, capacity, count));
+          int nx[3], ny[3], nz[3];
+          int mx = neighbours_1d(g, l, 0, cx, nx), my = neighbours_1d(g, l, 1, cy, ny),
+              mz = neighbours_1d(g, l, 2, cz, nz);
+          for (int iz = 0; iz < mz; ++iz)
+            for (int iy = 0; iy < my; ++iy)
+              for (int ix = 0; ix < mx; ++ix) {
+                size_t c2 = cell_id(Lv, nx[ix], ny[iy], nz[iz]);
+                if (c2 <= c) continue;
+                size_t b0 = Lv->cell_start[c2], b1 = Lv->cell_start[c2 + 1];
+                for (size_t a = a0; a < a1; ++a)
+                  for (size_t b = b0; b < b1; ++b)
+                    TL_CHECK(check_pair(dom, x, radius, skip, skin, g->index[a], g->index[b], pairs, capacity, count));
               }
+          /* coarser levels: the 27 cells around each particle there */
+          for (size_t a = a0; a < a1; ++a) {
+            size_t i = g->index[a];
+            TlVec3 s = g->reduced[i];
+            for (int m = l + 1; m < g->n_levels; ++m) {
+              const TlHGridLevel *M = &g->level[m];
+              if (!M->count) continue;
+              int px[3], py[3], pz[3];
+              int qx = neighbours_1d(g, m, 0, cell_coord(g, m, 0, s.x), px);
+              int qy = neighbours_1d(g, m, 1, cell_coord(g, m, 1, s.y), py);
+              int qz = neighbours_1d(g, m, 2, cell_coord(g, m, 2, s.z), pz);
+              for (int iz = 0; iz < qz; ++iz)
+                for (int iy = 0; iy < qy; ++iy)
+                  for (int ix = 0; ix < qx; ++ix) {
+                    size_t c2 = cell_id(M, px[ix], py[iy], pz[iz]);
+                    for (size_t q = M->cell_start[c2]; q < M->cell_start[c2 + 1]; ++q)
+                      TL_CHECK(check_pair(dom, x, radius, skip, skin, i, g->index[q], pairs, capacity, count));
+                  }
             }
-      }
-    }
+          }
+        }
   }
   return TL_OK;
 }

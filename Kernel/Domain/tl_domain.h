@@ -68,12 +68,16 @@ static inline TlVec3 tl_domain_branch(const TlDomain *d, TlVec3 xi, TlVec3 xj)
   TlVec3 b = tl_v3_sub(xj, xi);
   if (!d->any_periodic) return b;
   if (d->kind == TL_DOMAIN_PERIODIC_BOX) {
-    /* diagonal h: per component */
+    /* diagonal h: per component; positions are wrapped at each neighbour
+     * list build and move less than the skin in between, so one correction
+     * suffices unless the vector is far off (then round) */
     double *c = &b.x;
     for (int k = 0; k < 3; ++k)
       if (d->periodic[k]) {
-        double len = d->h.m[k][k];
-        c[k] -= len * nearbyint(c[k] / len);
+        double len = d->h.m[k][k], half = 0.5 * len;
+        if (c[k] > half) c[k] -= len;
+        else if (c[k] < -half) c[k] += len;
+        if (c[k] > half || c[k] < -half) c[k] -= len * nearbyint(c[k] / len);
       }
     return b;
   }

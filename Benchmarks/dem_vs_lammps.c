@@ -1,0 +1,258 @@
+/* Talus against LAMMPS on the same DEM scenes, in one invocation:
+ *   (a) LAMMPS's granular chute benchmark: 32 000 spheres (data.chute),
+ *       Hooke with tangential history, a frozen rough base, gravity along a
+ *       chute inclined at 26 degrees (LAMMPS: pair gran/hooke/history
+ *       200000 NULL 50 NULL 0.5 0, neighbor 0.1, timestep 1e-4);
+ *   (b) a dense Hertz-Mindlin packing of 10 000 polydisperse spheres settled
+ *       in a 25 x 25 box with frictional walls (LAMMPS: pair
+ *       gran/hertz/history 7.3e5 NULL 50 NULL 0.5 1, walls wall/gran).
+ * Talus runs on exactly the particles the peer runs on (read from the peer's
+ * data files).  Prints µs per particle-step for both codes on 1 core and on
+ * 2 (Talus with 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio
+ * talus/lammps; the last line is the summary. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include "peers/tl_peer.h"
+#include "talus.h"
+#include "tl_dem.h"
+#include "tl_lammps_data.h"
+
+typedef struct {
+  long steps, warmup;
+  int repeat, peer, threads_max;
+  const char *chute_path;
+  int do_chute, do_hertz;
+} Config;
+
+/* The repository root, from this file's path (…/Benchmarks/dem_vs_lammps.c). */
+static void repo_root(char *out, size_t cap)
+{
+  snprintf(out, cap, "%s", __FILE__);
+  for (int k = 0; k < 2; ++k) {
+    char *s = strrchr(out, '/');
+    if (s) *s = '\0';
+    else snprintf(out, cap, ".");
+  }
+}
+
+/* Builds the Talus scene from a LAMMPS data file. */
+static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
+{
+  TlDem *dem;
+  TL_CHECK(tl_dem_create(&dem));
+  TlParticles *P = tl_dem_particles(dem);
+  TlDomain dom;
+  int per[3] = {1, 1, 0};
+  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(data->lo[0], data->lo[1], data->lo[2]),
+                                       tl_v3(data->hi[0], data->hi[1], data->hi[2]), per));
+  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  int sp;
+  TL_CHECK(tl_particles_add_species(P, "chute", data->density[0], 0.5 * data->diameter[0], 0.5 * data->diameter[0], &sp));
+  TL_CHECK(tl_particles_reserve(P, data->n));
+  for (size_t i = 0; i < data->n; ++i) {
+    size_t k;
+    TL_CHECK(tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, &k));
+    if (data->type[i] == 2) TL_CHECK(tl_particles_set_motion(P, k, TL_MOTION_FIXED));
+  }
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = 200000.0;
+  p.k_t = 2.0 / 7.0 * p.k_n;
+  p.restitution = 0.0; /* explicit damping, LAMMPS form: c_n = gamma_n m_eff */
+  p.gamma_n = 50.0;
+  p.mu = 0.5;
+  TlContactLaw *law;
+  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  double a = 26.0 * TL_PI / 180.0;
+  tl_dem_set_gravity(dem, tl_v3(sin(a), 0.0, -cos(a)));
+  tl_dem_set_threads(dem, threads);
+  tl_dem_track_energy(dem, 0);
+  tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
+  TL_CHECK(tl_dem_set_skin(dem, 0.1)); /* mean diameter 1: skin 0.1 as LAMMPS */
+  TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  *out = dem;
+  return TL_OK;
+}
+
+static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
+{
+  TlDem *dem;
+  TL_CHECK(tl_dem_create(&dem));
+  TlParticles *P = tl_dem_particles(dem);
+  TlDomain dom;
+  TL_CHECK(tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(25, 25, data->hi[2] > 1 ? data->hi[2] : 25)));
+  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  double dmin = INFINITY, dmax = 0;
+  for (size_t i = 0; i < data->n; ++i) {
+    dmin = fmin(dmin, data->diameter[i]);
+    dmax = fmax(dmax, data->diameter[i]);
+  }
+  int sp;
+  TL_CHECK(tl_particles_add_species(P, "grains", data->density[0], 0.5 * dmin, 0.5 * dmax, &sp));
+  TL_CHECK(tl_particles_reserve(P, data->n));
+  for (size_t i = 0; i < data->n; ++i)
+    TL_CHECK(tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL));
+  if (data->has_velocities) {
+    /* angular velocities are set after setup (rotation allocated there) */
+  }
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.hertz_k_n = 7.3e5;
+  p.hertz_k_t = 2.0 / 7.0 * 7.3e5;
+  p.gamma_n = 50.0;
+  p.gamma_t = 25.0;
+  p.mu = 0.5;
+  TlContactLaw *law;
+  TL_CHECK(tl_contact_law_create_hertz(&p, &law));
+  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  TlWall *w;
+  const TlVec3 pts[5] = {{0, 0, 0}, {25, 0, 0}, {0, 0, 0}, {0, 25, 0}, {0, 0, 0}};
+  const TlVec3 nrm[5] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  for (int k = 0; k < 5; ++k) {
+    TL_CHECK(tl_wall_plane_create(pts[k], nrm[k], &w));
+    TL_CHECK(tl_dem_add_wall(dem, w, 0));
+  }
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -1));
+  tl_dem_set_threads(dem, threads);
+  tl_dem_track_energy(dem, 0);
+  tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
+  TL_CHECK(tl_dem_set_skin(dem, 0.1));
+  TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  if (data->has_velocities && P->w) {
+    /* particles were added in file order and not yet renumbered by id;
+     * match through the stable ids (0..n-1 in insertion order) */
+    for (size_t k = 0; k < P->n; ++k) P->w[k] = data->omega[P->id[k]];
+  }
+  *out = dem;
+  return TL_OK;
+}
+
+typedef TlStatus (*Builder)(const TlLammpsData *, int, TlDem **);
+
+/* Median over `repeat` fresh runs of µs per particle-step. */
+static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *data, int threads, const Config *c,
+                           double *us_median, double *us_min)
+{
+  double t[16];
+  int r = c->repeat < 16 ? c->repeat : 16;
+  for (int k = 0; k < r; ++k) {
+    TlDem *dem;
+    TL_CHECK(build(data, threads, &dem));
+    TL_CHECK(tl_dem_step(dem, c->warmup));
+    struct timespec c0, c1;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
+    double t0 = tl_wtime();
+    TL_CHECK(tl_dem_step(dem, c->steps));
+    double el = tl_wtime() - t0;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
+    double cpu = (double)(c1.tv_sec - c0.tv_sec) + 1e-9 * (double)(c1.tv_nsec - c0.tv_nsec);
+    TlDemStats st;
+    tl_dem_stats(dem, &st);
+    t[k] = el * 1e6 / ((double)c->steps * (double)tl_dem_particles(dem)->n);
+    printf("talus run %d/%d: scene=%s threads=%d particles=%zu steps=%ld time=%.3f s us_per_particle_step=%.4f "
+           "cpu_share=%.2f contacts=%zu pairs=%zu rebuilds=%ld\n",
+           k + 1, r, name, threads, tl_dem_particles(dem)->n, c->steps, el, t[k], cpu / (el * threads), st.n_contacts,
+           st.n_pairs, st.rebuilds);
+    fflush(stdout);
+    tl_dem_destroy(&dem);
+  }
+  for (int a = 1; a < r; ++a)
+    for (int b = a; b > 0 && t[b - 1] > t[b]; --b) {
+      double s = t[b];
+      t[b] = t[b - 1];
+      t[b - 1] = s;
+    }
+  *us_min = t[0];
+  *us_median = t[r / 2];
+  return TL_OK;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  TlOptions *o;
+  TL_CHECK(tl_options_create(argc, argv,
+                             "Talus against LAMMPS on the chute benchmark and a dense Hertz-Mindlin packing, "
+                             "same particles, same laws, µs per particle-step and their ratio.",
+                             &o));
+  char root[4096], def_chute[4200];
+  repo_root(root, sizeof root);
+  snprintf(def_chute, sizeof def_chute, "%s/../shared/peers/chute/data.chute", root);
+  Config c;
+  const char *scene;
+  long tmax, rep, warm;
+  TL_CHECK(tl_options_get_int(o, "-steps", 1000, 1, 100000000, "timed steps per run (LAMMPS: 1000 chute, 2000 packing)", &c.steps));
+  TL_CHECK(tl_options_get_int(o, "-warmup", 100, 0, 100000000, "untimed steps before timing", &warm));
+  TL_CHECK(tl_options_get_int(o, "-repeat", 3, 1, 16, "runs per code and configuration (median reported)", &rep));
+  TL_CHECK(tl_options_get_bool(o, "-peer", 1, "also run LAMMPS (through Benchmarks/peers/run_peer.sh)", &c.peer));
+  TL_CHECK(tl_options_get_int(o, "-threads_max", 2, 1, 64, "largest thread / rank count measured (1, then this)", &tmax));
+  TL_CHECK(tl_options_get_string(o, "-chute_data", def_chute, "LAMMPS data file of the chute scene", &c.chute_path));
+  TL_CHECK(tl_options_get_string(o, "-scene", "both", "chute, hertz or both", &scene));
+  TlStatus s = tl_options_finish(o, stdout);
+  if (s != TL_OK) {
+    tl_options_destroy(&o);
+    return s;
+  }
+  c.warmup = warm;
+  c.repeat = (int)rep;
+  c.threads_max = (int)tmax;
+  c.do_chute = !strcmp(scene, "both") || !strcmp(scene, "chute");
+  c.do_hertz = !strcmp(scene, "both") || !strcmp(scene, "hertz");
+  if (!c.do_chute && !c.do_hertz) TL_ERROR(TL_ERR_ARG, "-scene %s: expected chute, hertz or both", scene);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  double wall0 = tl_wtime();
+  int nthr = c.threads_max > 1 ? 2 : 1;
+  int thr[2] = {1, c.threads_max};
+  const char *names[2] = {"chute", "hertz"};
+  for (int sc = 0; sc < 2; ++sc) {
+    if ((sc == 0 && !c.do_chute) || (sc == 1 && !c.do_hertz)) continue;
+    char path[4096], stl[16];
+    if (sc == 0) snprintf(path, sizeof path, "%s", c.chute_path);
+    else TL_CHECK(tl_peer_prepare("hertz_lammps_classic", path, sizeof path, stl, sizeof stl));
+    TlLammpsData *data;
+    TL_CHECK(tl_lammps_data_read(path, &data));
+    long steps_save = c.steps;
+    for (int k = 0; k < nthr; ++k) {
+      double tm = NAN, tmin = NAN, pm = NAN;
+      TL_CHECK(time_talus(names[sc], sc == 0 ? build_chute : build_hertz, data, thr[k], &c, &tm, &tmin));
+      char key[64];
+      snprintf(key, sizeof key, "%s_talus_%dc", names[sc], thr[k]);
+      tl_summary_real(&sum, key, tm);
+      if (c.peer) {
+        TlPeerResult peer;
+        TL_CHECK(tl_peer_run(sc == 0 ? "chute_lammps" : "hertz_lammps_classic", thr[k], c.steps, c.repeat, &peer));
+        pm = peer.us_median;
+        snprintf(key, sizeof key, "%s_lammps_%dc", names[sc], thr[k]);
+        tl_summary_real(&sum, key, pm);
+        snprintf(key, sizeof key, "%s_ratio_%dc", names[sc], thr[k]);
+        tl_summary_real(&sum, key, tm / pm);
+        if (k == 0) {
+          snprintf(key, sizeof key, "ratio_%s", names[sc]);
+          tl_summary_real(&sum, key, tm / pm);
+        }
+      }
+      printf("%s, %d core%s: talus %.4f us/particle-step (min %.4f)", names[sc], thr[k], thr[k] > 1 ? "s" : "", tm, tmin);
+      if (c.peer) printf(", lammps %.4f, ratio talus/lammps = %.3f", pm, tm / pm);
+      printf("\n");
+    }
+    c.steps = steps_save;
+    tl_lammps_data_destroy(&data);
+  }
+  tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+  tl_summary_print(&sum, stdout);
+  tl_options_destroy(&o);
+  return TL_OK;
+}
+
+int main(int argc, char **argv)
+{
+  TlStatus s = tl_initialize();
+  if (s == TL_OK) s = run(argc, argv);
+  return tl_driver_exit(s);
+}
