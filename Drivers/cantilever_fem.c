@@ -1,0 +1,307 @@
+/* The cantilever of REFERENCE.md S1 (2 x 2 x 30 Hex8, 0.8 x 0.8 x 12 m,
+ * E = 100 MPa, nu = 0, rho = 1309 kg/m^3, clamped at y = 0) on its own:
+ *
+ *   -mode small      a small tip load, quasi-statically; the tip deflection
+ *                    against Timoshenko beam theory;
+ *   -mode large      a large tip load in load steps (P L^2/(E I) up to
+ *                    -load_parameter); the tip path against the
+ *                    inextensible elastica;
+ *   -mode vibration  released from the statically deflected shape, free
+ *                    vibration with Newmark; period against the first
+ *                    bending frequency, energy drift per period.
+ *   -mode all        the three in turn (default).
+ *
+ * Output: <output_dir>/<mode>.csv time series; last line `summary: ...`. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_atomic_file.h"
+#include "tl_cantilever.h"
+#include "tl_stepper.h"
+#include "tl_timeseries.h"
+
+typedef struct {
+  TlCantileverParams beam;
+  const char *solver, *output_dir;
+  double rtol, load_parameter, dt, periods;
+  long load_steps, reuse;
+  int mode, check;
+  double tolerance;
+  TlOptions *options; /* holds the option strings until the end */
+} Config;
+
+static const char *const modes[] = {"all", "small", "large", "vibration", NULL};
+static const char *const elements[] = {"hex8", "hex27", NULL};
+static const char *const solvers[] = {"cholmod", "klu", "umfpack", NULL};
+
+static TlStatus configure(int argc, char **argv, Config *c)
+{
+  TlOptions *o = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK(tl_options_create(argc, argv,
+                             "The S1 cantilever alone: static tip load (small and large deflection) "
+                             "and free vibration, against beam theory and the elastica.",
+                             &o));
+  tl_cantilever_params_default(&c->beam);
+  int mode = 0, elem = 0, solver = 0, check = 0;
+  long nx, ny, nz;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-mode", "all", modes, "what to run", &mode), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-elements", "hex8", elements, "element type", &elem), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-nx", 2, 1, 1000, "cells across x (width)", &nx), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-ny", 30, 1, 100000, "cells along y (length)", &ny), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-nz", 2, 1, 1000, "cells across z (height)", &nz), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-6, 1e6, "m", "beam width b (x)", &c->beam.b), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-height", 0.8, 1e-6, 1e6, "m", "beam height h (z)", &c->beam.h), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 12.0, 1e-6, 1e6, "m", "beam length L (y)", &c->beam.L), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 1e8, 1e-3, 1e15, "Pa", "Young's modulus", &c->beam.E), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-nu", 0.0, -0.99, 0.49, "", "Poisson's ratio", &c->beam.nu), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "density", &c->beam.rho), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-tip_load", 1644.0, 0.0, 1e12, "N",
+                                       "small tip load (2 m g of S1's particles)", &c->beam.load), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-load_parameter", 3.0, 0.0, 20.0, "",
+                                       "large mode: final P L^2 / (E I)", &c->load_parameter), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-load_steps", 10, 1, 100000, "large mode: load steps", &c->load_steps), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt", 0.02, 1e-9, 10.0, "s", "vibration: Newmark time step", &c->dt), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-periods", 3.0, 0.1, 1e4, "", "vibration: duration in first-mode periods", &c->periods), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-solver", "cholmod", solvers, "sparse direct solver", &solver), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1, 1, 1000, "refactorise every n Newton iterations (1 = full Newton)", &c->reuse), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when a result misses -tolerance", &check), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 10.0, "", "relative tolerance for -check", &c->tolerance), done);
+  TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  c->mode = mode;
+  c->check = check;
+  c->beam.type = elem ? &tl_element_hex27 : &tl_element_hex8;
+  c->beam.nx = (size_t)nx;
+  c->beam.ny = (size_t)ny;
+  c->beam.nz = (size_t)nz;
+  c->solver = solvers[solver];
+  c->options = o;
+  return TL_OK;
+done:
+  tl_options_destroy(&o);
+  return s;
+}
+
+static void stepper_options(const Config *c, TlStepperOptions *so)
+{
+  tl_stepper_options_default(so);
+  so->solver = c->solver;
+  so->rtol = c->rtol;
+  so->reuse = c->reuse;
+  so->max_iterations = c->reuse > 1 ? 200 : 30;
+}
+
+static TlStatus open_table(const Config *c, const char *name, size_t n, const TlColumn *cols,
+                           TlTimeSeries **ts)
+{
+  char *base = NULL;
+  TL_CHECK(tl_mkdir_p(c->output_dir));
+  TL_CHECK(tl_path_join(c->output_dir, name, &base));
+  TlStatus s = tl_timeseries_create(base, TL_TIMESERIES_CSV, n, cols, ts);
+  free(base);
+  return s;
+}
+
+/* ------------------------------------------------------------ small */
+static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
+{
+  TlCantilever *beam = NULL;
+  TlStepper *st = NULL;
+  TlStepperOptions so;
+  stepper_options(c, &so);
+  TL_CHECK(tl_cantilever_create(&c->beam, &beam));
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(beam->solid), &so, &st), done);
+  TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
+  double t0 = tl_wtime();
+  TL_CHECK_GOTO(s, tl_stepper_step(st, 1.0), done);
+  double wall = tl_wtime() - t0, tip[3];
+  tl_cantilever_tip(beam, st->u, tip);
+  double ref = tl_cantilever_timoshenko(&c->beam), err = (-tip[2] - ref) / ref;
+  printf("small load P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.6e m, "
+         "Timoshenko %.6e m, error %+.3f %% (%.3f s)\n",
+         c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz,
+         (long long)st->n, -tip[2], ref, 100.0 * err, wall);
+  tl_summary_real(sum, "small_tip", -tip[2]);
+  tl_summary_real(sum, "small_timoshenko", ref);
+  tl_summary_real(sum, "small_error", err);
+  if (c->check && fabs(err) > c->tolerance) {
+    fprintf(stderr, "check failed: small-load error %.4g exceeds %.4g\n", err, c->tolerance);
+    *failed = 1;
+  }
+done:
+  tl_stepper_destroy(&st);
+  tl_cantilever_destroy(&beam);
+  return s;
+}
+
+/* ------------------------------------------------------------ large */
+static TlStatus run_large(const Config *c, TlSummary *sum, int *failed)
+{
+  TlCantileverParams p = c->beam;
+  double I = p.b * p.h * p.h * p.h / 12.0;
+  p.load = c->load_parameter * p.E * I / (p.L * p.L);
+  TlCantilever *beam = NULL;
+  TlStepper *st = NULL;
+  TlTimeSeries *ts = NULL;
+  TlStepperOptions so;
+  stepper_options(c, &so);
+  so.ramp_time = 1.0;
+  TL_CHECK(tl_cantilever_create(&p, &beam));
+  TlStatus s = TL_OK;
+  const TlColumn cols[] = {{"load_parameter", ""}, {"tip_w", "m"}, {"tip_v", "m"},
+                           {"elastica_w", "m"}, {"elastica_v", "m"}, {"newton_iterations", ""}};
+  TL_CHECK_GOTO(s, open_table(c, "large", 6, cols, &ts), done);
+  TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(beam->solid), &so, &st), done);
+  TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
+  double tip[3] = {0, 0, 0}, we = 0, ve = 0, t0 = tl_wtime();
+  long prev_it = 0;
+  TlProgress bar;
+  tl_progress_init(&bar, "load steps", (double)c->load_steps);
+  for (long k = 1; k <= c->load_steps; ++k) {
+    TL_CHECK_GOTO(s, tl_stepper_step(st, 1.0 / (double)c->load_steps), done);
+    double lambda = (double)k / (double)c->load_steps;
+    tl_cantilever_tip(beam, st->u, tip);
+    TL_CHECK_GOTO(s, tl_cantilever_elastica(lambda * c->load_parameter, &we, &ve), done);
+    TlStepperStats ss;
+    tl_stepper_get_stats(st, &ss);
+    double row[6] = {lambda * c->load_parameter, -tip[2], -tip[1], we * p.L, ve * p.L,
+                     (double)(ss.newton_iterations - prev_it)};
+    prev_it = ss.newton_iterations;
+    TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
+    tl_progress_update(&bar, (double)k);
+  }
+  tl_progress_finish(&bar);
+  double wall = tl_wtime() - t0;
+  double ew = (-tip[2] - we * p.L) / (we * p.L), ev = (-tip[1] - ve * p.L) / (ve * p.L);
+  TlStepperStats ss;
+  tl_stepper_get_stats(st, &ss);
+  printf("large load P L^2/(E I) = %g in %ld steps (%ld Newton iterations, %.3f s): tip w = %.6f m, "
+         "shortening = %.6f m; elastica %.6f m, %.6f m; differences %+.3f %%, %+.3f %%\n",
+         c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1], we * p.L,
+         ve * p.L, 100.0 * ew, 100.0 * ev);
+  tl_summary_real(sum, "large_tip_w", -tip[2]);
+  tl_summary_real(sum, "large_elastica_w", we * p.L);
+  tl_summary_real(sum, "large_error_w", ew);
+  tl_summary_int(sum, "large_newton", ss.newton_iterations);
+  if (c->check && fabs(ew) > c->tolerance) {
+    fprintf(stderr, "check failed: large-deflection difference %.4g exceeds %.4g\n", ew, c->tolerance);
+    *failed = 1;
+  }
+done:
+  if (ts) {
+    TlStatus s2 = tl_timeseries_close(&ts);
+    if (s == TL_OK) s = s2;
+  }
+  tl_stepper_destroy(&st);
+  tl_cantilever_destroy(&beam);
+  return s;
+}
+
+/* -------------------------------------------------------- vibration */
+static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
+{
+  TlCantilever *beam = NULL;
+  TlStepper *qs = NULL, *nm = NULL;
+  TlTimeSeries *ts = NULL;
+  TlStepperOptions so;
+  stepper_options(c, &so);
+  TL_CHECK(tl_cantilever_create(&c->beam, &beam));
+  TlStatus s = TL_OK;
+  TlMechSystem *sys = tl_solid_system(beam->solid);
+  /* The static deflection under the tip load is the initial shape. */
+  TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", sys, &so, &qs), done);
+  TL_CHECK_GOTO(s, tl_stepper_set_state(qs, 0.0, NULL, NULL), done);
+  TL_CHECK_GOTO(s, tl_stepper_step(qs, 1.0), done);
+  beam->load_scale = 0.0; /* released */
+  so.rtol = fmin(c->rtol, 1e-12);
+  TL_CHECK_GOTO(s, tl_stepper_create("newmark", sys, &so, &nm), done);
+  TL_CHECK_GOTO(s, tl_stepper_set_state(nm, 0.0, qs->u, NULL), done);
+  const TlColumn cols[] = {{"t", "s"}, {"tip_w", "m"}, {"kinetic", "J"}, {"strain", "J"},
+                           {"total", "J"}};
+  TL_CHECK_GOTO(s, open_table(c, "vibration", 5, cols, &ts), done);
+  double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c->beam);
+  long steps = lround(c->periods * T1 / c->dt);
+  TlEnergies e0, e;
+  TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e0), done);
+  double tip[3], prev_w, t_cross[64];
+  int n_cross = 0;
+  tl_cantilever_tip(beam, nm->u, tip);
+  prev_w = -tip[2];
+  double drift = 0.0, t0 = tl_wtime();
+  TlProgress bar;
+  tl_progress_init(&bar, "Newmark steps", (double)steps);
+  TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), done);
+  double row0[5] = {0.0, prev_w, e0.kinetic, e0.strain, e0.total};
+  TL_CHECK_GOTO(s, tl_timeseries_append(ts, row0), done);
+  for (long k = 1; k <= steps; ++k) {
+    TL_CHECK_GOTO(s, tl_stepper_step(nm, c->dt), done);
+    TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e), done);
+    tl_cantilever_tip(beam, nm->u, tip);
+    double w = -tip[2];
+    if (prev_w < 0.0 && w >= 0.0 && n_cross < 64)
+      t_cross[n_cross++] = nm->t - c->dt * w / (w - prev_w);
+    prev_w = w;
+    drift = fmax(drift, fabs(e.total - e0.total) / fabs(e0.total));
+    double row[5] = {nm->t, w, e.kinetic, e.strain, e.total};
+    TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
+    tl_progress_update(&bar, (double)k);
+  }
+  tl_progress_finish(&bar);
+  double wall = tl_wtime() - t0;
+  double period = n_cross >= 2 ? (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : NAN;
+  double periods_run = steps * c->dt / T1;
+  double drift_per_period = drift / fmax(periods_run, 1.0);
+  TlStepperStats ss;
+  tl_stepper_get_stats(nm, &ss);
+  printf("free vibration: %ld Newmark steps of %g s (%.2f s wall, %ld Newton iterations, %ld "
+         "factorisations); period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%); energy drift %.2e "
+         "(%.2e per period)\n",
+         steps, c->dt, wall, ss.newton_iterations, ss.factorisations, period, T1,
+         100.0 * (period - T1) / T1, drift, drift_per_period);
+  tl_summary_real(sum, "period", period);
+  tl_summary_real(sum, "period_eb", T1);
+  tl_summary_real(sum, "energy_drift_per_period", drift_per_period);
+  if (c->check && !(drift_per_period <= 1e-8)) {
+    fprintf(stderr, "check failed: energy drift per period %.3g exceeds 1e-8\n", drift_per_period);
+    *failed = 1;
+  }
+done:
+  if (ts) {
+    TlStatus s2 = tl_timeseries_close(&ts);
+    if (s == TL_OK) s = s2;
+  }
+  tl_stepper_destroy(&qs);
+  tl_stepper_destroy(&nm);
+  tl_cantilever_destroy(&beam);
+  return s;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  Config c;
+  memset(&c, 0, sizeof c);
+  TL_CHECK(tl_initialize());
+  TL_CHECK(configure(argc, argv, &c));
+  TlSummary sum;
+  tl_summary_init(&sum);
+  double t0 = tl_wtime();
+  int failed = 0;
+  TlStatus s = TL_OK;
+  if (c.mode == 0 || c.mode == 1) TL_CHECK_GOTO(s, run_small(&c, &sum, &failed), done);
+  if (c.mode == 0 || c.mode == 2) TL_CHECK_GOTO(s, run_large(&c, &sum, &failed), done);
+  if (c.mode == 0 || c.mode == 3) TL_CHECK_GOTO(s, run_vibration(&c, &sum, &failed), done);
+  tl_summary_real(&sum, "wall", tl_wtime() - t0);
+  tl_summary_print(&sum, stdout);
+  if (failed) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "a -check criterion failed (see above)");
+done:
+  tl_options_destroy(&c.options);
+  return s;
+}
+
+int main(int argc, char **argv) { return tl_driver_exit(run(argc, argv)); }

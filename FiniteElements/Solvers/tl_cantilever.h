@@ -1,0 +1,51 @@
+/* The cantilever of REFERENCE.md S1 as a ready scene, and its analytic
+ * references, shared by the cantilever driver, its tests and benchmarks.
+ *
+ * Beam along y: cross-section [-b/2, b/2] x [-h/2, h/2] (x, z), length L;
+ * the face y = 0 clamped; a dead tip load P in -z on the face y = L,
+ * applied as the consistent nodal forces of a uniform shear traction
+ * (so another code given the same nodal forces sees the same load). */
+#ifndef TL_CANTILEVER_H
+#define TL_CANTILEVER_H
+
+#include "tl_element.h"
+#include "tl_material.h"
+#include "tl_mesh.h"
+#include "tl_solid.h"
+
+typedef struct {
+  const TlElementType *type; /* hex8 or hex27 */
+  size_t nx, ny, nz;         /* cells across x, along y, across z */
+  double b, h, L;            /* m */
+  double E, nu, rho;         /* Pa, -, kg/m^3 */
+  double load;               /* tip load P (N), in -z */
+} TlCantileverParams;
+
+typedef struct {
+  TlCantileverParams p;
+  TlMesh *mesh;
+  TlMaterial *material;
+  TlSolid *solid;
+  double load_scale; /* amplitude of the tip load (set by the caller) */
+  size_t n_tip;
+  size_t *tip_nodes;
+  double *tip_weight; /* consistent weights, summing to 1 */
+} TlCantilever;
+
+/* S1 defaults: hex8 2 x 30 x 2, 0.8 x 0.8 x 12 m, E = 100 MPa, nu = 0,
+ * rho = 1309 kg/m^3, P = 1644 N (twice the weight of S1's particles). */
+void tl_cantilever_params_default(TlCantileverParams *p);
+TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **c);
+void tl_cantilever_destroy(TlCantilever **c);
+/* Mean tip displacement (consistent weights) from a dof vector: out[3]. */
+void tl_cantilever_tip(const TlCantilever *c, const double *u, double out[3]);
+
+/* Timoshenko tip deflection P L^3/(3 E I) + P L/(kappa G A), kappa = 10(1+nu)/(12+11nu). */
+double tl_cantilever_timoshenko(const TlCantileverParams *p);
+/* Inextensible elastica under a dead tip load, k = P L^2 / (E I): tip
+ * deflection w/L and axial shortening (L - y_tip)/L (shooting with RK4). */
+TlStatus tl_cantilever_elastica(double k, double *w_over_L, double *shortening_over_L);
+/* First bending frequency (rad/s) of the Euler-Bernoulli cantilever. */
+double tl_cantilever_omega1(const TlCantileverParams *p);
+
+#endif
