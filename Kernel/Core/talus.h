@@ -5,6 +5,7 @@
 #include "tl_config.h"
 #include "tl_error.h"
 #include "tl_init.h"
+#include "tl_io.h"
 #include "tl_log.h"
 #include "tl_math.h"
 #include "tl_memory.h"
