@@ -131,7 +131,8 @@ run_code() {
 # benchmarks starting together prepare once.
 mkdir -p "$cache" || die "cannot create cache folder '$cache'"
 exec 9> "$cache/.lock"
-flock 9
+have_flock=0
+if command -v flock > /dev/null 2>&1; then have_flock=1; flock 9; fi
 
 stamp_ok() { [ -f "$1" ] && [ -f "$1.sum" ] && [ "$(cat "$1.sum")" = "$2" ]; }
 prepare_settled() { # name exe deck output-file extra-files...
@@ -180,7 +181,8 @@ case "$prep" in
       fi
     fi ;;
 esac
-flock -u 9
+[ "$have_flock" -eq 0 ] || flock -u 9
+exec 9>&-
 
 if [ "$prepare_only" -eq 1 ]; then
   echo "peer-data: scene=$scene data=$data${stl:+ stl=$stl}"
