@@ -39,6 +39,8 @@ static void repo_root(char *out, size_t cap)
 }
 
 /* Builds the Talus scene from a LAMMPS data file. */
+static double g_skin = 0.1;
+
 static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
 {
   TlDem *dem;
@@ -72,7 +74,7 @@ static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
   tl_dem_set_threads(dem, threads);
   tl_dem_track_energy(dem, 0);
   tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
-  TL_CHECK(tl_dem_set_skin(dem, 0.1)); /* mean diameter 1: skin 0.1 as LAMMPS */
+  TL_CHECK(tl_dem_set_skin(dem, g_skin));
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
   *out = dem;
@@ -121,7 +123,7 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   tl_dem_set_threads(dem, threads);
   tl_dem_track_energy(dem, 0);
   tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
-  TL_CHECK(tl_dem_set_skin(dem, 0.1));
+  TL_CHECK(tl_dem_set_skin(dem, g_skin));
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
   if (data->has_velocities && P->w) {
@@ -193,6 +195,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_options_get_int(o, "-threads_max", 2, 1, 64, "largest thread / rank count measured (1, then this)", &tmax));
   TL_CHECK(tl_options_get_string(o, "-chute_data", def_chute, "LAMMPS data file of the chute scene", &c.chute_path));
   TL_CHECK(tl_options_get_string(o, "-scene", "both", "chute, hertz or both", &scene));
+  TL_CHECK(tl_options_get_real(o, "-skin", 0.1, 0.0, 1.0, "mean diameters",
+                               "Verlet skin of Talus (LAMMPS runs with 0.1 diameters)", &g_skin));
   TlStatus s = tl_options_finish(o, stdout);
   if (s != TL_OK) {
     tl_options_destroy(&o);

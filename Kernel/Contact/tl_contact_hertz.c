@@ -36,7 +36,7 @@ static TlStatus hertz_evaluate(const TlContactLaw *base, const TlContactBatch *b
     double fn = a * (kn * delta - gn * g->meff * vn);
     if (fa > 0.0) fn -= fa;
     TlVec3 force = tl_v3_scale(g->normal, -fn);
-    double e_el = 0.4 * kn * a * delta * delta - fa * delta;
+    double e_el = b->want_energy ? 0.4 * kn * a * delta * delta - fa * delta : 0.0;
     TlVec3 couple = {0, 0, 0};
     double fn_plus = fn > 0.0 ? fn : 0.0;
     if (friction) {

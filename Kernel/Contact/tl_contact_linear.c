@@ -36,7 +36,7 @@ static TlStatus linear_evaluate(const TlContactLaw *base, const TlContactBatch *
     double fn = kn * delta - cn * vn;
     if (fa > 0.0 && delta > 0.0) fn -= fa;
     TlVec3 force = tl_v3_scale(g->normal, -fn);
-    double e_el = 0.5 * kn * delta * delta - (fa > 0.0 && delta > 0.0 ? fa * delta : 0.0);
+    double e_el = b->want_energy ? 0.5 * kn * delta * delta - (fa > 0.0 && delta > 0.0 ? fa * delta : 0.0) : 0.0;
     TlVec3 couple = {0, 0, 0};
     double fn_plus = fn > 0.0 ? fn : 0.0;
     if (friction) {

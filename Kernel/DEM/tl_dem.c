@@ -64,7 +64,7 @@ struct TlDem {
   int nt, nt_now;
   Prescribed *presc;
   size_t n_presc, presc_cap;
-  double dt, t;
+  double dt, t, disp2max, r_min;
   int allow_above, setup_done, need_rebuild, rotation, orientation;
   long steps, rebuilds;
   size_t n_touching;
@@ -516,11 +516,14 @@ static int needs_rebuild(TlDem *d)
       if (m > max2) max2 = m;
     }
   } else {
-    for (size_t i = 0; i < P->n; ++i) {
-      TlVec3 dx = tl_v3_sub(P->x[i], d->x_build[i]);
-      double m = dx.x * dx.x + dx.y * dx.y + dx.z * dx.z;
-      if (m > max2) max2 = m;
-    }
+    /* free particles: measured during the drift; prescribed ones here */
+    max2 = d->disp2max;
+    for (size_t g = 0; g < d->n_presc; ++g)
+      for (size_t k = 0; k < d->presc[g].n; ++k) {
+        size_t i = d->presc[g].idx[k];
+        double m = tl_v3_norm2(tl_v3_sub(P->x[i], d->x_build[i]));
+        if (m > max2) max2 = m;
+      }
   }
   return 2.0 * sqrt(max2) + strain * d->max_cut > d->skin;
 }
@@ -821,7 +824,7 @@ TlStatus tl_dem_setup(TlDem *d)
   d->skin = d->skin_factor * mean;
   double rmax;
   double m_min;
-  min_radius(P, &rmax, &m_min);
+  d->r_min = min_radius(P, &rmax, &m_min);
   d->max_cut = 2.0 * rmax + d->skin;
   /* time step */
   double dtc, k, m;
@@ -876,46 +879,80 @@ static TlStatus prescribe(TlDem *d, double t)
   return TL_OK;
 }
 
+static TlStatus report_blowup(TlDem *d, double dt)
+{
+  TlParticles *P = d->P;
+  for (size_t i = 0; i < P->n; ++i) {
+    TlVec3 v = P->v[i];
+    if (!tl_v3_isfinite(v) || !tl_v3_isfinite(P->x[i]))
+      TL_ERROR(TL_ERR_UNSTABLE, "step %ld, t = %g: particle id %lld has a non-finite state (v = (%g, %g, %g), force (%g, %g, %g))",
+               d->steps, d->t, (long long)P->id[i], v.x, v.y, v.z, P->f[i].x, P->f[i].y, P->f[i].z);
+    if (P->motion[i] == TL_MOTION_FREE && !(tl_v3_norm(v) * dt < P->radius[i]))
+      TL_ERROR(TL_ERR_UNSTABLE,
+               "step %ld, t = %g: particle id %lld moved %g in one step, more than its radius %g (v = (%g, %g, %g)); "
+               "the time step %g is too large for this scene or a force blew up",
+               d->steps, d->t, (long long)P->id[i], tl_v3_norm(v) * dt, P->radius[i], v.x, v.y, v.z, dt);
+  }
+  return TL_OK;
+}
+
 static TlStatus one_step(TlDem *d)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
   const double dt = d->dt, h = 0.5 * dt;
   const int rot = P->w != NULL;
-  /* first half kick and drift */
+  TlVec3 *restrict x = P->x, *restrict v = P->v;
+  const TlVec3 *restrict f = P->f;
+  const double *restrict im = P->inv_mass;
+  const uint8_t *restrict motion = P->motion;
+  /* first half kick and drift; the largest step and the largest distance
+   * from the build positions are tracked in the same pass */
   TlMat3 A;
   TL_CHECK(tl_domain_advance(&d->domain, dt, &A));
   const int deforming = d->domain.deforming;
   const TlVec3 o = d->domain.origin;
-  size_t bad = SIZE_MAX;
+  double v2max = 0.0, disp2max = 0.0;
+  const TlVec3 *restrict xb = d->x_build;
+  if (d->track_energy && P->f_ext)
+    for (size_t i = 0; i < n; ++i)
+      if (motion[i] == TL_MOTION_FREE) {
+        TlVec3 vv = tl_v3_axpy(v[i], h * im[i], f[i]);
+        d->work_ext += dt * tl_v3_dot(P->f_ext[i], vv);
+      }
   for (size_t i = 0; i < n; ++i) {
-    if (P->motion[i] != TL_MOTION_FREE) continue;
-    const double im = P->inv_mass[i];
-    TlVec3 v = tl_v3_axpy(P->v[i], h * im, P->f[i]);
-    P->v[i] = v;
-    TlVec3 dx = tl_v3_scale(v, dt);
-    if (d->track_energy && P->f_ext) d->work_ext += tl_v3_dot(P->f_ext[i], dx);
-    if (deforming) P->x[i] = tl_v3_add(tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(P->x[i], o))), dx);
-    else P->x[i] = tl_v3_add(P->x[i], dx);
-    if (!(tl_v3_norm2(dx) < P->radius[i] * P->radius[i]) && bad == SIZE_MAX) bad = i;
+    if (motion[i] != TL_MOTION_FREE) continue;
+    const double hi = h * im[i];
+    TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
+    v[i] = vv;
+    double v2 = vv.x * vv.x + vv.y * vv.y + vv.z * vv.z;
+    v2max = v2 > v2max ? v2 : v2max;
+    if (deforming) {
+      x[i] = tl_v3_axpy(tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(x[i], o))), dt, vv);
+    } else {
+      TlVec3 xn = {x[i].x + dt * vv.x, x[i].y + dt * vv.y, x[i].z + dt * vv.z};
+      x[i] = xn;
+      double dx = xn.x - xb[i].x, dy = xn.y - xb[i].y, dz = xn.z - xb[i].z;
+      double d2 = dx * dx + dy * dy + dz * dz;
+      disp2max = d2 > disp2max ? d2 : disp2max;
+    }
   }
-  if (bad != SIZE_MAX) {
-    TlVec3 v = P->v[bad];
-    TL_ERROR(TL_ERR_UNSTABLE,
-             "step %ld, t = %g: particle id %lld moved %g in one step, more than its radius %g (v = (%g, %g, %g)); "
-             "the time step %g is too large for this scene or a force blew up",
-             d->steps, d->t, (long long)P->id[bad], tl_v3_norm(v) * dt, P->radius[bad], v.x, v.y, v.z, dt);
-  }
+  d->disp2max = disp2max;
+  if (!(v2max * dt * dt < d->r_min * d->r_min)) TL_CHECK(report_blowup(d, dt));
   if (rot) {
+    TlVec3 *restrict w = P->w;
+    const TlVec3 *restrict tq = P->torque;
+    const double *restrict ii = P->inv_inertia;
     for (size_t i = 0; i < n; ++i) {
-      if (P->motion[i] != TL_MOTION_FREE) continue;
-      TlVec3 w = tl_v3_axpy(P->w[i], h * P->inv_inertia[i], P->torque[i]);
-      P->w[i] = w;
+      if (motion[i] != TL_MOTION_FREE) continue;
+      const double hi = h * ii[i];
+      TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
+      w[i] = ww;
       if (!d->orientation) continue;
       /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
        * then renormalised */
       TlQuat q = P->q[i];
-      TlQuat dq = tl_q_mul((TlQuat){0.0, w.x, w.y, w.z}, q);
+      TlQuat dq = tl_q_mul((TlQuat){0.0, ww.x, ww.y, ww.z}, q);
       q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
       double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
       P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
@@ -927,19 +964,24 @@ static TlStatus one_step(TlDem *d)
   TL_CHECK(prescribe(d, d->t));
   if (needs_rebuild(d)) TL_CHECK(rebuild(d));
   TL_CHECK(compute_forces(d));
-  /* second half kick */
+  /* second half kick; a NaN anywhere poisons the sum and is then located */
+  double sum = 0.0;
   for (size_t i = 0; i < n; ++i) {
-    if (P->motion[i] != TL_MOTION_FREE) continue;
-    TlVec3 v = tl_v3_axpy(P->v[i], h * P->inv_mass[i], P->f[i]);
-    P->v[i] = v;
-    if (!tl_v3_isfinite(v) && bad == SIZE_MAX) bad = i;
+    const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
+    TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
+    v[i] = vv;
+    sum += vv.x + vv.y + vv.z;
   }
-  if (rot)
-    for (size_t i = 0; i < n; ++i)
-      if (P->motion[i] == TL_MOTION_FREE) P->w[i] = tl_v3_axpy(P->w[i], h * P->inv_inertia[i], P->torque[i]);
-  if (bad != SIZE_MAX)
-    TL_ERROR(TL_ERR_UNSTABLE, "step %ld, t = %g: particle id %lld has a non-finite velocity (force (%g, %g, %g))",
-             d->steps, d->t, (long long)P->id[bad], P->f[bad].x, P->f[bad].y, P->f[bad].z);
+  if (rot) {
+    TlVec3 *restrict w = P->w;
+    const TlVec3 *restrict tq = P->torque;
+    const double *restrict ii = P->inv_inertia;
+    for (size_t i = 0; i < n; ++i) {
+      const double hi = h * ii[i];
+      w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
+    }
+  }
+  if (!isfinite(sum)) TL_CHECK(report_blowup(d, dt));
   d->steps++;
   return TL_OK;
 }
@@ -959,6 +1001,13 @@ TlStatus tl_dem_add_particle(TlDem *d, TlVec3 x, TlVec3 v, double radius, int sp
   if (d->setup_done) {
     double r = radius;
     if (2.0 * r + d->skin > d->max_cut) d->max_cut = 2.0 * r + d->skin;
+    if (r < d->r_min) d->r_min = r;
+    size_t n = d->P->n;
+    if (n > d->x_build_cap) {
+      TL_CHECK(tl_realloc(&d->x_build, n + n / 2 + 16, sizeof *d->x_build));
+      d->x_build_cap = n + n / 2 + 16;
+    }
+    d->x_build[n - 1] = x;
     TL_CHECK(build_law_table(d));
     d->need_rebuild = 1;
   }
