@@ -241,7 +241,7 @@ TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
 TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2)
 {
   TlMechSystem *sys = st->sys;
-  if (sys->ops->max_frequency_squared) {
+  if (st->opt.critical_bound && sys->ops->max_frequency_squared) {
     TL_CHECK(sys->ops->max_frequency_squared(sys, st->u, omega2));
     return TL_OK;
   }
