@@ -168,7 +168,7 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
   TlTriContactRecord *c = set->c;
   int32_t *link = set->link;
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
   for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
@@ -230,7 +230,7 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
     while (h < prev->n_groups && pc[prev->group[h]].particle < p) ++h;
     match[g] = (h < prev->n_groups && pc[prev->group[h]].particle == p) ? h : SIZE_MAX;
   }
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
   for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     if (match[g] == SIZE_MAX) continue;
@@ -267,7 +267,7 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
 {
   TlTriContactRecord *c = set->c;
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 512)
+#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
   for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     if (g1 - g0 == 1) {

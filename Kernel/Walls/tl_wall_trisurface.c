@@ -170,7 +170,7 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
   }
   int nthreads = want < 1 ? 1 : want;
   for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
-#pragma omp parallel num_threads(nthreads) if (nt > 64)
+#pragma omp parallel num_threads(nthreads) if (nt > 4096)
   {
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
@@ -227,7 +227,7 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   const int rot = p->w != NULL;
   /* geometry records, i = particle, j = wall (tl_contact_law.h) */
   long nl = (long)n;
-#pragma omp parallel for schedule(static) if (nl > 2048)
+#pragma omp parallel for schedule(static) if (nl > 8192)
   for (long k = 0; k < nl; ++k) {
     const TlTriContactRecord *r = &set->c[k];
     size_t i = (size_t)r->particle;
@@ -252,7 +252,7 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   }
   /* the law: one batch per thread */
   TlStatus status = TL_OK;
-  int nb = n > 4096 ? t->n_threads : 1;
+  int nb = n > 8192 ? t->n_threads : 1;
 #pragma omp parallel for num_threads(nb) schedule(static) if (nb > 1)
   for (int b = 0; b < nb; ++b) {
     size_t lo = n * (size_t)b / (size_t)nb, hi = n * (size_t)(b + 1) / (size_t)nb;
@@ -274,7 +274,7 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
 
   /* forces on the particles, one group (particle) per iteration: race-free */
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(static) if (ng > 2048)
+#pragma omp parallel for schedule(static) if (ng > 8192)
   for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1], i = (size_t)set->c[g0].particle;
     TlVec3 f = tl_v3(0, 0, 0), tq = tl_v3(0, 0, 0);
