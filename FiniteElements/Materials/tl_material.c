@@ -154,6 +154,28 @@ fail:
   return s;
 }
 
+double tl_material_trace_series(TlMat3 M, int kind)
+{
+  double norm = sqrt(tl_m3_ddot(M, M));
+  if (norm > 0.3) {
+    TlMat3 IM = tl_m3_add(tl_m3_identity(), M), inv = tl_m3_identity();
+    double logdet = log(tl_m3_det(IM));
+    if (kind == 1) return tl_m3_trace(M) - logdet;
+    tl_m3_inverse(IM, &inv);
+    return logdet + tl_m3_trace(inv) - 3.0;
+  }
+  TlMat3 P = tl_m3_mul(M, M); /* M^k, from k = 2 */
+  double sum = 0.0;
+  for (int k = 2; k < 80; ++k) {
+    double coef = (k % 2 ? -1.0 : 1.0) * (kind == 0 ? (double)(k - 1) / k : 1.0 / k);
+    double term = coef * tl_m3_trace(P);
+    sum += term;
+    if (fabs(term) <= 1e-18 * fabs(sum)) break;
+    P = tl_m3_mul(P, M);
+  }
+  return sum;
+}
+
 int tl_material_symmetric_tangent(const TlMaterial *m)
 {
   return m->ops->symmetric_tangent ? m->ops->symmetric_tangent(m) : 0;
@@ -162,41 +184,74 @@ int tl_material_symmetric_tangent(const TlMaterial *m)
 /* Points per internal batch: gamma is computed into a stack buffer. */
 #define TL_MATERIAL_CHUNK 64
 
+/* One chunk: from displacement gradients H (F = 1 + H) when `gradient`,
+ * otherwise from F.  The Green strain is formed from H as
+ * (H + H^T + H^T H)/2, which keeps its relative precision at small strain
+ * (F^T F - 1 would cancel about log10(1/strain) digits). */
+static TlStatus evaluate_chunk(const TlMaterial *m, size_t p0, size_t n, const TlMat3 *in, int gradient,
+                               const double *state_old, double *state_new, TlMat3 *S, double *D,
+                               double *W)
+{
+  TlMat3 gamma[TL_MATERIAL_CHUNK], F[TL_MATERIAL_CHUNK];
+  for (size_t k = 0; k < n; ++k) {
+    TlMat3 H = in[k];
+    if (!gradient)
+      for (int i = 0; i < 3; ++i) H.m[i][i] -= 1.0;
+    F[k] = H;
+    for (int i = 0; i < 3; ++i) F[k].m[i][i] += 1.0;
+    if (!gradient) F[k] = in[k];
+    double J = tl_m3_det(F[k]);
+    if (!(J > 0.0))
+      TL_ERROR(TL_ERR_NUMERIC,
+               "material %s: det F = %g at point %zu is not positive (inverted element)",
+               m->ops->header.name, J, p0 + k);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double hh = 0.0;
+        for (int l = 0; l < 3; ++l) hh += H.m[l][i] * H.m[l][j];
+        gamma[k].m[i][j] = 0.5 * (H.m[i][j] + H.m[j][i] + hh) - m->eigenstrain.m[i][j];
+      }
+  }
+  TL_CHECK(m->ops->evaluate(m, n, F, gamma, state_old, state_new, S, D, W));
+  for (size_t k = 0; k < n; ++k) {
+    if (m->has_initial_stress) {
+      S[k] = tl_m3_add(S[k], m->initial_stress);
+      if (W) W[k] += tl_m3_ddot(m->initial_stress, gamma[k]);
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (!isfinite(S[k].m[i][j]))
+          TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d][%d] = %g at point %zu",
+                   m->ops->header.name, i, j, S[k].m[i][j], p0 + k);
+  }
+  return TL_OK;
+}
+
+static TlStatus evaluate_all(const TlMaterial *m, size_t npts, const TlMat3 *in, int gradient,
+                             const double *state_old, double *state_new, TlMat3 *S, double *D,
+                             double *W)
+{
+  if (!m->ready) TL_ERROR(TL_ERR_STATE, "material %s used before setup", m->ops->header.name);
+  size_t ss = m->state_size;
+  for (size_t p0 = 0; p0 < npts; p0 += TL_MATERIAL_CHUNK) {
+    size_t n = npts - p0 < TL_MATERIAL_CHUNK ? npts - p0 : TL_MATERIAL_CHUNK;
+    TL_CHECK(evaluate_chunk(m, p0, n, in + p0, gradient, state_old ? state_old + p0 * ss : NULL,
+                            state_new ? state_new + p0 * ss : NULL, S + p0, D ? D + 36 * p0 : NULL,
+                            W ? W + p0 : NULL));
+  }
+  return TL_OK;
+}
+
 TlStatus tl_material_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F,
                               const double *state_old, double *state_new, TlMat3 *S, double *D,
                               double *W)
 {
-  if (!m->ready) TL_ERROR(TL_ERR_STATE, "material %s used before setup", m->ops->header.name);
-  TlMat3 gamma[TL_MATERIAL_CHUNK];
-  for (size_t p0 = 0; p0 < npts; p0 += TL_MATERIAL_CHUNK) {
-    size_t n = npts - p0 < TL_MATERIAL_CHUNK ? npts - p0 : TL_MATERIAL_CHUNK;
-    for (size_t k = 0; k < n; ++k) {
-      TlMat3 f = F[p0 + k];
-      double J = tl_m3_det(f);
-      if (!(J > 0.0))
-        TL_ERROR(TL_ERR_NUMERIC,
-                 "material %s: det F = %g at point %zu is not positive (inverted element)",
-                 m->ops->header.name, J, p0 + k);
-      TlMat3 C = tl_m3_mul(tl_m3_transpose(f), f);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          gamma[k].m[i][j] = 0.5 * (C.m[i][j] - (i == j)) - m->eigenstrain.m[i][j];
-    }
-    size_t ss = m->state_size;
-    TL_CHECK(m->ops->evaluate(m, n, F + p0, gamma, state_old ? state_old + p0 * ss : NULL,
-                              state_new ? state_new + p0 * ss : NULL, S + p0,
-                              D ? D + 36 * p0 : NULL, W ? W + p0 : NULL));
-    for (size_t k = 0; k < n; ++k) {
-      if (m->has_initial_stress) {
-        S[p0 + k] = tl_m3_add(S[p0 + k], m->initial_stress);
-        if (W) W[p0 + k] += tl_m3_ddot(m->initial_stress, gamma[k]);
-      }
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          if (!isfinite(S[p0 + k].m[i][j]))
-            TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d][%d] = %g at point %zu",
-                     m->ops->header.name, i, j, S[p0 + k].m[i][j], p0 + k);
-    }
-  }
-  return TL_OK;
+  return evaluate_all(m, npts, F, 0, state_old, state_new, S, D, W);
+}
+
+TlStatus tl_material_evaluate_gradient(const TlMaterial *m, size_t npts, const TlMat3 *H,
+                                       const double *state_old, double *state_new, TlMat3 *S,
+                                       double *D, double *W)
+{
+  return evaluate_all(m, npts, H, 1, state_old, state_new, S, D, W);
 }

@@ -93,6 +93,12 @@ TlStatus tl_material_create_hooke(double E, double nu, double density, TlMateria
 TlStatus tl_material_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F,
                               const double *state_old, double *state_new, TlMat3 *S, double *D,
                               double *W);
+/* The same from displacement gradients H = F - 1, which keeps the Green
+ * strain accurate to round-off relative to itself at small strain (the
+ * solid uses this form). */
+TlStatus tl_material_evaluate_gradient(const TlMaterial *m, size_t npts, const TlMat3 *H,
+                                       const double *state_old, double *state_new, TlMat3 *S,
+                                       double *D, double *W);
 int tl_material_symmetric_tangent(const TlMaterial *m);
 
 /* Voigt helpers. */
@@ -120,6 +126,13 @@ static inline double tl_m3_ddot(TlMat3 a, TlMat3 b)
     for (int j = 0; j < 3; ++j) s += a.m[i][j] * b.m[i][j];
   return s;
 }
+
+/* Trace functions of a matrix M near zero that stored energies need free of
+ * cancellation at small strain:
+ *   kind 0: tr[log(1 + M) - M (1 + M)^-1] = sum_{k>=2} (-1)^k (k-1)/k tr M^k,
+ *   kind 1: tr[M - log(1 + M)]             = sum_{k>=2} (-1)^k / k tr M^k.
+ * The series is summed for |M|_F <= 0.3, the closed form used above. */
+double tl_material_trace_series(TlMat3 M, int kind);
 
 /* Registers the built-in laws: "hooke" (seeds/001 Eq. 34 with the
  * contravariant deformed metric, as oomph-lib evaluates it),

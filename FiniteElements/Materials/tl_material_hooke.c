@@ -70,20 +70,24 @@ static TlMat3 stress(const TlHooke *h, TlMat3 M, TlMat3 gamma)
   return S;
 }
 
-/* Potential energy for nu = 0:
+/* Potential energy for nu = 0, in forms free of cancellation at small
+ * strain (A = 2 gamma = C - g):
  *   contravariant: W = mu/2 (ln det C - ln det g + tr(g C^-1) - 3)
- *   covariant (g = 1): W = mu/2 (tr C^4 / 4 - tr C^3 / 3 + 1/4) */
-static double potential_energy(const TlHooke *h, TlMat3 C, TlMat3 Ci)
+ *                    = mu/2 tr[log(1 + M) - M (1 + M)^-1],  M = g^-1 A;
+ *   covariant (g = 1): W = mu/2 (tr C^4 / 4 - tr C^3 / 3 + 1/4)
+ *                    = mu/2 (tr A^2 / 2 + 2 tr A^3 / 3 + tr A^4 / 4). */
+static double potential_energy(const TlHooke *h, TlMat3 gamma)
 {
+  TlMat3 A = tl_m3_scale(gamma, 2.0);
   if (h->covariant) {
-    TlMat3 C2 = tl_m3_mul(C, C), C3 = tl_m3_mul(C2, C), C4 = tl_m3_mul(C2, C2);
-    return 0.5 * h->mu * (0.25 * tl_m3_trace(C4) - tl_m3_trace(C3) / 3.0 + 0.25);
+    TlMat3 A2 = tl_m3_mul(A, A), A3 = tl_m3_mul(A2, A), A4 = tl_m3_mul(A2, A2);
+    return 0.5 * h->mu * (0.5 * tl_m3_trace(A2) + 2.0 * tl_m3_trace(A3) / 3.0 + 0.25 * tl_m3_trace(A4));
   }
-  TlMat3 g = tl_m3_identity();
+  TlMat3 g = tl_m3_identity(), gi = tl_m3_identity();
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) g.m[i][j] += 2.0 * h->base.eigenstrain.m[i][j];
-  return 0.5 * h->mu *
-         (log(tl_m3_det(C)) - log(tl_m3_det(g)) + tl_m3_ddot(g, Ci) - 3.0);
+  tl_m3_inverse(g, &gi);
+  return 0.5 * h->mu * tl_material_trace_series(tl_m3_mul(gi, A), 0);
 }
 
 static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
@@ -121,7 +125,7 @@ static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, cons
       }
     }
     if (h->potential) {
-      if (W) W[p] = potential_energy(h, C, Ci);
+      if (W) W[p] = potential_energy(h, g);
     } else {
       /* Trapezoidal stress work from the committed point. */
       const double *so = state_old + STATE_SIZE * p;

@@ -48,7 +48,14 @@ static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, cons
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
         S[p].m[i][j] = h->mu * ((i == j) - Ci.m[i][j]) + h->lambda * lnJ * Ci.m[i][j];
-    if (W) W[p] = 0.5 * h->mu * (tl_m3_trace(Ce) - 3.0) - h->mu * lnJ + 0.5 * h->lambda * lnJ * lnJ;
+    if (W) {
+      /* mu/2 (tr Ce - 3) - mu ln J = mu/2 tr[A - log(1 + A)], A = 2 gamma,
+       * summed without cancellation at small strain. */
+      TlMat3 A = tl_m3_scale(gamma[p], 2.0);
+      double dev = tl_material_trace_series(A, 1);
+      double lnJ2 = 0.5 * (tl_m3_trace(A) - dev);
+      W[p] = 0.5 * h->mu * dev + 0.5 * h->lambda * lnJ2 * lnJ2;
+    }
     if (D) {
       for (int J = 0; J < 6; ++J) {
         TlMat3 dg = tl_voigt_unit_strain(J);

@@ -632,12 +632,13 @@ TlStatus tl_solid_setup(TlSolid *s)
 
 /* ----------------------------------------------------- element kernel */
 
-/* F at every stiffness point of element e from its displacements ue. */
+/* Displacement gradients H = F - 1 at every stiffness point of element e
+ * from its displacements ue. */
 static void deformation_gradients(const SolidBlock *B, int dim, size_t e, const double *ue, TlMat3 *F)
 {
   for (int p = 0; p < B->nq; ++p) {
     const double *g = B->grad + ((e * B->nq + p) * B->nn) * dim;
-    TlMat3 f = tl_m3_identity();
+    TlMat3 f = tl_m3_zero();
     for (int a = 0; a < B->nn; ++a)
       for (int i = 0; i < dim; ++i)
         for (int j = 0; j < dim; ++j) f.m[i][j] += ue[a * dim + i] * g[a * dim + j];
@@ -645,8 +646,8 @@ static void deformation_gradients(const SolidBlock *B, int dim, size_t e, const 
   }
 }
 
-/* Element residual fe and tangent Ke (either may be NULL) from F, S, D at
- * its stiffness points. */
+/* Element residual fe and tangent Ke (either may be NULL) from the
+ * displacement gradients H (F = 1 + H), S and D at its stiffness points. */
 static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 *F, const TlMat3 *S,
                            const double *D, double *fe, double *Ke, double *Bm, double *DB)
 {
@@ -657,7 +658,9 @@ static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 
   for (int p = 0; p < B->nq; ++p) {
     const double *g = B->grad + ((e * B->nq + p) * nn) * dim;
     double w = B->wdet[e * B->nq + p];
-    const TlMat3 *f = &F[p], *s = &S[p];
+    TlMat3 Fp = F[p];
+    for (int i = 0; i < 3; ++i) Fp.m[i][i] += 1.0;
+    const TlMat3 *f = &Fp, *s = &S[p];
     if (fe) {
       /* R_ai = F_ik S_kj dN_a/dxi_j */
       double FS[3][3];
@@ -728,7 +731,9 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
   for (int colour = 0; colour < B->n_colours; ++colour) {
     size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
     long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
-#pragma omp parallel for schedule(dynamic) reduction(+ : energy)
+/* Threads only where a colour holds several chunks: below that the
+     * fork and barrier cost more than the work. */
+#pragma omp parallel for schedule(dynamic) reduction(+ : energy) if (n_chunks >= 4)
     for (long ch = 0; ch < n_chunks; ++ch) {
       if (pe.status != TL_OK) continue;
       Scratch *w = &s->scratch[omp_get_thread_num()];
@@ -741,7 +746,7 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
         deformation_gradients(B, dim, e, w->ue, w->F + k * nq);
         if (ss) memcpy(w->state_old + k * nq * ss, B->state_old + e * nq * ss, nq * ss * sizeof(double));
       }
-      TlStatus st = tl_material_evaluate(mat, nk * nq, w->F, ss ? w->state_old : NULL,
+      TlStatus st = tl_material_evaluate_gradient(mat, nk * nq, w->F, ss ? w->state_old : NULL,
                                          ss ? w->state_new : NULL, w->S, K ? w->D : NULL,
                                          W ? w->W : NULL);
       if (st != TL_OK) {
@@ -1067,7 +1072,7 @@ TlStatus tl_solid_element_matrices(TlSolid *s, int b, size_t e, const double *ue
   size_t ss = B->material->state_size;
   deformation_gradients(B, s->dim, e, ue, w->F);
   if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
-  TL_CHECK(tl_material_evaluate(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
+  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
                                 w->S, w->D, NULL));
   if (fe || Ke) element_forces(B, s->dim, e, w->F, w->S, w->D, fe, Ke, w->B, w->DB);
   if (Me) {
@@ -1095,9 +1100,10 @@ TlStatus tl_solid_gauss_stress(TlSolid *s, int b, size_t e, int q, const double 
   deformation_gradients(B, dim, e, w->ue, w->F);
   size_t ss = B->material->state_size;
   if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
-  TL_CHECK(tl_material_evaluate(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
+  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
                                 w->S, NULL, NULL));
   *F = w->F[q];
+  for (int i = 0; i < 3; ++i) F->m[i][i] += 1.0;
   *S = w->S[q];
   return TL_OK;
 }
