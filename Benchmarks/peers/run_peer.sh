@@ -12,7 +12,9 @@
 # per repeat, then the machine-readable last line
 #   peer: scene=<s> code=<lammps|liggghts> ranks=<n> particles=<N> steps=<n>
 #         loop_time=<s> us_per_particle_step=<min> median=<m>
-# (on one line; loop_time is that of the fastest repeat).
+# (on one line; loop_time is that of the fastest repeat).  Repeat lines also
+# give cpu_share (CPU over wall time x ranks, from GNU time) and load (the
+# 1-minute load average before the run): both tell how busy the machine was.
 #
 # --prepare only prepares the scene's inputs and prints
 #   peer-data: scene=<s> data=<file> [stl=<file>]
@@ -29,7 +31,7 @@ peers="${TALUS_PEERS_DIR:-$repo/../shared/peers}"
 cache="${TALUS_PEERS_CACHE:-${TMPDIR:-/tmp}/talus-peers}"
 
 usage() {
-  sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+  awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
   exit "${1:-2}"
 }
 die() { echo "run_peer.sh: $*" >&2; exit 1; }
@@ -194,6 +196,8 @@ logs="$cache/logs"; mkdir -p "$logs"
 times=(); particles=""; steps_run=""
 for ((k = 1; k <= repeat; ++k)); do
   log="$logs/${scene}_r${ranks}_$$_$k.log"
+  load=""
+  [ ! -r /proc/loadavg ] || load=" load=$(cut -d' ' -f1 /proc/loadavg)" # runnable processes before the run
   run_code "$rundir" "$deck" "$log" "$exe" "${vars[@]}" nsteps "$steps" || exit 1
   # "Loop time of T on P procs for S steps with A atoms": the last one is the timed run
   line=$(grep '^Loop time of' "$log" | tail -n 1)
@@ -206,7 +210,7 @@ for ((k = 1; k <= repeat; ++k)); do
   if [ -s "$log.time" ]; then
     cpu=$(awk -v r="$ranks" 'NF == 3 { if ($1 > 0) printf " cpu_share=%.2f", ($2 + $3) / ($1 * r) }' "$log.time")
   fi
-  echo "run $k/$repeat: scene=$scene code=$code ranks=$ranks particles=$a steps=$s loop_time=$t us_per_particle_step=$us$cpu"
+  echo "run $k/$repeat: scene=$scene code=$code ranks=$ranks particles=$a steps=$s loop_time=$t us_per_particle_step=$us$cpu$load"
   times+=("$t"); particles="$a"; steps_run="$s"
   [ "${TALUS_PEERS_KEEP_LOGS:-0}" = 1 ] || rm -f "$log" "$log.out" "$log.time"
 done
