@@ -1108,6 +1108,41 @@ TlStatus tl_solid_gauss_stress(TlSolid *s, int b, size_t e, int q, const double 
   return TL_OK;
 }
 
+const TlMesh *tl_solid_mesh(const TlSolid *s) { return s->mesh; }
+
+TlStatus tl_solid_element_stress(TlSolid *s, int b, size_t e, const double *u_nodes, TlMat3 *S_avg,
+                                 TlMat3 *sigma_avg)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: stress before tl_solid_setup");
+  if (b < 0 || b >= s->mesh->n_blocks || e >= s->mesh->blocks[b].n_elements)
+    TL_ERROR(TL_ERR_ARG, "solid: no element %zu in block %d", e, b);
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  const SolidBlock *B = &s->blocks[b];
+  Scratch *w = &s->scratch[0];
+  int dim = s->dim;
+  for (int a = 0; a < B->nn; ++a)
+    for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * B->nn + a] * dim + i];
+  deformation_gradients(B, dim, e, w->ue, w->F);
+  size_t ss = B->material->state_size;
+  if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
+  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL,
+                                         ss ? w->state_new : NULL, w->S, NULL, NULL));
+  TlMat3 Ssum = tl_m3_zero(), csum = tl_m3_zero();
+  double V = 0.0;
+  for (int p = 0; p < B->nq; ++p) {
+    double wv = B->wdet[e * B->nq + p];
+    TlMat3 F = w->F[p];
+    for (int i = 0; i < 3; ++i) F.m[i][i] += 1.0;
+    TlMat3 sigma = tl_m3_scale(tl_m3_mul(tl_m3_mul(F, w->S[p]), tl_m3_transpose(F)), 1.0 / tl_m3_det(F));
+    Ssum = tl_m3_add(Ssum, tl_m3_scale(w->S[p], wv));
+    csum = tl_m3_add(csum, tl_m3_scale(sigma, wv));
+    V += wv;
+  }
+  if (S_avg) *S_avg = tl_m3_scale(Ssum, 1.0 / V);
+  if (sigma_avg) *sigma_avg = tl_m3_scale(csum, 1.0 / V);
+  return TL_OK;
+}
+
 /* Element-by-element bound of the largest eigenvalue of M^-1 K: the largest
  * Gershgorin row bound of M_e^-1 K_e over the elements (the element
  * eigenvalue theorem makes it an upper bound of the assembled one). */

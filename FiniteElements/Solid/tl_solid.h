@@ -114,4 +114,11 @@ TlStatus tl_solid_element_matrices(TlSolid *solid, int b, size_t e, const double
 TlStatus tl_solid_gauss_stress(TlSolid *solid, int b, size_t e, int q, const double *u_nodes,
                                TlMat3 *F, TlMat3 *S);
 
+/* Volume averages over element e of block b of the second Piola-Kirchhoff
+ * stress S and of the Cauchy stress F S F^T / det F (either may be NULL). */
+TlStatus tl_solid_element_stress(TlSolid *solid, int b, size_t e, const double *u_nodes, TlMat3 *S_avg,
+                                 TlMat3 *sigma_avg);
+/* The mesh the solid was built on. */
+const TlMesh *tl_solid_mesh(const TlSolid *solid);
+
 #endif
