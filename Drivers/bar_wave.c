@@ -158,7 +158,7 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK_GOTO(s, tl_path_join(output_dir, "stations", &base), out);
     const TlColumn cols[] = {{"t", "s"}, {"v_station1", "m/s"}, {"v_station2", "m/s"}};
     s = tl_timeseries_create(base, TL_TIMESERIES_CSV, 3, cols, &ts);
-    free(base);
+    tl_free(&base);
     if (s != TL_OK) goto out;
     TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), out);
   }

@@ -103,7 +103,7 @@ static TlStatus open_table(const Config *c, const char *name, size_t n, const Tl
   TL_CHECK(tl_mkdir_p(c->output_dir));
   TL_CHECK(tl_path_join(c->output_dir, name, &base));
   TlStatus s = tl_timeseries_create(base, TL_TIMESERIES_CSV, n, cols, ts);
-  free(base);
+  tl_free(&base);
   return s;
 }
 
