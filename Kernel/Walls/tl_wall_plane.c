@@ -28,6 +28,7 @@ typedef struct {
   size_t n, capacity, hd;
   double *history;
   uint8_t *touching;
+  TlVec3 *force_prev; /* force on the particle at the last step (work by the trapezoidal rule) */
 } TlWallPlane;
 
 enum { PLANE_CHUNK = 64 };
@@ -50,17 +51,20 @@ static TlStatus plane_fit(TlWallPlane *p, size_t n, size_t hd)
     p->capacity = 0;
     tl_free(&p->history);
     tl_free(&p->touching);
+    tl_free(&p->force_prev);
     p->n = 0;
   }
   if (n > p->capacity) {
     size_t cap = n + n / 2 + 16;
     if (hd) TL_CHECK(tl_realloc(&p->history, cap * hd, sizeof *p->history));
     TL_CHECK(tl_realloc(&p->touching, cap, sizeof *p->touching));
+    TL_CHECK(tl_realloc(&p->force_prev, cap, sizeof *p->force_prev));
     p->capacity = cap;
   }
   if (n > p->n) {
     if (hd) memset(p->history + p->n * hd, 0, (n - p->n) * hd * sizeof *p->history);
     memset(p->touching + p->n, 0, n - p->n);
+    memset(p->force_prev + p->n, 0, (n - p->n) * sizeof *p->force_prev);
   }
   p->n = n;
   return TL_OK;
@@ -83,10 +87,13 @@ static TlStatus flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g
     p->base.force = tl_v3_sub(p->base.force, F);
     p->base.torque = tl_v3_sub(p->base.torque, tl_v3_cross(cp, F));
     if (st->want_energy) {
+      /* trapezoidal rule over the step, as for particle contacts */
+      TlVec3 Fm = tl_v3_scale(tl_v3_add(F, p->force_prev[i]), 0.5);
       *elastic += r[c].elastic_energy;
-      *power += r[c].power;
-      *work += tl_v3_dot(F, p->velocity);
+      *power += tl_v3_dot(Fm, g[c].vrel) + tl_v3_dot(r[c].couple, g[c].spin_rel);
+      *work += tl_v3_dot(Fm, p->velocity);
     }
+    p->force_prev[i] = F;
   }
   return TL_OK;
 }
@@ -110,6 +117,7 @@ static TlStatus plane_interact(TlWall *w, const TlWallStep *st)
     if (s >= ri || P->motion[i] != TL_MOTION_FREE) {
       if (p->touching[i]) {
         p->touching[i] = 0;
+        p->force_prev[i] = tl_v3(0, 0, 0);
         if (hd) memset(p->history + i * hd, 0, hd * sizeof *p->history);
       }
       continue;
@@ -161,16 +169,21 @@ static TlStatus plane_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
   size_t cap = p->capacity > n_new ? p->capacity : n_new + 16;
   if (hd) TL_CHECK(tl_calloc(&h, cap * hd, sizeof *h));
   TL_CHECK(tl_calloc(&t, cap, sizeof *t));
+  TlVec3 *fp = NULL;
+  TL_CHECK(tl_calloc(&fp, cap, sizeof *fp));
   for (size_t k = 0; k < n; ++k) {
     size_t q = old_to_new[k];
     if (q == SIZE_MAX) continue;
     t[q] = p->touching[k];
+    fp[q] = p->force_prev[k];
     if (hd) memcpy(h + q * hd, p->history + k * hd, hd * sizeof *h);
   }
   tl_free(&p->history);
   tl_free(&p->touching);
+  tl_free(&p->force_prev);
   p->history = h;
   p->touching = t;
+  p->force_prev = fp;
   p->capacity = cap;
   p->n = n_new;
   return TL_OK;
@@ -186,7 +199,7 @@ static TlStatus plane_advance(TlWall *w, double t, double dt)
 static size_t plane_checkpoint_size(const TlWall *w)
 {
   const TlWallPlane *p = (const TlWallPlane *)w;
-  return 6 * sizeof(double) + 2 * sizeof(size_t) + p->n * (p->hd * sizeof(double) + 1);
+  return 6 * sizeof(double) + 2 * sizeof(size_t) + p->n * (p->hd * sizeof(double) + 1 + sizeof(TlVec3));
 }
 
 static TlStatus plane_save(const TlWall *w, void *buffer, size_t size)
@@ -200,6 +213,8 @@ static TlStatus plane_save(const TlWall *w, void *buffer, size_t size)
   memcpy(b, &p->hd, sizeof p->hd); b += sizeof p->hd;
   if (p->hd) { memcpy(b, p->history, p->n * p->hd * sizeof(double)); b += p->n * p->hd * sizeof(double); }
   memcpy(b, p->touching, p->n);
+  b += p->n;
+  memcpy(b, p->force_prev, p->n * sizeof(TlVec3));
   return TL_OK;
 }
 
@@ -213,7 +228,7 @@ static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
   memcpy(v, b, sizeof v); b += sizeof v;
   memcpy(&n, b, sizeof n); b += sizeof n;
   memcpy(&hd, b, sizeof hd); b += sizeof hd;
-  if (size < sizeof v + 2 * sizeof(size_t) + n * (hd * sizeof(double) + 1))
+  if (size < sizeof v + 2 * sizeof(size_t) + n * (hd * sizeof(double) + 1 + sizeof(TlVec3)))
     TL_ERROR(TL_ERR_FORMAT, "plane checkpoint of %zu bytes too short for %zu particles", size, n);
   p->point = tl_v3(v[0], v[1], v[2]);
   p->velocity = tl_v3(v[3], v[4], v[5]);
@@ -221,12 +236,15 @@ static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
   TL_CHECK(plane_fit(p, n, hd));
   if (hd) { memcpy(p->history, b, n * hd * sizeof(double)); b += n * hd * sizeof(double); }
   memcpy(p->touching, b, n);
+  b += n;
+  memcpy(p->force_prev, b, n * sizeof(TlVec3));
   return TL_OK;
 }
 
 static void plane_destroy(TlWall *w)
 {
   TlWallPlane *p = (TlWallPlane *)w;
+  tl_free(&p->force_prev);
   tl_free(&p->history);
   tl_free(&p->touching);
   tl_free(&p);

@@ -1,0 +1,219 @@
+/* Polydisperse spheres poured into a box and settled under gravity: the
+ * floor is a triangulated surface (squares split into four triangles around
+ * their centres, as seeds/001 represents quadrilateral faces) and the four
+ * sides are infinite planes.  Particles are inserted on a jittered lattice in
+ * the upper part of the box with small random velocities and fall.
+ *
+ * Material (seeds/000 Table 1 where it applies): density 2500 kg/m^3,
+ * diameters uniform in [2.5, 3.5] mm, friction 0.5; the linear normal
+ * stiffness follows the coupling paper's k_n = E d with a soft E = 10 MPa
+ * (stated in -help) so that settling takes a fraction of a second;
+ * restitution 0.5.  Time step 0.2 of the critical one.
+ *
+ * Output in -output_dir: energies.csv/.h5 (every energy term, momentum,
+ * coordination), particles_*.h5 + particles.xmf (ParaView).  At the end the
+ * vertical force on the walls is compared with the weight of the packing
+ * (a settled packing carries its weight on the walls).  Last line:
+ * summary: n=... kinetic_final=... weight_balance=... wall=... */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_dem.h"
+#include "tl_particle_snapshot.h"
+#include "tl_timeseries.h"
+#include "tl_wall_trisurface.h"
+
+typedef struct {
+  long n;
+  double d_min, d_max, density, E, e, mu, box, height, t_end, dt_fraction;
+  long snapshots, samples, floor_cells;
+  int threads, plane_floor;
+  const char *out;
+} Settings;
+
+static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
+{
+  TL_CHECK(tl_options_create(argc, argv,
+                             "Polydisperse spheres poured into a box and settled on a triangulated floor and plane "
+                             "side walls; energies, coordination and the weight carried by the walls.",
+                             o));
+  TL_CHECK(tl_options_get_int(*o, "-n", 1500, 1, 100000000, "number of particles", &s->n));
+  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
+  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
+  TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (seeds/000 Table 1)", &s->density));
+  TL_CHECK(tl_options_get_real(*o, "-E", 1e7, 1.0, 1e12, "Pa",
+                               "modulus giving the linear stiffness k_n = E d_mean (soft, so that settling is quick)", &s->E));
+  TL_CHECK(tl_options_get_real(*o, "-e", 0.5, 1e-3, 1.0, "", "restitution coefficient", &s->e));
+  TL_CHECK(tl_options_get_real(*o, "-mu", 0.5, 0.0, 10.0, "", "friction coefficient (seeds/000 Table 1)", &s->mu));
+  TL_CHECK(tl_options_get_real(*o, "-box", 0.04, 1e-6, 1e3, "m", "box width (x and y)", &s->box));
+  TL_CHECK(tl_options_get_real(*o, "-height", 0.12, 1e-6, 1e3, "m", "box height", &s->height));
+  TL_CHECK(tl_options_get_real(*o, "-t_end", 0.4, 0.0, 1e6, "s", "simulated time", &s->t_end));
+  TL_CHECK(tl_options_get_real(*o, "-dt_fraction", 0.2, 1e-6, 10.0, "", "time step over the critical time step (> 1 is refused)", &s->dt_fraction));
+  TL_CHECK(tl_options_get_int(*o, "-snapshots", 10, 0, 100000, "particle snapshots written", &s->snapshots));
+  TL_CHECK(tl_options_get_int(*o, "-samples", 400, 1, 10000000, "rows of the energy table", &s->samples));
+  TL_CHECK(tl_options_get_int(*o, "-floor_cells", 8, 1, 10000, "floor squares per side (4 triangles each)", &s->floor_cells));
+  TL_CHECK(tl_options_get_bool(*o, "-plane_floor", 0, "use an infinite plane as floor instead of triangles", &s->plane_floor));
+  long th;
+  TL_CHECK(tl_options_get_int(*o, "-threads", 0, 0, 1024, "OpenMP threads (0: default)", &th));
+  s->threads = (int)th;
+  TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/settle", "output folder", &s->out));
+  return tl_options_finish(*o, stdout);
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  double wall0 = tl_wtime();
+  TlOptions *o = NULL;
+  Settings s;
+  TlStatus st = options(argc, argv, &o, &s);
+  if (st != TL_OK) {
+    tl_options_destroy(&o);
+    return st;
+  }
+  if (s.d_max < s.d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
+  TlDem *dem;
+  TL_CHECK(tl_dem_create(&dem));
+  TlParticles *P = tl_dem_particles(dem);
+  TlDomain dom;
+  TL_CHECK(tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(s.box, s.box, s.height)));
+  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  int sp;
+  TL_CHECK(tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp));
+  /* pour: jittered lattice of pitch d_max * 1.05 from the top down */
+  double pitch = 1.05 * s.d_max;
+  int per_side = (int)floor((s.box - pitch) / pitch);
+  if (per_side < 1) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s.box, s.d_max);
+  long layers = (s.n + (long)per_side * per_side - 1) / ((long)per_side * per_side);
+  if (layers * pitch > s.height - pitch)
+    TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s.n, layers, pitch,
+             s.height);
+  uint64_t rng = 12345;
+  TL_CHECK(tl_particles_reserve(P, (size_t)s.n));
+  for (long k = 0; k < s.n; ++k) {
+    long layer = k / ((long)per_side * per_side), in = k % ((long)per_side * per_side);
+    double jx = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5), jy = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5);
+    TlVec3 x = {pitch * (1.0 + (double)(in % per_side)) + jx, pitch * (1.0 + (double)(in / per_side)) + jy,
+                s.height - pitch * (1.0 + (double)layer)};
+    TlVec3 v = {0.05 * (tl_random_uniform(&rng) - 0.5), 0.05 * (tl_random_uniform(&rng) - 0.5), 0.0};
+    double r = tl_species_sample_radius(&P->species_table[sp], &rng);
+    TL_CHECK(tl_dem_add_particle(dem, x, v, r, sp, NULL));
+  }
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = s.E * 0.5 * (s.d_min + s.d_max);
+  p.restitution = s.e;
+  p.mu = s.mu;
+  TlContactLaw *law;
+  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  /* walls: triangulated floor, four planes */
+  TlWall *w;
+  if (s.plane_floor) {
+    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w));
+  } else {
+    TlTriSurface *floor_;
+    TL_CHECK(tl_trisurface_create_rectangle(0, 0, s.box, s.box, 0.0, (int)s.floor_cells, (int)s.floor_cells, 2, &floor_));
+    TL_CHECK(tl_wall_trisurface_create(floor_, &w));
+  }
+  TL_CHECK(tl_dem_add_wall(dem, w, 0));
+  const TlVec3 pts[4] = {{0, 0, 0}, {s.box, 0, 0}, {0, 0, 0}, {0, s.box, 0}};
+  const TlVec3 nrm[4] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  for (int k = 0; k < 4; ++k) {
+    TL_CHECK(tl_wall_plane_create(pts[k], nrm[k], &w));
+    TL_CHECK(tl_dem_add_wall(dem, w, 0));
+  }
+  const double g = 9.81;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -g));
+  tl_dem_set_threads(dem, s.threads);
+  double dtc, kmax, mmin;
+  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, &kmax, &mmin));
+  double dt = s.dt_fraction * dtc;
+  TL_CHECK(tl_dem_set_timestep(dem, dt, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  long steps = (long)ceil(s.t_end / dt);
+  printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
+         s.d_min, s.d_max, p.k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
+  /* output */
+  char base[4096];
+  snprintf(base, sizeof base, "%s/energies", s.out);
+  TlParticleWriter *writer = NULL;
+  TL_CHECK(tl_particle_writer_create(s.out, "particles", &writer));
+  static const TlColumn cols[] = {{"time", "s"},          {"kinetic", "J"},        {"rotational", "J"},
+                                  {"elastic", "J"},       {"gravitational", "J"},  {"dissipated", "J"},
+                                  {"work_external", "J"}, {"total", "J"},          {"momentum_z", "kg m/s"},
+                                  {"coordination", ""},   {"wall_force_z", "N"}};
+  TlTimeSeries *ts;
+  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, &ts));
+  TL_CHECK(tl_timeseries_reserve(ts, (size_t)s.samples + 2));
+  long every = steps / s.samples > 0 ? steps / s.samples : 1;
+  long snap_every = s.snapshots > 0 ? (steps / s.snapshots > 0 ? steps / s.snapshots : 1) : 0;
+  TlProgress prog;
+  tl_progress_init(&prog, "settle", (double)steps);
+  double weight = 0.0;
+  for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
+  TlDemEnergy en;
+  double e0 = 0.0, wall_fz = 0.0;
+  for (long k = 0; k <= steps; ++k) {
+    if (k % every == 0 || k == steps) {
+      TL_CHECK(tl_dem_energy(dem, &en));
+      if (k == 0) e0 = en.total;
+      double z;
+      TL_CHECK(tl_dem_coordination(dem, &z, NULL));
+      wall_fz = 0.0;
+      for (size_t q = 0; q < tl_dem_n_walls(dem); ++q) wall_fz += tl_dem_wall(dem, q)->force.z;
+      double row[] = {tl_dem_time(dem), en.kinetic_translational, en.kinetic_rotational, en.elastic, en.gravitational,
+                      en.dissipated, en.work_external, en.total, en.momentum.z, z, wall_fz};
+      TL_CHECK(tl_timeseries_append(ts, row));
+    }
+    if (snap_every && (k % snap_every == 0 || k == steps)) {
+      TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
+      TL_CHECK(tl_particle_writer_write(writer, k, tl_dem_time(dem), &view));
+    }
+    if (k == steps) break;
+    TL_CHECK(tl_dem_step(dem, 1));
+    if (k % 200 == 0) tl_progress_update(&prog, (double)k);
+  }
+  tl_progress_finish(&prog);
+  TL_CHECK(tl_timeseries_close(&ts));
+  tl_particle_writer_destroy(&writer);
+  /* results */
+  TL_CHECK(tl_dem_energy(dem, &en));
+  double z, znr, imbalance;
+  TL_CHECK(tl_dem_coordination(dem, &z, &znr));
+  TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
+  double top = 0.0, vol = 0.0;
+  for (size_t i = 0; i < P->n; ++i) {
+    top = fmax(top, P->x[i].z + P->radius[i]);
+    vol += 4.0 / 3.0 * TL_PI * pow(P->radius[i], 3);
+  }
+  /* the walls push up on the particles: their reactions are -force */
+  double balance = -wall_fz / weight;
+  double energy_error = (en.total - e0) / fmax(fabs(e0), 1e-300);
+  printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
+         en.kinetic_translational + en.kinetic_rotational, en.elastic, en.dissipated, z, znr);
+  printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
+         balance, top, vol / (s.box * s.box * top), energy_error);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_int(&sum, "n", (long)P->n);
+  tl_summary_int(&sum, "steps", steps);
+  tl_summary_real(&sum, "kinetic_final", en.kinetic_translational + en.kinetic_rotational);
+  tl_summary_real(&sum, "coordination", z);
+  tl_summary_real(&sum, "weight_balance", balance);
+  tl_summary_real(&sum, "packing_fraction", vol / (s.box * s.box * top));
+  tl_summary_real(&sum, "energy_balance_error", energy_error);
+  tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+  tl_summary_print(&sum, stdout);
+  tl_dem_destroy(&dem);
+  tl_options_destroy(&o);
+  return TL_OK;
+}
+
+int main(int argc, char **argv)
+{
+  TlStatus s = tl_initialize();
+  if (s == TL_OK) s = run(argc, argv);
+  return tl_driver_exit(s);
+}
