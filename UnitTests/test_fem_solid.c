@@ -432,6 +432,116 @@ static void uniaxial_test(const char *law, double lambda)
   tl_mesh_destroy(&mesh);
 }
 
+/* A spring of stiffness k between two far-apart nodes (a, b): a force term
+ * whose tangent needs an extra node group in the pattern. */
+typedef struct {
+  size_t a, b;
+  double k;
+} Spring;
+
+static TlStatus spring_term(void *ctx, TlSolid *solid, double t, const double *u, double *f, double c_u, TlSparse *K)
+{
+  (void)t;
+  const Spring *sp = ctx;
+  int dim = tl_solid_mesh(solid)->dim;
+  if (f)
+    for (int c = 0; c < dim; ++c) {
+      double d = u[sp->a * dim + c] - u[sp->b * dim + c];
+      f[sp->a * dim + c] += sp->k * d;
+      f[sp->b * dim + c] -= sp->k * d;
+    }
+  if (K) {
+    double Ke[36] = {0};
+    size_t nodes[2] = {sp->a, sp->b};
+    for (int c = 0; c < dim; ++c) {
+      int n2 = 2 * dim;
+      Ke[c * n2 + c] = sp->k, Ke[(dim + c) * n2 + dim + c] = sp->k;
+      Ke[c * n2 + dim + c] = -sp->k, Ke[(dim + c) * n2 + c] = -sp->k;
+    }
+    TL_CHECK(tl_solid_matrix_add_nodes(solid, K, 2, nodes, c_u, Ke));
+  }
+  return TL_OK;
+}
+
+static void term_test(void)
+{
+  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  Spring sp = {0, mesh->n_nodes - 1, 3e7};
+  size_t ptr[2] = {0, 2}, nodes[2] = {sp.a, sp.b};
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_add_term(solid, spring_term, &sp, 1, 1, ptr, nodes), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  TL_TEST_ASSERT(sys->symmetric, "symmetric term and law: symmetric system");
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp),
+         *rm = calloc(n, sizeof *rm), *Kd = calloc(n, sizeof *Kd);
+  for (size_t i = 0; i < n; ++i) u[i] = 0.02 * urand(), d[i] = urand();
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 1, &K), TL_OK);
+  if (!K) return;
+  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  tl_sparse_matvec(K, d, Kd);
+  double h = 1e-7;
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rp);
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rm);
+  double err = 0.0;
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
+  TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "tangent with a force term off by %g of %g", err, max_abs(Kd, n));
+  /* The term's force is there: moving node a alone by 1 mm along x changes
+   * f at node b by -k * 1 mm. */
+  memset(u, 0, n * sizeof *u);
+  u[tl_solid_dof(solid, sp.a, 0)] = 1e-3;
+  sys->ops->internal_force(sys, 0.0, u, NULL, rp);
+  TL_TEST_CLOSE(rp[tl_solid_dof(solid, sp.b, 0)], -sp.k * 1e-3, 1e-12);
+  tl_sparse_destroy(&K);
+  free(u), free(d), free(up), free(rp), free(rm), free(Kd);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* An isotropic eigenstrain e0 on a free body: the stress-free state
+ * F = sqrt(1 + 2 e0) 1 has zero residual at every node. */
+static void eigenstrain_test(const TlElementType *t)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law("hooke", 0.3);
+  if (!mesh || !mat) return;
+  double e0 = 0.01;
+  TlMat3 E0 = tl_m3_scale(tl_m3_identity(), e0);
+  if (t->dim == 2) E0.m[2][2] = 0.0; /* plane strain: no growth out of plane */
+  TL_TEST_STATUS(tl_material_set_eigenstrain(mat, E0), TL_OK);
+  TL_TEST_STATUS(tl_material_setup(mat), TL_OK);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *f = calloc(n, sizeof *f);
+  double stretch = sqrt(1.0 + 2.0 * e0) - 1.0;
+  for (size_t a = 0; a < mesh->n_nodes; ++a)
+    for (int i = 0; i < t->dim; ++i) u[tl_solid_dof(solid, a, i)] = stretch * mesh->x[3 * a + i];
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f), TL_OK);
+  /* Against the residual of the same body without the eigenstrain moved. */
+  memset(u, 0, n * sizeof *u);
+  double *f0 = calloc(n, sizeof *f0);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
+  TL_TEST_ASSERT(max_abs(f, n) < 1e-12 * max_abs(f0, n), "%s eigenstrain: residual %g at the stress-free state (%g at rest)",
+                 t->header.name, max_abs(f, n), max_abs(f0, n));
+  free(u), free(f), free(f0);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -455,6 +565,9 @@ int main(void)
   system_test(&tl_element_tet10);
   system_test(&tl_element_quad8);
   reaction_test();
+  term_test();
+  eigenstrain_test(&tl_element_hex27);
+  eigenstrain_test(&tl_element_quad8);
   uniaxial_test("hooke", 1.05);
   uniaxial_test("hooke_covariant", 1.02);
   return tl_test_report();

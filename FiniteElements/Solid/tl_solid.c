@@ -67,6 +67,14 @@ typedef struct {
   void *ctx;
 } DeadLoad;
 
+typedef struct {
+  TlSolidTerm fn;
+  void *ctx;
+  int symmetric;
+  size_t n_groups;
+  size_t *group_ptr, *group_nodes;
+} Term;
+
 /* Per-thread scratch, sized at setup. */
 typedef struct {
   TlMat3 *F, *S;
@@ -100,6 +108,9 @@ struct TlSolid {
   Scratch *scratch;
   int n_threads;
   int max_nd, max_nq;
+  Term *terms;
+  int n_terms;
+  size_t n_pattern; /* elements plus term node groups in the matrix pattern */
   char constraint_sets[256];
   int ready;
 };
@@ -212,6 +223,11 @@ static void solid_destroy_content(TlMechSystem *sys)
     tl_free(&w->ue);
     tl_free(&w->dofs);
   }
+  for (int i = 0; i < s->n_terms; ++i) {
+    tl_free(&s->terms[i].group_ptr);
+    tl_free(&s->terms[i].group_nodes);
+  }
+  tl_free(&s->terms);
   tl_free(&s->scratch);
   tl_free(&s->blocks);
   tl_free(&s->constraint);
@@ -349,6 +365,45 @@ TlStatus tl_solid_prescribe(TlSolid *s, const char *node_set, int component, TlP
     s->prescribed[s->n_prescribed++] = (Prescribed){ns->nodes[i], component, fn, ctx};
   }
   note_set(s, node_set);
+  return TL_OK;
+}
+
+TlStatus tl_solid_add_term(TlSolid *s, TlSolidTerm fn, void *ctx, int symmetric, size_t n_groups,
+                           const size_t *group_ptr, const size_t *group_nodes)
+{
+  TL_CHECK(not_after_setup(s, "add_term"));
+  if (!fn) TL_ERROR(TL_ERR_ARG, "solid: NULL force term");
+  size_t total = n_groups ? group_ptr[n_groups] : 0;
+  for (size_t i = 0; i < total; ++i)
+    if (group_nodes[i] >= s->n_nodes)
+      TL_ERROR(TL_ERR_ARG, "solid: force term group node %zu, the mesh has %zu nodes", group_nodes[i], s->n_nodes);
+  TL_CHECK(tl_realloc(&s->terms, s->n_terms + 1, sizeof *s->terms));
+  Term *t = &s->terms[s->n_terms];
+  memset(t, 0, sizeof *t);
+  t->fn = fn;
+  t->ctx = ctx;
+  t->symmetric = symmetric;
+  t->n_groups = n_groups;
+  s->n_terms++;
+  if (n_groups) {
+    TL_CHECK(tl_calloc(&t->group_ptr, n_groups + 1, sizeof(size_t)));
+    TL_CHECK(tl_calloc(&t->group_nodes, total ? total : 1, sizeof(size_t)));
+    memcpy(t->group_ptr, group_ptr, (n_groups + 1) * sizeof(size_t));
+    memcpy(t->group_nodes, group_nodes, total * sizeof(size_t));
+  }
+  return TL_OK;
+}
+
+TlStatus tl_solid_matrix_add_nodes(const TlSolid *s, TlSparse *K, int n, const size_t *nodes, double scale,
+                                   const double *Ke)
+{
+  TlSparseIndex dofs[3 * TL_ELEMENT_MAX_NODES * 4];
+  int nd = n * s->dim;
+  if (nd > (int)(sizeof dofs / sizeof dofs[0]))
+    TL_ERROR(TL_ERR_ARG, "solid: matrix block of %d nodes exceeds %d", n, (int)(sizeof dofs / sizeof dofs[0]) / s->dim);
+  for (int a = 0; a < n; ++a)
+    for (int c = 0; c < s->dim; ++c) dofs[a * s->dim + c] = s->dof[nodes[a] * s->dim + c];
+  TL_CHECK(tl_sparse_add_element(K, nd, dofs, scale, Ke));
   return TL_OK;
 }
 
@@ -538,6 +593,7 @@ TlStatus tl_solid_setup(TlSolid *s)
     symmetric &= tl_material_symmetric_tangent(m);
   }
   for (int i = 0; i < s->n_surface; ++i) symmetric &= !s->surface[i].pressure;
+  for (int i = 0; i < s->n_terms; ++i) symmetric &= s->terms[i].symmetric;
   /* Dof numbering. */
   size_t nc = s->n_nodes * dim;
   TL_CHECK(tl_calloc(&s->dof, nc, sizeof *s->dof));
@@ -574,8 +630,13 @@ TlStatus tl_solid_setup(TlSolid *s)
       memcpy(B->state_new, B->state_old, nst * ss * sizeof(double));
     }
   }
-  TL_CHECK(tl_calloc(&s->elem_ptr, s->n_elements + 1, sizeof(TlSparseIndex)));
-  size_t total = 0;
+  size_t n_groups = 0, total = 0;
+  for (int i = 0; i < s->n_terms; ++i) {
+    n_groups += s->terms[i].n_groups;
+    if (s->terms[i].n_groups) total += s->terms[i].group_ptr[s->terms[i].n_groups] * dim;
+  }
+  s->n_pattern = s->n_elements + n_groups;
+  TL_CHECK(tl_calloc(&s->elem_ptr, s->n_pattern + 1, sizeof(TlSparseIndex)));
   for (int b = 0; b < mesh->n_blocks; ++b) total += mesh->blocks[b].n_elements * s->blocks[b].nd;
   TL_CHECK(tl_calloc(&s->elem_dofs, total ? total : 1, sizeof(TlSparseIndex)));
   size_t k = 0, g = 0;
@@ -587,6 +648,13 @@ TlStatus tl_solid_setup(TlSolid *s)
         for (int c = 0; c < dim; ++c) s->elem_dofs[k++] = s->dof[blk->conn[e * blk->type->n_nodes + a] * dim + c];
     }
   }
+  /* Node groups of the force terms: extra entries of the pattern. */
+  for (int i = 0; i < s->n_terms; ++i)
+    for (size_t q = 0; q < s->terms[i].n_groups; ++q, ++g) {
+      s->elem_ptr[g] = (TlSparseIndex)k;
+      for (size_t j = s->terms[i].group_ptr[q]; j < s->terms[i].group_ptr[q + 1]; ++j)
+        for (int c = 0; c < dim; ++c) s->elem_dofs[k++] = s->dof[s->terms[i].group_nodes[j] * dim + c];
+    }
   s->elem_ptr[g] = (TlSparseIndex)k;
   /* Lumped masses. */
   TL_CHECK(tl_calloc(&s->lumped_nodes, nc, sizeof(double)));
@@ -725,7 +793,7 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
   int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
   const TlMaterial *mat = B->material;
   size_t ss = mat->state_size;
-  int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_elements;
+  int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_pattern;
   ParallelError pe = {TL_OK, ""};
   double energy = 0.0;
   for (int colour = 0; colour < B->n_colours; ++colour) {
@@ -812,12 +880,14 @@ double tl_solid_total_mass(const TlSolid *s)
   return m;
 }
 
-static TlStatus internal_nodes(TlSolid *s, const double *u, double *f_nodes, double c_u, TlSparse *K)
+static TlStatus internal_nodes(TlSolid *s, double t, const double *u, double *f_nodes, double c_u, TlSparse *K)
 {
   tl_solid_dofs_to_nodes(s, u, s->un);
   if (f_nodes) memset(f_nodes, 0, s->n_nodes * s->dim * sizeof(double));
   for (int b = 0; b < s->mesh->n_blocks; ++b)
     TL_CHECK(tl_solid_block_forces(s, b, s->un, f_nodes, c_u, K, NULL));
+  for (int i = 0; i < s->n_terms; ++i)
+    TL_CHECK(s->terms[i].fn(s->terms[i].ctx, s, t, s->un, f_nodes, c_u, K));
   return TL_OK;
 }
 
@@ -826,16 +896,16 @@ static TlStatus op_create_matrix(TlMechSystem *sys, int upper, TlSparse **K)
   TlSolid *s = (TlSolid *)sys;
   if (upper && !sys->symmetric)
     TL_ERROR(TL_ERR_ARG, "solid: upper-triangle storage asked for a non-symmetric system");
-  TL_CHECK(tl_sparse_create_from_elements(sys->ndof, upper, (TlSparseIndex)s->n_elements,
+  TL_CHECK(tl_sparse_create_from_elements(sys->ndof, upper, (TlSparseIndex)s->n_pattern,
                                           s->elem_ptr, s->elem_dofs, 1, K));
   return TL_OK;
 }
 
 static TlStatus op_internal_force(TlMechSystem *sys, double t, const double *u, const double *v, double *f)
 {
-  (void)t, (void)v;
+  (void)v;
   TlSolid *s = (TlSolid *)sys;
-  TL_CHECK(internal_nodes(s, u, s->fn, 0.0, NULL));
+  TL_CHECK(internal_nodes(s, t, u, s->fn, 0.0, NULL));
   tl_solid_nodes_to_dofs(s, s->fn, f);
   return TL_OK;
 }
@@ -843,9 +913,9 @@ static TlStatus op_internal_force(TlMechSystem *sys, double t, const double *u, 
 static TlStatus op_internal_tangent(TlMechSystem *sys, double t, const double *u, const double *v,
                                     double c_u, double c_v, TlSparse *K)
 {
-  (void)t, (void)v, (void)c_v;
+  (void)v, (void)c_v;
   TlSolid *s = (TlSolid *)sys;
-  TL_CHECK(internal_nodes(s, u, NULL, c_u, K));
+  TL_CHECK(internal_nodes(s, t, u, NULL, c_u, K));
   return TL_OK;
 }
 
@@ -984,7 +1054,7 @@ static TlStatus op_consistent_mass(TlMechSystem *sys, double c, TlSparse *M)
 {
   TlSolid *s = (TlSolid *)sys;
   int dim = s->dim;
-  int indexed = M->elem_pos_ptr && M->n_elements == (TlSparseIndex)s->n_elements;
+  int indexed = M->elem_pos_ptr && M->n_elements == (TlSparseIndex)s->n_pattern;
   double *Mab = s->scratch[0].DB, *Me = s->scratch[0].Ke; /* nn^2 <= 6 nd */
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     const SolidBlock *B = &s->blocks[b];
@@ -1247,7 +1317,7 @@ TlStatus tl_solid_reactions(TlSolid *s, double t, const double *u, const double 
 {
   if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: reactions before tl_solid_setup");
   size_t nc = s->n_nodes * s->dim;
-  TL_CHECK(internal_nodes(s, u, R, 0.0, NULL));
+  TL_CHECK(internal_nodes(s, t, u, R, 0.0, NULL));
   TL_CHECK(external_nodes(s, t, u, s->fn));
   for (size_t i = 0; i < nc; ++i) R[i] -= s->fn[i];
   if (a) {

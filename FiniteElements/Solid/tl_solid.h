@@ -66,6 +66,23 @@ TlStatus tl_solid_fix(TlSolid *solid, const char *node_set, int component_mask);
 /* Prescribes component c of a node set as a function of time and position. */
 TlStatus tl_solid_prescribe(TlSolid *solid, const char *node_set, int component, TlPrescribed fn,
                             void *ctx);
+/* A force term added to the internal force inside every evaluation (so
+ * inside Newton iterations, unlike the step hook): with f_nodes non-NULL it
+ * ADDS its nodal forces (n_nodes x dim, same sign as f_int), with K non-NULL
+ * it ADDS c_u times their derivative through tl_solid_matrix_add_nodes().
+ * Volume couplings and penalty constraints use it. */
+typedef TlStatus (*TlSolidTerm)(void *ctx, TlSolid *solid, double t, const double *u_nodes,
+                                double *f_nodes, double c_u, TlSparse *K);
+/* Registers a term.  symmetric = 0 if its tangent is not symmetric.  Its
+ * tangent may couple the nodes of one element, or the nodes of each of
+ * n_groups groups (group q: group_nodes[group_ptr[q] .. group_ptr[q+1]-1]),
+ * which enter the matrix pattern. */
+TlStatus tl_solid_add_term(TlSolid *solid, TlSolidTerm fn, void *ctx, int symmetric, size_t n_groups,
+                           const size_t *group_ptr, const size_t *group_nodes);
+/* K += scale * Ke on the dofs of n nodes (Ke: (n dim)^2, row-major, node
+ * major); clamped components are skipped. */
+TlStatus tl_solid_matrix_add_nodes(const TlSolid *solid, TlSparse *K, int n, const size_t *nodes,
+                                   double scale, const double *Ke);
 /* Numbers the dofs, checks materials and elements, precomputes geometry,
  * masses and dead loads.  After it, the loads and conditions are frozen. */
 TlStatus tl_solid_setup(TlSolid *solid);
