@@ -125,7 +125,7 @@ static TlStatus tl_tribins_mark(TlTriBins *b, const TlTriSurface *s, TlVec3 x, d
 }
 
 TlStatus tl_tribins_select(TlTriBins *b, const TlTriSurface *s, const TlDomain *domain, size_t n,
-                           const TlVec3 *x, const double *radius, const uint8_t *motion)
+                           const TlVec3 *x, const double *radius, const uint8_t *motion, double margin)
 {
   TL_CHECK(tl_tribins_build(b, s));
   b->n_selected = 0;
@@ -156,7 +156,7 @@ TlStatus tl_tribins_select(TlTriBins *b, const TlTriSurface *s, const TlDomain *
       }
   for (size_t i = 0; i < n; ++i) {
     if (motion && motion[i] != 0) continue;
-    for (int k = 0; k < n_shift; ++k) TL_CHECK(tl_tribins_mark(b, s, tl_v3_add(x[i], shift[k]), radius[i]));
+    for (int k = 0; k < n_shift; ++k) TL_CHECK(tl_tribins_mark(b, s, tl_v3_add(x[i], shift[k]), radius[i] + margin));
   }
   return TL_OK;
 }

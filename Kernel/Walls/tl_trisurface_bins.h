@@ -42,9 +42,10 @@ typedef struct {
 /* Sorts the triangles of s into bins (when s changed since the last build). */
 TlStatus tl_tribins_build(TlTriBins *b, const TlTriSurface *s);
 /* Fills b->selected with the triangles whose bins the free particles
- * (motion == NULL or motion[i] == 0) reach. */
+ * (motion == NULL or motion[i] == 0) reach, each particle reaching radius +
+ * margin around its centre. */
 TlStatus tl_tribins_select(TlTriBins *b, const TlTriSurface *s, const TlDomain *domain, size_t n,
-                           const TlVec3 *x, const double *radius, const uint8_t *motion);
+                           const TlVec3 *x, const double *radius, const uint8_t *motion, double margin);
 void tl_tribins_free(TlTriBins *b);
 
 #endif

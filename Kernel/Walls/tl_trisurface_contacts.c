@@ -48,12 +48,21 @@ TlStatus tl_tricontacts_test(TlTriContactSet *set, const TlTriSurface *s, const 
                              int32_t t, int32_t p, TlVec3 x, double r)
 {
   TlVec3 anchor = s->x[s->tri[3 * (size_t)t]];
-  if (domain && domain->any_periodic) x = tl_v3_add(anchor, tl_domain_branch(domain, anchor, x));
-  /* cheap rejections first: the triangle's plane and its box */
-  if (fabs(tl_v3_dot(s->normal[t], tl_v3_sub(x, anchor))) >= r) return TL_OK;
   TlVec3 lo = s->box_lo[t], hi = s->box_hi[t];
+  /* cheap rejections first: the box along directions without images, then
+   * the nearest image, the box and the triangle's plane */
+  if (domain && domain->any_periodic) {
+    if (domain->kind == TL_DOMAIN_PERIODIC_BOX) {
+      if ((!domain->periodic[0] && (x.x + r < lo.x || x.x - r > hi.x)) ||
+          (!domain->periodic[1] && (x.y + r < lo.y || x.y - r > hi.y)) ||
+          (!domain->periodic[2] && (x.z + r < lo.z || x.z - r > hi.z)))
+        return TL_OK;
+    }
+    x = tl_v3_add(anchor, tl_domain_branch(domain, anchor, x));
+  }
   if (x.x + r < lo.x || x.x - r > hi.x || x.y + r < lo.y || x.y - r > hi.y || x.z + r < lo.z || x.z - r > hi.z)
     return TL_OK;
+  if (fabs(tl_v3_dot(s->normal[t], tl_v3_sub(x, anchor))) >= r) return TL_OK;
   TlTriContact con;
   if (!tl_trisurface_sphere_contact(s, t, x, r, &con)) return TL_OK;
   TlTriContactRecord rec = {.particle = p, .triangle = t, .feature = con.feature, .active = 1,
@@ -62,6 +71,22 @@ TlStatus tl_tricontacts_test(TlTriContactSet *set, const TlTriSurface *s, const 
                             .radius = r, .weight = 1.0};
   TL_CHECK(tl_tricontacts_append(set, &rec));
   return TL_OK;
+}
+
+int tl_trisurface_within(const TlTriSurface *s, const TlDomain *domain, int32_t t, TlVec3 x, double reach)
+{
+  const int *v = s->tri + 3 * (size_t)t;
+  TlVec3 a = s->x[v[0]];
+  if (domain && domain->any_periodic) x = tl_v3_add(a, tl_domain_branch(domain, a, x));
+  TlVec3 lo = s->box_lo[t], hi = s->box_hi[t];
+  if (x.x + reach < lo.x || x.x - reach > hi.x || x.y + reach < lo.y || x.y - reach > hi.y || x.z + reach < lo.z ||
+      x.z - reach > hi.z)
+    return 0;
+  if (fabs(tl_v3_dot(s->normal[t], tl_v3_sub(x, a))) >= reach) return 0;
+  TlVec3 q;
+  double bary[3];
+  tl_triangle_closest_point(a, s->x[v[1]], s->x[v[2]], x, &q, bary);
+  return tl_v3_norm2(tl_v3_sub(x, q)) < reach * reach;
 }
 
 TlStatus tl_tricontacts_detect_brute(TlTriContactSet *set, const TlTriSurface *s,
@@ -210,14 +235,17 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
 {
   size_t n = set->count, hd = history_doubles;
   set->history_doubles = hd;
-  if (hd == 0) return TL_OK;
-  TL_CHECK(tl_array_reserve(&set->history, &set->history_capacity, n * hd, sizeof *set->history));
-  memset(set->history, 0, n * hd * sizeof *set->history);
+  for (size_t i = 0; i < n; ++i) set->c[i].force_prev = tl_v3(0, 0, 0);
+  if (hd) {
+    TL_CHECK(tl_array_reserve(&set->history, &set->history_capacity, n * hd, sizeof *set->history));
+    memset(set->history, 0, n * hd * sizeof *set->history);
+  }
   if (!prev || prev->count == 0 || prev->history_doubles != hd) return TL_OK;
   TL_CHECK(tl_array_reserve(&set->used, &set->used_capacity, prev->count, 1));
   TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, n, sizeof *set->link));
   memset(set->used, 0, prev->count);
-  const TlTriContactRecord *c = set->c, *pc = prev->c;
+  TlTriContactRecord *c = set->c;
+  const TlTriContactRecord *pc = prev->c;
   unsigned char *used = set->used;
   int32_t *done = set->link;
   long ng = (long)set->n_groups;
@@ -242,7 +270,8 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
       done[i] = j >= 0;
       if (j < 0) continue;
       used[j] = 1;
-      memcpy(set->history + i * hd, prev->history + (size_t)j * hd, hd * sizeof(double));
+      c[i].force_prev = pc[j].force;
+      if (hd) memcpy(set->history + i * hd, prev->history + (size_t)j * hd, hd * sizeof(double));
     }
     /* then contacts that moved to another triangle take over the nearest
      * contact that ended */
@@ -257,7 +286,8 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
       }
       if (best < 0) continue;
       used[best] = 1;
-      memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
+      c[i].force_prev = pc[best].force;
+      if (hd) memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
     }
   }
   return TL_OK;

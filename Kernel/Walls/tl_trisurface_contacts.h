@@ -53,6 +53,7 @@ typedef struct {
   TlVec3 force;     /* on the particle, after the corrections */
   TlVec3 torque;    /* on the particle, about its centre */
   double weight;    /* Modification 2 weight (1 for a lone contact) */
+  TlVec3 force_prev; /* force of this contact at the previous step (energy by the trapezoidal rule) */
 } TlTriContactRecord;
 
 typedef struct {
@@ -81,6 +82,10 @@ TlStatus tl_tricontacts_append(TlTriContactSet *set, const TlTriContactRecord *r
  * the particle image nearest the triangle's first vertex is used. */
 TlStatus tl_tricontacts_test(TlTriContactSet *set, const TlTriSurface *s, const TlDomain *domain,
                              int32_t t, int32_t p, TlVec3 x, double r);
+/* Whether the centre x (nearest image to the triangle in a periodic domain)
+ * lies closer than `reach` to triangle t: the test that builds candidate
+ * lists with a skin. */
+int tl_trisurface_within(const TlTriSurface *s, const TlDomain *domain, int32_t t, TlVec3 x, double reach);
 /* Oracle: every particle against every triangle. */
 TlStatus tl_tricontacts_detect_brute(TlTriContactSet *set, const TlTriSurface *s,
                                      const TlDomain *domain, size_t n, const TlVec3 *x,
@@ -91,7 +96,8 @@ TlStatus tl_tricontacts_sort(TlTriContactSet *set);
 TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurface *s);
 /* Sizes set->history for history_doubles per contact and fills it from prev
  * (which holds last step's kept contacts and their history; may be NULL):
- * zeros for contacts that begin now.  Marks nothing in prev permanently. */
+ * zeros for contacts that begin now.  The previous force (force_prev)
+ * follows the same match, with or without history. */
 TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSet *prev,
                                       size_t history_doubles);
 /* Modification 2 on the force and torque of every record; sets weight. */

@@ -15,6 +15,8 @@ typedef struct {
   TlTriContactSet *found;
   size_t *candidates;
   size_t candidate_capacity, n_candidates;
+  int32_t *pairs; /* (triangle, particle) candidate pairs found by this thread */
+  size_t pair_capacity, n_pairs;
 } TlTriThread;
 
 typedef struct {
@@ -29,6 +31,17 @@ typedef struct {
   TlContactResult *result;
   size_t geometry_capacity, result_capacity;
   TlTriBins bins; /* triangles near particles */
+  /* Candidate pairs (triangle, particle) within radius + skin, found through
+   * the grid (Algorithm 2) and kept until some particle has moved more than
+   * skin/2 or the surface has moved, as a Verlet list */
+  int32_t *pair;
+  size_t n_pairs, pair_capacity;
+  TlVec3 *x_list;
+  size_t n_list, x_list_capacity;
+  unsigned long list_version;
+  double list_skin;
+  int list_valid;
+  long list_builds;
 } TlWallTriSurface;
 
 static const TlWallOps tl_wall_trisurface_ops;
@@ -85,11 +98,14 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
     for (int k = 0; k < t->n_threads; ++k) {
       tl_tricontacts_destroy(&t->thread[k].found);
       tl_free(&t->thread[k].candidates);
+      tl_free(&t->thread[k].pairs);
     }
   tl_free(&t->thread);
   tl_free(&t->geometry);
   tl_free(&t->result);
   tl_tribins_free(&t->bins);
+  tl_free(&t->pair);
+  tl_free(&t->x_list);
   tl_free(&t);
 }
 
@@ -141,23 +157,8 @@ static void tl_wall_trisurface_bounding_box(const TlWall *w, TlVec3 *lo, TlVec3 
   *hi = t->surface->surface_hi;
 }
 
-/* Candidate contacts of this step into t->current (unsorted). */
-static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep *step)
+static TlStatus tl_wall_trisurface_threads(TlWallTriSurface *t, int *nthreads)
 {
-  const TlTriSurface *s = t->surface;
-  const TlParticles *p = step->particles;
-  const TlDomain *domain = step->domain;
-  int use_grid = step->grid && !t->brute_force;
-  /* only triangles near some particle take part (tl_trisurface_bins.h);
-   * the brute-force oracle tests them all */
-  long nt = (long)s->n_triangles;
-  const int32_t *selected = NULL;
-  if (!t->brute_force) {
-    TL_CHECK(tl_tribins_select(&t->bins, s, domain, p->n, p->x, p->radius, p->motion));
-    selected = t->bins.selected;
-    nt = (long)t->bins.n_selected;
-  }
-  TlStatus status = TL_OK;
   int want = omp_get_max_threads();
   if (want > t->n_threads) {
     /* more threads than at creation: grow the per-thread buffers once */
@@ -168,29 +169,116 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
       t->n_threads = k + 1;
     }
   }
-  int nthreads = want < 1 ? 1 : want;
-  for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
+  *nthreads = want < 1 ? 1 : want;
+  return TL_OK;
+}
+
+/* Whether the candidate list must be rebuilt: never built, the surface or
+ * the particle count changed, or a particle moved more than skin/2. */
+static int tl_wall_trisurface_list_stale(const TlWallTriSurface *t, const TlParticles *p, double skin)
+{
+  if (!t->list_valid || t->list_version != t->surface->version || t->n_list != p->n || skin != t->list_skin ||
+      skin <= 0.0)
+    return 1;
+  double limit = 0.25 * skin * skin;
+  for (size_t i = 0; i < p->n; ++i)
+    if (tl_v3_norm2(tl_v3_sub(p->x[i], t->x_list[i])) > limit) return 1;
+  return 0;
+}
+
+/* Algorithm 2 with a skin: the triangles near particles (bins), each
+ * triangle's box through the grid, every candidate within radius + skin
+ * kept as a pair. */
+static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallStep *step, double skin)
+{
+  const TlTriSurface *s = t->surface;
+  const TlParticles *p = step->particles;
+  const TlDomain *domain = step->domain;
+  TL_CHECK(tl_tribins_select(&t->bins, s, domain, p->n, p->x, p->radius, p->motion, skin));
+  const int32_t *selected = t->bins.selected;
+  long nt = (long)t->bins.n_selected;
+  int nthreads;
+  TL_CHECK(tl_wall_trisurface_threads(t, &nthreads));
+  for (int k = 0; k < t->n_threads; ++k) t->thread[k].n_pairs = 0;
+  TlStatus status = TL_OK;
 #pragma omp parallel num_threads(nthreads) if (nt > 4096)
   {
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
 #pragma omp for schedule(dynamic, 32)
     for (long it = 0; it < nt; ++it) {
-      long tri = selected ? selected[it] : it;
+      int32_t tri = selected[it];
       if (local != TL_OK) continue;
-      if (use_grid) {
-        /* Algorithm 2: only the particles in cells near the triangle's box */
-        local = tl_hgrid_query_box(step->grid, s->box_lo[tri], s->box_hi[tri], &th->candidates,
-                                   &th->candidate_capacity, &th->n_candidates);
-        for (size_t m = 0; local == TL_OK && m < th->n_candidates; ++m) {
-          size_t i = th->candidates[m];
-          if (p->motion[i] != TL_MOTION_FREE) continue;
-          local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
-        }
+      local = tl_hgrid_query_box(step->grid, s->box_lo[tri], s->box_hi[tri], &th->candidates,
+                                 &th->candidate_capacity, &th->n_candidates);
+      for (size_t m = 0; local == TL_OK && m < th->n_candidates; ++m) {
+        size_t i = th->candidates[m];
+        if (p->motion[i] != TL_MOTION_FREE) continue;
+        if (!tl_trisurface_within(s, domain, tri, p->x[i], p->radius[i] + skin)) continue;
+        local = tl_array_reserve(&th->pairs, &th->pair_capacity, 2 * th->n_pairs + 2, sizeof *th->pairs);
+        if (local != TL_OK) break;
+        th->pairs[2 * th->n_pairs] = tri;
+        th->pairs[2 * th->n_pairs + 1] = (int32_t)i;
+        ++th->n_pairs;
+      }
+    }
+    if (local != TL_OK) {
+#pragma omp critical(tl_wall_trisurface_error)
+      status = local;
+    }
+  }
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  size_t total = 0;
+  for (int k = 0; k < t->n_threads; ++k) total += t->thread[k].n_pairs;
+  TL_CHECK(tl_array_reserve(&t->pair, &t->pair_capacity, 2 * total, sizeof *t->pair));
+  t->n_pairs = 0;
+  for (int k = 0; k < t->n_threads; ++k) {
+    memcpy(t->pair + 2 * t->n_pairs, t->thread[k].pairs, 2 * t->thread[k].n_pairs * sizeof *t->pair);
+    t->n_pairs += t->thread[k].n_pairs;
+  }
+  TL_CHECK(tl_array_reserve(&t->x_list, &t->x_list_capacity, p->n, sizeof *t->x_list));
+  if (p->n) memcpy(t->x_list, p->x, p->n * sizeof *p->x);
+  t->n_list = p->n;
+  t->list_version = s->version;
+  t->list_skin = skin;
+  t->list_valid = 1;
+  ++t->list_builds;
+  return TL_OK;
+}
+
+/* Contacts of this step into t->current (unsorted): the listed pairs
+ * tested exactly, or every particle against every triangle (oracle, or no
+ * grid given). */
+static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep *step)
+{
+  const TlTriSurface *s = t->surface;
+  const TlParticles *p = step->particles;
+  const TlDomain *domain = step->domain;
+  int use_list = step->grid && !t->brute_force;
+  if (use_list) {
+    double skin = step->grid->skin > 0.0 ? step->grid->skin : 0.0;
+    if (tl_wall_trisurface_list_stale(t, p, skin)) TL_CHECK(tl_wall_trisurface_build_list(t, step, skin));
+  }
+  long n = use_list ? (long)t->n_pairs : (long)s->n_triangles;
+  int nthreads;
+  TL_CHECK(tl_wall_trisurface_threads(t, &nthreads));
+  for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
+  TlStatus status = TL_OK;
+  long work = use_list ? n : n * (long)p->n;
+#pragma omp parallel num_threads(nthreads) if (work > 8192)
+  {
+    TlTriThread *th = &t->thread[omp_get_thread_num()];
+    TlStatus local = TL_OK;
+#pragma omp for schedule(static)
+    for (long it = 0; it < n; ++it) {
+      if (local != TL_OK) continue;
+      if (use_list) {
+        int32_t tri = t->pair[2 * it], i = t->pair[2 * it + 1];
+        local = tl_tricontacts_test(th->found, s, domain, tri, i, p->x[i], p->radius[i]);
       } else {
         for (size_t i = 0; local == TL_OK && i < p->n; ++i)
           if (p->motion[i] == TL_MOTION_FREE)
-            local = tl_tricontacts_test(th->found, s, domain, (int32_t)tri, (int32_t)i, p->x[i], p->radius[i]);
+            local = tl_tricontacts_test(th->found, s, domain, (int32_t)it, (int32_t)i, p->x[i], p->radius[i]);
       }
     }
     if (local != TL_OK) {
@@ -296,9 +384,11 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
     TlVec3 cp = tl_v3_add(r->center, t->geometry[k].branch_i);
     tw = tl_v3_sub(tw, tl_v3_add(tl_v3_cross(cp, r->force), couple));
     if (step->want_energy) {
+      /* trapezoidal rule over the step, as for the plane and particle pairs */
+      TlVec3 fm = tl_v3_scale(tl_v3_add(r->force, r->force_prev), 0.5);
       energy += wgt * t->result[k].elastic_energy;
-      power += wgt * t->result[k].power;
-      wall_power += tl_v3_dot(r->force, tl_trisurface_velocity_at(s, r->triangle, r->bary));
+      power += tl_v3_dot(fm, t->geometry[k].vrel) + tl_v3_dot(couple, t->geometry[k].spin_rel);
+      wall_power += tl_v3_dot(fm, tl_trisurface_velocity_at(s, r->triangle, r->bary));
     }
   }
   w->force = fw;
@@ -315,8 +405,10 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
 static TlStatus tl_wall_trisurface_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
 {
   TlWallTriSurface *t = tl_as_trisurface(w);
-  /* `current` holds the contacts whose history the next step will read */
+  /* `current` holds the contacts whose history the next step will read;
+   * the candidate list names old indices: rebuild it */
   TL_CHECK(tl_tricontacts_remap(t->current, old_to_new, n_old));
+  t->list_valid = 0;
   return TL_OK;
 }
 
@@ -387,6 +479,7 @@ static TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer
     memcpy(c->history, b, h.n_contacts * h.history_doubles * sizeof(double));
   }
   TL_CHECK(tl_tricontacts_sort(c));
+  t->list_valid = 0;
   return TL_OK;
 }
 
