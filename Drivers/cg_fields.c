@@ -9,7 +9,10 @@
  *   -packing FILE.h5  reads a particle snapshot (a settle run's output,
  *                     Kernel/IO format) and uses it as it is.
  *
- * Contacts and their forces come from the DEM world at the final state;
+ * With -average_snapshots N the fields are averaged over N states
+ * -average_interval DEM steps apart (the velocity as <j>/<rho>).
+ *
+ * Contacts and their forces come from the DEM world at each state;
  * floor contacts are those of the linear law against the plane z = 0 (a
  * static packing: contact point below the centre, force k_n * overlap).
  *
@@ -32,7 +35,7 @@
 
 typedef struct {
   const char *packing, *kernel, *output_dir;
-  long n, settle_steps, seed;
+  long n, settle_steps, seed, average_snapshots, average_interval;
   double d, d_spread, density, lx, ly, height, k_n, restitution, gravity, c, h, settle_tol, floor_z;
   int box_from_extent, write_hdf5;
 } Config;
@@ -75,6 +78,11 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                          &c->c), done);
   TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-grid_spacing", "0.5d", 1e-12, 1e9, "m", d_scale, 1, "grid spacing (about)",
                                          &c->h), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-average_snapshots", 1, 1, 1000000,
+                                      "states the fields are averaged over (1: the final state only)", &c->average_snapshots),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-average_interval", 200, 1, 100000000, "DEM steps between averaged states",
+                                      &c->average_interval), done);
   long hdf5 = 1;
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
                 done);
@@ -89,6 +97,10 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->kernel = kernel;
   c->output_dir = outdir;
   s = tl_options_finish(o, stdout);
+  if (s == TL_OK) { /* refuse an unknown kernel before any settling */
+    const TlOpsHeader *known;
+    s = tl_registry_find(TL_CG_KERNEL_KIND, c->kernel, &known);
+  }
 done:
   tl_options_destroy(&o);
   return s;
@@ -234,7 +246,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   memset(&snap, 0, sizeof snap);
   TlCGKernel *kernel = NULL;
   TlCG *cg = NULL;
-  TlCGFields *f = NULL;
+  TlCGFields *f = NULL, *snapshot = NULL;
   TlMat3 *stress = NULL;
   ContactSink sink = {NULL, NULL, NULL, 0, 0, TL_OK};
   TlVec3 *wp = NULL, *wf = NULL, *wc = NULL;
@@ -327,21 +339,9 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     tl_info("settled for %ld steps: kinetic energy per particle %.3g m g d", steps, ekin_per / (m_mean * c.gravity * c.d));
   }
   TL_CHECK_GOTO(s, tl_dem_compute_forces(dem), done);
-  TL_CHECK_GOTO(s, tl_dem_visit_contacts(dem, collect_contact, &sink), done);
-  TL_CHECK_GOTO(s, sink.status, done);
-  for (size_t k = 0; k < sink.n; ++k) sink.x[k] = P->x[(size_t)sink.x[k].x];
-  /* floor contacts of the linear law: force k_n * overlap along +z on the particle */
-  size_t nw = 0;
   TL_CHECK_GOTO(s, tl_calloc(&wp, P->n, sizeof *wp), done);
   TL_CHECK_GOTO(s, tl_calloc(&wf, P->n, sizeof *wf), done);
   TL_CHECK_GOTO(s, tl_calloc(&wc, P->n, sizeof *wc), done);
-  for (size_t i = 0; i < P->n; ++i) {
-    double overlap = P->radius[i] - (P->x[i].z - c.floor_z);
-    if (overlap <= 0) continue;
-    wp[nw] = tl_v3(P->x[i].x, P->x[i].y, c.floor_z);
-    wf[nw] = tl_v3(0, 0, c.k_n * overlap);
-    wc[nw++] = P->x[i];
-  }
   double zmax = c.floor_z, total_mass = 0;
   for (size_t i = 0; i < P->n; ++i) {
     zmax = fmax(zmax, P->x[i].z + P->radius[i]);
@@ -349,47 +349,75 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   }
   tl_timers_stop(&timers, ph_setup);
 
-  /* ---- coarse-graining ---- */
-  tl_timers_start(&timers, ph_cg);
+  /* ---- coarse-graining, averaged over -average_snapshots states ---- */
   TL_CHECK_GOTO(s, tl_cg_kernel_create(c.c > 0 ? c.kernel : "dirac", c.c, 3, &kernel), done);
   TlCGBox box = {tl_v3(0, 0, c.floor_z), tl_v3(c.lx, c.ly, zmax), {1, 1, 0}};
   TL_CHECK_GOTO(s, tl_cg_create(kernel, &box, 0, &cg), done);
-  TlCGParticleArrays pa = {P->n, P->x, P->mass, P->v};
-  TlCGContactArrays ca = {sink.n, sink.x, sink.b, sink.f};
-  TlCGWallContactArrays wa = {nw, wp, wf, wc};
-  TL_CHECK_GOTO(s, tl_cg_set_data(cg, &pa, &ca, &wa), done);
   TlCGGrid g;
   g.n[0] = (int)fmax(1.0, nearbyint(c.lx / c.h));
   g.n[1] = (int)fmax(1.0, nearbyint(c.ly / c.h));
-  double z0 = c.floor_z - c.c, z1 = zmax + c.c;
+  double z0 = c.floor_z - c.c, z1 = zmax + c.c + c.d; /* a diameter of room for the grains' motion */
   g.n[2] = (int)ceil((z1 - z0) / c.h) + 1;
   g.h = tl_v3(c.lx / g.n[0], c.ly / g.n[1], (z1 - z0) / (g.n[2] - 1));
   g.lo = tl_v3(0.5 * g.h.x, 0.5 * g.h.y, z0);
   if (c.c == 0.0) { /* cell averages: the cells must tile the whole height */
     g.h.z = c.h;
-    g.n[2] = (int)ceil((zmax - c.floor_z) / c.h);
+    g.n[2] = (int)ceil((zmax + c.d - c.floor_z) / c.h);
     g.lo.z = c.floor_z + 0.5 * c.h;
   }
   size_t nodes = (size_t)g.n[0] * g.n[1] * g.n[2];
+  TL_CHECK_GOTO(s, tl_cg_fields_create(nodes, TL_CG_ALL, &snapshot), done);
   TL_CHECK_GOTO(s, tl_cg_fields_create(nodes, TL_CG_ALL, &f), done);
-  double t_cg = tl_wtime();
-  TL_CHECK_GOTO(s, tl_cg_evaluate_grid(cg, &g, f), done);
-  t_cg = tl_wtime() - t_cg;
-  TL_CHECK_GOTO(s, tl_calloc(&stress, nodes, sizeof *stress), done);
-  double dv = g.h.x * g.h.y * g.h.z, mass_cg = 0;
+  tl_cg_fields_zero(f);
+  double dv = g.h.x * g.h.y * g.h.z, mass_cg = 0, t_cg = 0;
   TlMat3 sc_int = tl_m3_zero(), cp_sum = tl_m3_zero();
+  size_t nw = 0;
+  for (long snap_k = 0; snap_k < c.average_snapshots; ++snap_k) {
+    if (snap_k > 0) {
+      tl_timers_start(&timers, ph_setup);
+      TL_CHECK_GOTO(s, tl_dem_step(dem, c.average_interval), done);
+      steps += c.average_interval;
+      tl_timers_stop(&timers, ph_setup);
+    }
+    tl_timers_start(&timers, ph_cg);
+    sink.n = 0;
+    TL_CHECK_GOTO(s, tl_dem_visit_contacts(dem, collect_contact, &sink), done);
+    TL_CHECK_GOTO(s, sink.status, done);
+    for (size_t k = 0; k < sink.n; ++k) sink.x[k] = P->x[(size_t)sink.x[k].x];
+    /* floor contacts of the linear law: force k_n * overlap along +z on the particle */
+    nw = 0;
+    for (size_t i = 0; i < P->n; ++i) {
+      double overlap = P->radius[i] - (P->x[i].z - c.floor_z);
+      if (overlap <= 0) continue;
+      wp[nw] = tl_v3(P->x[i].x, P->x[i].y, c.floor_z);
+      wf[nw] = tl_v3(0, 0, c.k_n * overlap);
+      wc[nw++] = P->x[i];
+    }
+    TlCGParticleArrays pa = {P->n, P->x, P->mass, P->v};
+    TlCGContactArrays ca = {sink.n, sink.x, sink.b, sink.f};
+    TlCGWallContactArrays wa = {nw, wp, wf, wc};
+    TL_CHECK_GOTO(s, tl_cg_set_data(cg, &pa, &ca, &wa), done);
+    double t0 = tl_wtime();
+    TL_CHECK_GOTO(s, tl_cg_evaluate_grid(cg, &g, snapshot), done);
+    t_cg += tl_wtime() - t0;
+    TL_CHECK_GOTO(s, tl_cg_fields_accumulate(f, snapshot, 1.0), done);
+    for (size_t k = 0; k < sink.n; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(sink.f[k], sink.b[k]));
+    for (size_t k = 0; k < nw; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(wf[k], tl_v3_sub(wp[k], wc[k])));
+    tl_timers_stop(&timers, ph_cg);
+  }
+  TL_CHECK_GOTO(s, tl_cg_fields_average_finish(f), done);
+  t_cg /= (double)c.average_snapshots;
+  cp_sum = tl_m3_scale(cp_sum, 1.0 / (double)c.average_snapshots);
+  TL_CHECK_GOTO(s, tl_calloc(&stress, nodes, sizeof *stress), done);
   for (size_t i = 0; i < nodes; ++i) {
     stress[i] = tl_m3_add(f->stress_contact[i], f->stress_kinetic[i]);
     sc_int = tl_m3_add(sc_int, tl_m3_scale(f->stress_contact[i], dv));
     mass_cg += f->density[i] * dv;
   }
-  for (size_t k = 0; k < sink.n; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(sink.f[k], sink.b[k]));
-  for (size_t k = 0; k < nw; ++k) cp_sum = tl_m3_add(cp_sum, tl_m3_outer(wf[k], tl_v3_sub(wp[k], wc[k])));
   double stress_diff = 0, stress_scale = fabs(tl_m3_trace(cp_sum)) / 3.0;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) stress_diff = fmax(stress_diff, fabs(sc_int.m[a][b] - cp_sum.m[a][b]));
   stress_diff = stress_scale > 0 ? stress_diff / stress_scale : 0.0;
-  tl_timers_stop(&timers, ph_cg);
 
   /* ---- profile against z: layer averages, and the weight of what lies above ---- */
   tl_timers_start(&timers, ph_out);
@@ -460,6 +488,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   tl_summary_string(sum, "kernel", kernel->ops->header.name);
   tl_summary_real(sum, "c_over_d", c.c / c.d);
   tl_summary_int(sum, "grid_nodes", (long)nodes);
+  tl_summary_int(sum, "averaged_states", c.average_snapshots);
   tl_summary_real(sum, "cg_seconds", t_cg);
   tl_summary_real(sum, "mass_rel_error", (mass_cg - total_mass) / total_mass);
   tl_summary_real(sum, "stress_vs_cauchy_poisson", stress_diff);
@@ -470,6 +499,7 @@ done:
   tl_free(&prof);
   tl_free(&stress);
   tl_cg_fields_destroy(&f);
+  tl_cg_fields_destroy(&snapshot);
   tl_cg_destroy(&cg);
   tl_cg_kernel_destroy(&kernel);
   tl_free(&sink.x);
