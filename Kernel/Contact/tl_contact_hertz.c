@@ -77,7 +77,7 @@ static void hertz_describe(const TlContactLaw *base, char *text, size_t size)
 {
   const TlStdLaw *law = (const TlStdLaw *)base;
   const TlContactParameters *p = &law->p;
-  snprintf(text, size, "hertz: k_n=%g Pa k_t=%g Pa gamma_n=%g 1/s gamma_t=%g 1/s mu=%g mu_roll=%g adhesion=%g N",
+  snprintf(text, size, "hertz: k_n=%g Pa k_t=%g Pa gamma_n=%g 1/(m s) gamma_t=%g 1/(m s) mu=%g mu_roll=%g adhesion=%g N",
            law->k_n, law->k_t, p->gamma_n, p->gamma_t, p->mu, p->mu_roll, p->adhesion_force);
 }
 
@@ -101,7 +101,7 @@ TlStatus tl_contact_law_create_hertz(const TlContactParameters *p, TlContactLaw 
   }
   if (!isfinite(kn) || !isfinite(kt)) TL_ERROR(TL_ERR_ARG, "hertz law: k_n %g or k_t %g not finite", kn, kt);
   if (p->gamma_n < 0.0 || p->gamma_t < 0.0 || !isfinite(p->gamma_n) || !isfinite(p->gamma_t))
-    TL_ERROR(TL_ERR_ARG, "hertz law: damping gamma_n %g, gamma_t %g (1/s) must be >= 0", p->gamma_n, p->gamma_t);
+    TL_ERROR(TL_ERR_ARG, "hertz law: damping gamma_n %g, gamma_t %g (1/(m s)) must be >= 0", p->gamma_n, p->gamma_t);
   TL_CHECK(tl_contact_check_common(p));
   TlStdLaw *law;
   TL_CHECK(TL_NEW(law));

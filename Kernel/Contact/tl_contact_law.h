@@ -118,7 +118,9 @@ typedef struct {
   double poisson_ratio;
   double hertz_k_n;    /* Pa: F_n = sqrt(δ reff) (k_n δ + γ_n meff dδ/dt) */
   double hertz_k_t;    /* Pa: tangential stiffness k_t sqrt(δ reff) */
-  double gamma_n, gamma_t; /* 1/s: Hertz viscous damping, normal and tangential */
+  double gamma_n, gamma_t; /* Hertz viscous damping, normal and tangential, 1/(m s) (the
+                            * form of Eq. 18 and LAMMPS); gamma_n is also the LAMMPS-form
+                            * rate 1/s of the linear law when restitution <= 0 */
   /* Coulomb friction (seeds/004 Eqs. 22-26) */
   double mu;           /* 0 switches friction (and its history) off */
   double k_t;          /* N/m tangential stiffness for the linear law (0: k_t = 2/7 k_n) */
