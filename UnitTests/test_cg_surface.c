@@ -54,7 +54,7 @@ static void check_normalisation(TlCGSurface *s, const char *what)
   size_t cap = s->n_faces * (size_t)s->qp_per_face;
   size_t *slot = malloc(cap * sizeof *slot);
   double *w = malloc(cap * sizeof *w);
-  TlVec3 *nodal = malloc(s->n_nodes * sizeof *nodal);
+  TlVec3 *nodal = malloc(s->n_nodes * sizeof *nodal), *ref = malloc(s->n_nodes * sizeof *ref);
   TlVec3 *trac = malloc(cap * sizeof *trac);
   for (int kn = 0; kn < 3; ++kn) {
     TlCGKernel *k;
@@ -81,6 +81,21 @@ static void check_normalisation(TlCGSurface *s, const char *what)
       for (size_t i = 0; i < s->n_nodes; ++i) tot = tl_v3_add(tot, nodal[i]);
       TL_TEST_ASSERT(tl_v3_norm(tl_v3_add(tot, f)) < 4e-16 * tl_v3_norm(f) * (double)s->n_nodes,
                      "%s %s at %s: nodal forces sum off by %g", what, names[kn], where[p], tl_v3_norm(tl_v3_add(tot, f)));
+      /* against a direct sum over every quadrature point of the surface (no search) */
+      double S = 0.0, worst = 0.0;
+      for (size_t q = 0; q < cap; ++q) S += s->wq[q] * tl_cg_kernel_value(k, tl_v3_norm(tl_v3_sub(s->xq[q], pts[p])));
+      for (size_t i = 0; i < s->n_nodes; ++i) ref[i] = tl_v3(0, 0, 0);
+      for (size_t q = 0; q < cap; ++q) {
+        double wk = s->wq[q] * tl_cg_kernel_value(k, tl_v3_norm(tl_v3_sub(s->xq[q], pts[p]))) / S;
+        size_t face = q / (size_t)s->qp_per_face;
+        for (int a = 0; a < s->nodes_per_face; ++a) {
+          int node = s->face_node[face * (size_t)s->nodes_per_face + (size_t)a];
+          ref[node] = tl_v3_axpy(ref[node], -wk * s->Nq[q * (size_t)s->nodes_per_face + (size_t)a], f);
+        }
+      }
+      for (size_t i = 0; i < s->n_nodes; ++i) worst = fmax(worst, tl_v3_norm(tl_v3_sub(ref[i], nodal[i])));
+      TL_TEST_ASSERT(worst < 1e-14, "%s %s at %s: nodal forces differ from the direct sum by %g", what, names[kn],
+                     where[p], worst);
       /* traction of Eq. 14 integrates to -f as well */
       for (size_t i = 0; i < cap; ++i) trac[i] = tl_v3(0, 0, 0);
       TL_TEST_STATUS(tl_cg_surface_traction(s, k, 1, &pts[p], &f, trac), TL_OK);
@@ -94,6 +109,7 @@ static void check_normalisation(TlCGSurface *s, const char *what)
   free(slot);
   free(w);
   free(nodal);
+  free(ref);
   free(trac);
 }
 

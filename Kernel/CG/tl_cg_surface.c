@@ -13,6 +13,12 @@ typedef struct {
   size_t *touched;       /* nodes with g != 0 */
   unsigned char *mark;   /* n_nodes */
   double *N;             /* TL_CG_SURFACE_BATCH x nodes_per_face */
+  /* faces binned by the centre of their box, cells as wide as the widest
+   * face, rebuilt at every update: a contact visits the faces near it */
+  size_t *cand;          /* n_faces: candidate faces of one query */
+  size_t *bin_start, cap_bin_start, *bin_index, *bin_of;
+  TlVec3 bin_lo, bin_cell, half_extent;
+  int bin_n[3];
 } TlCGSurfaceScratch;
 
 /* The scratch lives right after the public struct. */
@@ -221,6 +227,10 @@ void tl_cg_surface_destroy(TlCGSurface **surface)
   tl_free(&w->touched);
   tl_free(&w->mark);
   tl_free(&w->N);
+  tl_free(&w->cand);
+  tl_free(&w->bin_start);
+  tl_free(&w->bin_index);
+  tl_free(&w->bin_of);
   tl_free(surface);
 }
 
@@ -265,6 +275,9 @@ TlStatus tl_cg_surface_create(const TlCGSurfaceOps *ops, size_t n_nodes, const T
   TL_CHECK_GOTO(st, tl_calloc(&w->touched, n_nodes, sizeof(size_t)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->mark, n_nodes, 1), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->N, TL_CG_SURFACE_BATCH * (size_t)nodes_per_face, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->cand, n_faces, sizeof(size_t)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->bin_index, n_faces, sizeof(size_t)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->bin_of, n_faces, sizeof(size_t)), fail);
   s->x = x;
   *surface = s;
   return TL_OK;
@@ -305,6 +318,8 @@ TlStatus tl_cg_surface_create_quads(size_t n_nodes, const TlVec3 *x, size_t n_fa
   return TL_OK;
 }
 
+static TlStatus bin_faces(TlCGSurface *s);
+
 TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
 {
   if (x) s->x = x;
@@ -330,6 +345,7 @@ TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
     s->face_lo[f] = lo;
     s->face_hi[f] = hi;
   }
+  TL_CHECK(bin_faces(s));
   return TL_OK;
 }
 
@@ -339,6 +355,84 @@ static inline int face_near(const TlCGSurface *s, size_t f, TlVec3 p, double c)
 {
   TlVec3 lo = s->face_lo[f], hi = s->face_hi[f];
   return p.x > lo.x - c && p.x < hi.x + c && p.y > lo.y - c && p.y < hi.y + c && p.z > lo.z - c && p.z < hi.z + c;
+}
+
+/* Sorts the faces into a uniform grid by the centre of their boxes. */
+static TlStatus bin_faces(TlCGSurface *s)
+{
+  TlCGSurfaceScratch *w = scratch_of(s);
+  TlVec3 lo = tl_v3(INFINITY, INFINITY, INFINITY), hi = tl_v3(-INFINITY, -INFINITY, -INFINITY);
+  TlVec3 ext = tl_v3(0, 0, 0);
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    TlVec3 c = tl_v3_scale(tl_v3_add(s->face_lo[f], s->face_hi[f]), 0.5), e = tl_v3_sub(s->face_hi[f], s->face_lo[f]);
+    lo = tl_v3(fmin(lo.x, c.x), fmin(lo.y, c.y), fmin(lo.z, c.z));
+    hi = tl_v3(fmax(hi.x, c.x), fmax(hi.y, c.y), fmax(hi.z, c.z));
+    ext = tl_v3(fmax(ext.x, e.x), fmax(ext.y, e.y), fmax(ext.z, e.z));
+  }
+  double size = fmax(ext.x, fmax(ext.y, ext.z));
+  if (!(size > 0.0)) size = 1.0;
+  size_t limit = 4 * s->n_faces + 64, total;
+  for (;;) {
+    total = 1;
+    for (int d = 0; d < 3; ++d) {
+      double m = floor(((&hi.x)[d] - (&lo.x)[d]) / size) + 1.0;
+      w->bin_n[d] = (int)fmin(m, 1e6);
+      total *= (size_t)w->bin_n[d];
+    }
+    if (total <= limit) break;
+    size *= 1.25;
+  }
+  w->bin_lo = lo;
+  w->bin_cell = tl_v3(size, size, size);
+  w->half_extent = tl_v3_scale(ext, 0.5);
+  TL_CHECK(tl_array_reserve(&w->bin_start, &w->cap_bin_start, total + 1, sizeof(size_t)));
+  memset(w->bin_start, 0, (total + 1) * sizeof(size_t));
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    TlVec3 c = tl_v3_scale(tl_v3_add(s->face_lo[f], s->face_hi[f]), 0.5);
+    size_t cell = 0, stride = 1;
+    for (int d = 0; d < 3; ++d) {
+      int i = (int)floor(((&c.x)[d] - (&lo.x)[d]) / size);
+      if (i < 0) i = 0;
+      if (i >= w->bin_n[d]) i = w->bin_n[d] - 1;
+      cell += (size_t)i * stride;
+      stride *= (size_t)w->bin_n[d];
+    }
+    w->bin_of[f] = cell;
+    w->bin_start[cell + 1]++;
+  }
+  for (size_t k = 0; k < total; ++k) w->bin_start[k + 1] += w->bin_start[k];
+  for (size_t f = 0; f < s->n_faces; ++f) w->bin_index[w->bin_start[w->bin_of[f]]++] = f;
+  for (size_t k = total; k > 0; --k) w->bin_start[k] = w->bin_start[k - 1];
+  w->bin_start[0] = 0;
+  return TL_OK;
+}
+
+/* Faces whose box, enlarged by c, contains p: into scratch->cand. */
+static size_t candidates(const TlCGSurface *s, TlVec3 p, double c)
+{
+  TlCGSurfaceScratch *w = scratch_of(s);
+  int i0[3], i1[3];
+  for (int d = 0; d < 3; ++d) {
+    double reach = c + (&w->half_extent.x)[d], cell = (&w->bin_cell.x)[d];
+    double a = floor(((&p.x)[d] - reach - (&w->bin_lo.x)[d]) / cell);
+    double b = floor(((&p.x)[d] + reach - (&w->bin_lo.x)[d]) / cell);
+    a = fmax(a, 0.0);
+    b = fmin(b, w->bin_n[d] - 1.0);
+    if (a > b) return 0;
+    i0[d] = (int)a;
+    i1[d] = (int)b;
+  }
+  size_t n = 0;
+  for (int k = i0[2]; k <= i1[2]; ++k)
+    for (int j = i0[1]; j <= i1[1]; ++j)
+      for (int i = i0[0]; i <= i1[0]; ++i) {
+        size_t cell = (size_t)i + (size_t)w->bin_n[0] * ((size_t)j + (size_t)w->bin_n[1] * (size_t)k);
+        for (size_t e = w->bin_start[cell]; e < w->bin_start[cell + 1]; ++e) {
+          size_t f = w->bin_index[e];
+          if (face_near(s, f, p, c)) w->cand[n++] = f;
+        }
+      }
+  return n;
 }
 
 /* Kernel values at the points of face f into scratch->w; returns sum w_q W. */
@@ -368,8 +462,9 @@ static TlStatus no_support_error(const TlCGKernel *k, TlVec3 p)
 static TlStatus surface_sum(const TlCGSurface *s, const TlCGKernel *k, TlVec3 p, double *total)
 {
   double S = 0.0;
-  for (size_t f = 0; f < s->n_faces; ++f) {
-    if (!face_near(s, f, p, k->c)) continue;
+  size_t nc = candidates(s, p, k->c);
+  for (size_t q = 0; q < nc; ++q) {
+    size_t f = scratch_of(s)->cand[q];
     double part = 0.0;
     TL_CHECK(face_kernel(s, k, f, p, &part));
     S += part;
@@ -389,8 +484,9 @@ TlStatus tl_cg_surface_weights(const TlCGSurface *s, const TlCGKernel *k, TlVec3
   double S;
   TL_CHECK(surface_sum(s, k, point, &S));
   size_t m = 0, needed = 0;
-  for (size_t f = 0; f < s->n_faces; ++f) {
-    if (!face_near(s, f, point, k->c)) continue;
+  size_t nc = candidates(s, point, k->c);
+  for (size_t qc = 0; qc < nc; ++qc) {
+    size_t f = w->cand[qc];
     double part = 0.0;
     TL_CHECK(face_kernel(s, k, f, point, &part));
     for (int q = 0; q < s->qp_per_face; ++q)
@@ -436,8 +532,9 @@ TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, s
     /* unnormalised nodal sums g_a = sum_q w_q W N_qa, then divided by S */
     size_t n_touched = 0;
     double S = 0.0;
-    for (size_t f = 0; f < s->n_faces; ++f) {
-      if (!face_near(s, f, p, k->c)) continue;
+    size_t nc = candidates(s, p, k->c);
+    for (size_t qc = 0; qc < nc; ++qc) {
+      size_t f = w->cand[qc];
       double part = 0.0;
       TL_CHECK(face_kernel(s, k, f, p, &part));
       if (part == 0.0) continue;
@@ -475,8 +572,9 @@ TlStatus tl_cg_surface_traction(const TlCGSurface *s, const TlCGKernel *k, size_
   for (size_t c = 0; c < n; ++c) {
     double S;
     TL_CHECK(surface_sum(s, k, point[c], &S));
-    for (size_t f = 0; f < s->n_faces; ++f) {
-      if (!face_near(s, f, point[c], k->c)) continue;
+    size_t nc = candidates(s, point[c], k->c);
+    for (size_t qc = 0; qc < nc; ++qc) {
+      size_t f = w->cand[qc];
       double part = 0.0;
       TL_CHECK(face_kernel(s, k, f, point[c], &part));
       size_t base = f * (size_t)s->qp_per_face;

@@ -29,7 +29,13 @@
  * of contacts).  Built-in: linear triangles and bilinear quadrilaterals, each
  * face's reference domain split into s x s sub-cells with a fixed rule on
  * each (degree 4, 6 points, on triangles; 3 x 3 Gauss on quadrilaterals),
- * so a narrow kernel can be resolved by raising s. */
+ * so a narrow kernel can be resolved by raising s.
+ *
+ * A contact visits only the faces near it: faces are binned by the centre
+ * of their bounding boxes (cells as wide as the widest face) at every
+ * update.  The per-call scratch lives in the surface, so one surface is
+ * used by one thread at a time; nothing is allocated after creation except
+ * when the bins outgrow their buffer after a large deformation. */
 #ifndef TL_CG_SURFACE_H
 #define TL_CG_SURFACE_H
 
