@@ -137,10 +137,10 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   st->t_new = st->t + dt;
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
-  /* Predictor: constant acceleration; prescribed values at t_{n+1}. */
-  for (TlSparseIndex i = 0; i < st->n; ++i)
-    nm->x[i] = st->u0[i] + dt * st->v0[i] + 0.5 * dt * dt * st->a0[i];
-  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) nm->x[sys->dirichlet_dofs[k]] = st->u0[sys->dirichlet_dofs[k]];
+  /* Predictor: the last displacement (a constant-acceleration predictor
+   * throws nodes far off under a suddenly applied load and can invert
+   * elements); prescribed values at t_{n+1}. */
+  memcpy(nm->x, st->u0, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
   memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
   /* Force scale for the tolerance: inertia at the start, and the internal,
