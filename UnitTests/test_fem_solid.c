@@ -6,6 +6,7 @@
  * energies, reactions, the rigid-body-mode check, and a uniaxial finite-
  * strain solve through the quasi-static stepper against the closed form. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -542,6 +543,85 @@ static void eigenstrain_test(const TlElementType *t)
   tl_mesh_destroy(&mesh);
 }
 
+/* A mesh large enough for threaded assembly: the internal force with 1 and
+ * 2 threads is bitwise the same (colours make the sums order-independent),
+ * and an inverted element inside a threaded batch is reported by name. */
+static void threads_test(void)
+{
+  size_t nc[3] = {12, 12, 8};
+  double lo[3] = {0, 0, 0}, hi[3] = {1.2, 1.2, 0.8};
+  TlMesh *mesh = NULL;
+  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, nc, lo, hi, &mesh), TL_OK);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *f1 = calloc(n, sizeof *f1), *f2 = calloc(n, sizeof *f2);
+  for (size_t i = 0; i < n; ++i) u[i] = 0.002 * urand();
+  int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  omp_set_num_threads(2);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f2), TL_OK);
+  TL_TEST_ASSERT(memcmp(f1, f2, n * sizeof *f1) == 0, "internal force depends on the thread count");
+  /* Push one interior node through its neighbours. */
+  size_t node = (6 + 13 * (6 + 13 * 4));
+  u[tl_solid_dof(solid, node, 2)] = -0.5;
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f2), TL_ERR_NUMERIC);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "block body element") && strstr(tl_error_message(), "inverted"),
+                 "message names the block and the problem: %s", tl_error_message());
+  omp_set_num_threads(saved);
+  free(u), free(f1), free(f2);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+static double ramp(double t, void *ctx)
+{
+  (void)ctx;
+  return 2.0 * t;
+}
+
+/* Load totals on the undeformed body: gravity rho V g, a follower pressure
+ * -p A n on a face, a point force times its amplitude. */
+static void load_test(const TlElementType *t)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  int dim = t->dim;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_add_gravity(solid, tl_v3(0.5, -9.81, dim == 3 ? 1.5 : 0.0)), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_pressure(solid, "xmax", 2e5, ramp, NULL), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_point_force(solid, 3, tl_v3(0, 0, dim == 3 ? 7.0 : 0.0), ramp, NULL), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_point_force(solid, mesh->n_nodes, tl_v3(1, 0, 0), NULL, NULL), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_solid_add_pressure(solid, "no_such_face_set", 1.0, NULL, NULL), TL_ERR_NOT_FOUND);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_gravity(solid, tl_v3(0, 0, 1)), TL_ERR_STATE);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *f = calloc(n, sizeof *f);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.75, u, f), TL_OK);
+  double sum[3] = {0, 0, 0};
+  for (size_t a = 0; a < mesh->n_nodes; ++a)
+    for (int c = 0; c < dim; ++c) sum[c] += f[tl_solid_dof(solid, a, c)];
+  double m = 1309.0 * tl_mesh_volume(mesh), area = dim == 3 ? 1.0 * 0.8 : 1.0, a = 2.0 * 0.75;
+  TL_TEST_CLOSE(sum[0] / (m * 0.5 - a * 2e5 * area), 1.0, 1e-12);
+  TL_TEST_CLOSE(sum[1] / (m * -9.81), 1.0, 1e-12);
+  if (dim == 3) TL_TEST_CLOSE(sum[2] / (m * 1.5 + a * 7.0), 1.0, 1e-12);
+  free(u), free(f);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -566,6 +646,10 @@ int main(void)
   system_test(&tl_element_quad8);
   reaction_test();
   term_test();
+  threads_test();
+  load_test(&tl_element_hex27);
+  load_test(&tl_element_tet10);
+  load_test(&tl_element_quad8);
   eigenstrain_test(&tl_element_hex27);
   eigenstrain_test(&tl_element_quad8);
   uniaxial_test("hooke", 1.05);

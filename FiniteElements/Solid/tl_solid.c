@@ -153,8 +153,8 @@ static void parallel_error_record(ParallelError *pe, TlStatus s)
 #pragma omp critical(tl_solid_error)
   {
     if (pe->status == TL_OK) {
-      pe->status = s;
       snprintf(pe->message, sizeof pe->message, "%s", tl_error_message());
+      pe->status = s;
     }
   }
 }
@@ -803,7 +803,10 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
      * fork and barrier cost more than the work. */
 #pragma omp parallel for schedule(dynamic) reduction(+ : energy) if (n_chunks >= 4)
     for (long ch = 0; ch < n_chunks; ++ch) {
-      if (pe.status != TL_OK) continue;
+      TlStatus seen;
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
       Scratch *w = &s->scratch[omp_get_thread_num()];
       size_t c0 = first + (size_t)ch * CHUNK;
       size_t nk = count - (size_t)ch * CHUNK < CHUNK ? count - (size_t)ch * CHUNK : CHUNK;
@@ -812,8 +815,24 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
         for (int a = 0; a < nn; ++a)
           for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * nn + a] * dim + i];
         deformation_gradients(B, dim, e, w->ue, w->F + k * nq);
+        for (int q = 0, bad = 0; q < nq && !bad; ++q) {
+          TlMat3 Fq = w->F[k * nq + q];
+          for (int i = 0; i < 3; ++i) Fq.m[i][i] += 1.0;
+          double J = tl_m3_det(Fq);
+          if (!(J > 0.0)) {
+            TlStatus se = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                                       "block %s element %zu (tag %ld): det F = %g at Gauss point %d; the "
+                                       "element is inverted (displacements too large or unstable run)",
+                                       blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, q);
+            parallel_error_record(&pe, se);
+            bad = 1;
+          }
+        }
         if (ss) memcpy(w->state_old + k * nq * ss, B->state_old + e * nq * ss, nq * ss * sizeof(double));
       }
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
       TlStatus st = tl_material_evaluate_gradient(mat, nk * nq, w->F, ss ? w->state_old : NULL,
                                          ss ? w->state_new : NULL, w->S, K ? w->D : NULL,
                                          W ? w->W : NULL);
