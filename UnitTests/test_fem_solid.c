@@ -16,8 +16,9 @@
 #include "tl_stepper.h"
 #include "tl_test.h"
 
-static const TlElementType *const types[] = {&tl_element_hex8, &tl_element_hex27, &tl_element_tet4,
-                                             &tl_element_tet10, &tl_element_quad4, &tl_element_quad8};
+static const TlElementType *const types[] = {&tl_element_hex8,  &tl_element_hex27, &tl_element_tet4,
+                                             &tl_element_tet10, &tl_element_quad4, &tl_element_quad8,
+                                             &tl_element_tri3,  &tl_element_tri6};
 static const double E_mod = 1e8;
 
 static double urand(void) { return 2.0 * rand() / RAND_MAX - 1.0; }
@@ -25,11 +26,59 @@ static double urand(void) { return 2.0 * rand() / RAND_MAX - 1.0; }
 /* A 2 x 2 (x 2) mesh of [0, 1.2] x [0, 1] (x [0, 0.8]) whose interior nodes
  * are moved at random, so that elements are distorted (and curved for the
  * quadratic types). */
+/* Plane triangles: each cell of a quad4 / quad9 rectangle split along its
+ * 0-2 diagonal; face sets named by the side they lie on. */
+static TlMesh *triangle_mesh(const TlElementType *t)
+{
+  size_t n[2] = {2, 2};
+  double lo[2] = {0, 0}, hi[2] = {1.2, 1.0};
+  TlMesh *q = NULL, *m = NULL;
+  int six = t == &tl_element_tri6;
+  TL_TEST_STATUS(tl_mesh_create_rectangle(six ? &tl_element_quad9 : &tl_element_quad4, n, lo, hi, &q), TL_OK);
+  if (!q) return NULL;
+  const TlElementBlock *qb = &q->blocks[0];
+  int qn = qb->type->n_nodes, tn = t->n_nodes;
+  size_t ne = 2 * qb->n_elements;
+  size_t *conn = calloc(ne * tn, sizeof *conn);
+  static const int split3[2][3] = {{0, 1, 2}, {0, 2, 3}};
+  static const int split6[2][6] = {{0, 1, 2, 4, 5, 8}, {0, 2, 3, 8, 6, 7}};
+  for (size_t e = 0; e < qb->n_elements; ++e)
+    for (int k = 0; k < 2; ++k)
+      for (int a = 0; a < tn; ++a)
+        conn[(2 * e + k) * tn + a] = qb->conn[e * qn + (six ? split6[k][a] : split3[k][a])];
+  TL_TEST_STATUS(tl_mesh_create(2, &m), TL_OK);
+  TL_TEST_STATUS(tl_mesh_set_nodes(m, q->n_nodes, q->x), TL_OK);
+  TL_TEST_STATUS(tl_mesh_add_block(m, "body", t, ne, conn, NULL, NULL), TL_OK);
+  TL_TEST_STATUS(tl_mesh_finalize(m), TL_OK);
+  const char *names[4] = {"xmin", "xmax", "ymin", "ymax"};
+  TlFaceRef *faces = calloc(m->n_boundary, sizeof *faces);
+  for (int side = 0; side < 4; ++side) {
+    size_t nf = 0;
+    for (size_t b = 0; b < m->n_boundary; ++b) {
+      size_t fn[TL_ELEMENT_MAX_FACE_NODES];
+      tl_mesh_face_nodes(m, m->boundary[b], fn, NULL);
+      int all = 1;
+      for (int k = 0; k < t->face_n_nodes; ++k)
+        all &= fabs(m->x[3 * fn[k] + side / 2] - (side % 2 ? hi[side / 2] : lo[side / 2])) < 1e-12;
+      if (all) faces[nf++] = m->boundary[b];
+    }
+    TL_TEST_STATUS(tl_mesh_add_face_set(m, names[side], nf, faces), TL_OK);
+    TL_TEST_STATUS(tl_mesh_add_node_set_from_faces(m, names[side], names[side]), TL_OK);
+  }
+  free(faces);
+  free(conn);
+  tl_mesh_destroy(&q);
+  return m;
+}
+
 static TlMesh *distorted_mesh(const TlElementType *t)
 {
   TlMesh *m = NULL;
   TlStatus s;
-  if (t->dim == 3) {
+  if (t->shape == TL_SHAPE_TRI) {
+    m = triangle_mesh(t);
+    s = m ? TL_OK : TL_ERR_ARG;
+  } else if (t->dim == 3) {
     size_t n[3] = {2, 2, 2};
     double lo[3] = {0, 0, 0}, hi[3] = {1.2, 1.0, 0.8};
     s = tl_mesh_create_box(t, n, lo, hi, &m);
