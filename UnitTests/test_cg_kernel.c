@@ -2,9 +2,15 @@
  * non-negativity, compact support of radius c, gradients against finite
  * differences, and the refusals (Dirac point values, bad widths). */
 #include <math.h>
+#include <stdint.h>
 #include "talus.h"
 #include "tl_cg_kernel.h"
 #include "tl_test.h"
+
+static const double gl5x_[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                 0.9061798459386640};
+static const double gl5w_[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                 0.4786286704993665, 0.2369268850561891};
 
 /* ∫_{R^dim} W by composite Gauss-Legendre in the radius (panels of
  * 5 points), times the area of the unit sphere; independent of the closed
@@ -46,9 +52,64 @@ static double integrate_cartesian_3d(const TlCGKernel *k, int panels)
   return sum;
 }
 
+/* The closed-form line integrals against composite Gauss-Legendre on the
+ * kernel's values, for lines through, near and far from the point, and the
+ * Gauss-Legendre fallback (via an ops table without line_integral). */
+static void test_line_integrals(void)
+{
+  const char *names[] = {"heaviside", "gaussian", "lucy"};
+  uint64_t state = 12345;
+  for (int n = 0; n < 3; ++n) {
+    TlCGKernel *k;
+    TL_TEST_STATUS(tl_cg_kernel_create(names[n], 1.3, 3, &k), TL_OK);
+    TlCGKernelOps no_line = *k->ops;
+    no_line.line_integral = NULL;
+    TlCGKernel *kg;
+    TL_TEST_STATUS(tl_cg_kernel_create_from_ops(&no_line, 1.3, 3, &kg), TL_OK);
+    double worst = 0.0, worst_gl = 0.0;
+    int tested = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      /* d = x - a, b the branch; q(s) = |d - s b| */
+      double v[6];
+      for (int i = 0; i < 6; ++i) {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        v[i] = 2.0 * ((double)(state >> 11) / 9007199254740992.0) - 1.0;
+      }
+      TlVec3 d = tl_v3(1.2 * v[0], 1.2 * v[1], 1.2 * v[2]), b = tl_v3(1.5 * v[3], 1.5 * v[4], 1.5 * v[5]);
+      if (trial % 10 == 0) d = tl_v3_scale(b, 0.3); /* the line passes through the point */
+      double A = tl_v3_norm2(b), B = -2.0 * tl_v3_dot(d, b), C = tl_v3_norm2(d), c2 = k->c * k->c;
+      double disc = B * B - 4.0 * A * (C - c2);
+      if (!(A > 0.0) || disc <= 0.0) continue;
+      double s0 = fmax(0.0, (-B - sqrt(disc)) / (2 * A)), s1 = fmin(1.0, (-B + sqrt(disc)) / (2 * A));
+      if (!(s1 > s0)) continue;
+      double closed, fallback;
+      TL_TEST_STATUS(tl_cg_kernel_line_integral(k, 1, &A, &B, &C, &s0, &s1, 6, &closed), TL_OK);
+      TL_TEST_STATUS(tl_cg_kernel_line_integral(kg, 1, &A, &B, &C, &s0, &s1, 10, &fallback), TL_OK);
+      /* reference: 2000 panels of 5-point Gauss on the kernel's values */
+      double ref = 0.0, h = (s1 - s0) / 2000.0;
+      for (int pnl = 0; pnl < 2000; ++pnl)
+        for (int g = 0; g < 5; ++g) {
+          double s = s0 + (pnl + 0.5 * (1.0 + gl5x_[g])) * h;
+          ref += 0.5 * h * gl5w_[g] * tl_cg_kernel_value(k, tl_v3_norm(tl_v3_axpy(d, -s, b)));
+        }
+      double scale = k->norm * (s1 - s0);
+      worst = fmax(worst, fabs(closed - ref) / scale);
+      worst_gl = fmax(worst_gl, fabs(fallback - ref) / scale);
+      ++tested;
+    }
+    TL_TEST_ASSERT(tested > 50, "%s: %d line configurations tested", names[n], tested);
+    TL_TEST_ASSERT(worst < 1e-11, "%s: closed-form line integral off by %g (relative to W(0) length)", names[n], worst);
+    TL_TEST_ASSERT(worst_gl < 1e-3, "%s: Gauss-Legendre fallback off by %g", names[n], worst_gl);
+    printf("line integral %s: closed form %.2e, 10-point Gauss %.2e (max relative error)\n", names[n], worst, worst_gl);
+    tl_cg_kernel_destroy(&k);
+    tl_cg_kernel_destroy(&kg);
+  }
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
+  test_line_integrals();
   const char *names[] = {"heaviside", "gaussian", "lucy"};
   const double widths[] = {0.37, 1.0, 4.5};
   for (int n = 0; n < 3; ++n)

@@ -24,6 +24,7 @@ typedef struct {
 
 typedef struct {
   double r2[TL_CG_CHUNK], w[TL_CG_CHUNK], aux[TL_CG_CHUNK];
+  double lc[TL_CG_CHUNK], ls0[TL_CG_CHUNK], ls1[TL_CG_CHUNK]; /* line pieces: A = r2, B = aux, C, s0, s1 */
   size_t src[TL_CG_CHUNK];
   size_t count;
   size_t *cand, cap_cand; /* hierarchical-grid candidates */
@@ -34,8 +35,7 @@ struct TlCG {
   TlCGBox box;
   int has_box;
   TlVec3 length; /* box lengths along periodic directions */
-  int n_gauss;
-  double gx[TL_CG_MAX_GAUSS], gw[TL_CG_MAX_GAUSS]; /* Gauss-Legendre on [0, 1] */
+  int n_gauss; /* line integrals of kernels without a closed form */
   TlCGParticleArrays particles;
   /* line sources: contacts, then wall contacts that carry a centre */
   size_t n_lines, cap_lines;
@@ -154,28 +154,6 @@ TlStatus tl_cg_fields_average_finish(TlCGFields *avg)
 
 /* ------------------------------------------------------------ evaluator */
 
-/* Gauss-Legendre nodes and weights on [0, 1] by Newton on P_n. */
-static void gauss_legendre(int n, double *x, double *w)
-{
-  for (int i = 0; i < n; ++i) {
-    double z = cos(TL_PI * (i + 0.75) / (n + 0.5)), dp = 1.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = 0.0;
-      for (int k = 1; k <= n; ++k) {
-        double p2 = p1;
-        p1 = p0;
-        p0 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p2) / k;
-      }
-      dp = n * (z * p0 - p1) / (z * z - 1.0);
-      double dz = p0 / dp;
-      z -= dz;
-      if (fabs(dz) < 1e-16) break;
-    }
-    x[i] = 0.5 * (1.0 - z);
-    w[i] = 1.0 / ((1.0 - z * z) * dp * dp);
-  }
-}
-
 TlStatus tl_cg_create(const TlCGKernel *kernel, const TlCGBox *box, int gauss_points, TlCG **cg)
 {
   *cg = NULL;
@@ -198,7 +176,6 @@ TlStatus tl_cg_create(const TlCGKernel *kernel, const TlCGBox *box, int gauss_po
     c->length = tl_v3_sub(box->hi, box->lo);
   }
   c->n_gauss = gauss_points;
-  gauss_legendre(gauss_points, c->gx, c->gw);
 #ifdef _OPENMP
   c->n_threads = omp_get_max_threads();
 #else
@@ -461,12 +438,10 @@ static TlStatus flush_particles(const TlCG *c, TlCGWork *w, TlCGAcc *a)
 static TlStatus flush_lines(const TlCG *c, TlCGWork *w, TlCGAcc *a, unsigned which)
 {
   if (!w->count) return TL_OK;
-  TL_CHECK(tl_cg_kernel_eval(c->kernel, w->count, w->r2, w->w, NULL));
-  size_t e = 0;
-  while (e < w->count) {
+  TL_CHECK(tl_cg_kernel_line_integral(c->kernel, w->count, w->r2, w->aux, w->lc, w->ls0, w->ls1, c->n_gauss, w->w));
+  for (size_t e = 0; e < w->count; ++e) {
     size_t i = w->src[e];
-    double s = 0.0;
-    for (; e < w->count && w->src[e] == i; ++e) s += w->aux[e] * w->w[e];
+    double s = w->w[e];
     if (which & TL_CG_STRESS_CONTACT) a->sc = tl_m3_add(a->sc, tl_m3_scale(tl_m3_outer(c->lf[i], c->lb[i]), s));
     if (which & TL_CG_FABRIC) {
       TlVec3 n = tl_v3_normalize(c->lb[i]);
@@ -475,6 +450,24 @@ static TlStatus flush_lines(const TlCG *c, TlCGWork *w, TlCGAcc *a, unsigned whi
   }
   w->count = 0;
   return TL_OK;
+}
+
+/* The part of the segment s in [0, 1] where |d - s b| < c, as a line piece
+ * |d - s b|^2 = A s^2 + B s + C on [s0, s1]; 0 when the segment misses the
+ * support. */
+static inline int line_piece(TlVec3 d, TlVec3 b, double c2, double *A, double *B, double *C, double *s0, double *s1)
+{
+  double bb = tl_v3_norm2(b), db = tl_v3_dot(d, b), dd = tl_v3_norm2(d);
+  if (!(bb > 0.0)) return 0;
+  double disc = db * db - bb * (dd - c2);
+  if (!(disc > 0.0)) return 0;
+  double sq = sqrt(disc);
+  *s0 = fmax(0.0, (db - sq) / bb);
+  *s1 = fmin(1.0, (db + sq) / bb);
+  *A = bb;
+  *B = -2.0 * db;
+  *C = dd;
+  return *s1 > *s0;
 }
 
 static TlStatus flush_walls(const TlCG *c, TlCGWork *w, TlCGAcc *a)
@@ -539,29 +532,20 @@ static TlStatus evaluate_one(const TlCG *c, TlCGWork *w, TlVec3 x, int brute, Tl
     TL_CHECK(flush_particles(c, w, &a));
   }
   if (which & (TL_CG_STRESS_CONTACT | TL_CG_FABRIC)) {
-    int ng = c->n_gauss;
     w->count = 0;
     TL_CG_FOR_CANDIDATES(c, 1, x, brute, i, {
       /* x - a - s b with the nearest image taken at the midpoint */
       TlVec3 b = c->lb[i];
       TlVec3 d = tl_v3_axpy(nearest_image(c, tl_v3_sub(x, c->lmid[i])), 0.5, b);
-      double bb = tl_v3_norm2(b), db = tl_v3_dot(d, b), dd = tl_v3_norm2(d);
-      if (bb > 0.0) {
-        double disc = db * db - bb * (dd - c2);
-        if (disc > 0.0) {
-          double sq = sqrt(disc);
-          double s0 = fmax(0.0, (db - sq) / bb), s1 = fmin(1.0, (db + sq) / bb);
-          if (s1 > s0) {
-            if (w->count + (size_t)ng > TL_CG_CHUNK) TL_CHECK(flush_lines(c, w, &a, which));
-            for (int g = 0; g < ng; ++g) {
-              double s = s0 + (s1 - s0) * c->gx[g];
-              TlVec3 r = tl_v3_axpy(d, -s, b);
-              w->r2[w->count] = tl_v3_norm2(r);
-              w->aux[w->count] = (s1 - s0) * c->gw[g];
-              w->src[w->count++] = i;
-            }
-          }
-        }
+      double A, B, C, s0, s1;
+      if (line_piece(d, b, c2, &A, &B, &C, &s0, &s1)) {
+        if (w->count == TL_CG_CHUNK) TL_CHECK(flush_lines(c, w, &a, which));
+        w->r2[w->count] = A;
+        w->aux[w->count] = B;
+        w->lc[w->count] = C;
+        w->ls0[w->count] = s0;
+        w->ls1[w->count] = s1;
+        w->src[w->count++] = i;
       }
     });
     TL_CHECK(flush_lines(c, w, &a, which));
@@ -814,15 +798,13 @@ static TlStatus scatter_particle(const TlCG *c, TlCGWork *w, size_t i, TlCGField
 static TlStatus scatter_line(const TlCG *c, TlCGWork *w, size_t i, TlCGFields *out)
 {
   if (!w->count) return TL_OK;
-  TL_CHECK(tl_cg_kernel_eval(c->kernel, w->count, w->r2, w->w, NULL));
+  TL_CHECK(tl_cg_kernel_line_integral(c->kernel, w->count, w->r2, w->aux, w->lc, w->ls0, w->ls1, c->n_gauss, w->w));
   TlMat3 fb = tl_m3_outer(c->lf[i], c->lb[i]);
   TlVec3 nb = tl_v3_normalize(c->lb[i]);
   TlMat3 nn = tl_m3_outer(nb, nb);
-  size_t e = 0;
-  while (e < w->count) {
+  for (size_t e = 0; e < w->count; ++e) {
     size_t n = w->src[e];
-    double s = 0.0;
-    for (; e < w->count && w->src[e] == n; ++e) s += w->aux[e] * w->w[e];
+    double s = w->w[e];
     if (out->stress_contact) out->stress_contact[n] = tl_m3_add(out->stress_contact[n], tl_m3_scale(fb, s));
     if (out->fabric) out->fabric[n] = tl_m3_add(out->fabric[n], tl_m3_scale(nn, s));
   }
@@ -876,11 +858,9 @@ static TlStatus scatter_slab(const TlCG *c, TlCGWork *w, const TlCGGrid *g, int 
     }
   }
   if (which & (TL_CG_STRESS_CONTACT | TL_CG_FABRIC)) {
-    int ng = c->n_gauss;
     for (size_t i = 0; i < c->n_lines; ++i) {
       TlVec3 a = c->la[i], b = c->lb[i], e = tl_v3_add(a, b);
-      double bb = tl_v3_norm2(b);
-      if (!(bb > 0.0)) continue;
+      if (!(tl_v3_norm2(b) > 0.0)) continue;
       TlVec3 blo = tl_v3(fmin(a.x, e.x) - cw, fmin(a.y, e.y) - cw, fmin(a.z, e.z) - cw);
       TlVec3 bhi = tl_v3(fmax(a.x, e.x) + cw, fmax(a.y, e.y) + cw, fmax(a.z, e.z) + cw);
       int nb = image_boxes(c, g, blo, bhi, k0, k1, boxes);
@@ -888,20 +868,15 @@ static TlStatus scatter_slab(const TlCG *c, TlCGWork *w, const TlCGGrid *g, int 
       for (int q = 0; q < nb; ++q) {
         TlVec3 as = tl_v3_add(a, boxes[q].shift);
         TL_CG_FOR_BOX_NODES(g, boxes[q], node, pos, {
-          TlVec3 d = tl_v3_sub(pos, as);
-          double db = tl_v3_dot(d, b), disc = db * db - bb * (tl_v3_norm2(d) - c2);
-          if (disc > 0.0) {
-            double sq = sqrt(disc);
-            double s0 = fmax(0.0, (db - sq) / bb), s1 = fmin(1.0, (db + sq) / bb);
-            if (s1 > s0) {
-              if (w->count + (size_t)ng > TL_CG_CHUNK) TL_CHECK(scatter_line(c, w, i, out));
-              for (int gq = 0; gq < ng; ++gq) {
-                double s = s0 + (s1 - s0) * c->gx[gq];
-                w->r2[w->count] = tl_v3_norm2(tl_v3_axpy(d, -s, b));
-                w->aux[w->count] = (s1 - s0) * c->gw[gq];
-                w->src[w->count++] = node;
-              }
-            }
+          double A, B, C, s0, s1;
+          if (line_piece(tl_v3_sub(pos, as), b, c2, &A, &B, &C, &s0, &s1)) {
+            if (w->count == TL_CG_CHUNK) TL_CHECK(scatter_line(c, w, i, out));
+            w->r2[w->count] = A;
+            w->aux[w->count] = B;
+            w->lc[w->count] = C;
+            w->ls0[w->count] = s0;
+            w->ls1[w->count] = s1;
+            w->src[w->count++] = node;
           }
         })
       }

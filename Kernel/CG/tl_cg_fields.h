@@ -22,8 +22,9 @@
  *   boundary force   b^BC(x) = sum -f^w W(x - x^c)                     Eq. 12
  *   fabric           F(x) = sum_c n_c (x) n_c int_0^1 W(x - x_i - s b_c) ds,
  *                    n_c = b_c / |b_c|; its trace is the contact density.
- * The branch-line integral is Gauss-Legendre on the part of the segment
- * inside the kernel's support, found in closed form.
+ * The branch-line integral runs over the part of the segment inside the
+ * kernel's support (found in closed form), and is itself in closed form for
+ * the built-in kernels (tl_cg_kernel_line_integral).
  *
  * Neighbour search.  At arbitrary points (gather): particles come from the
  * DEM world's hierarchical grid when one is given (tl_cg_use_hgrid), else
@@ -120,7 +121,7 @@ typedef struct TlCG TlCG;
 
 /* An evaluator for one kernel (borrowed, must outlive it) and an optional
  * periodic box (NULL: open space).  gauss_points: points of the branch-line
- * integral (1..10; 0 picks 6). */
+ * integral for kernels without a closed form (1..10; 0 picks 6). */
 TlStatus tl_cg_create(const TlCGKernel *kernel, const TlCGBox *box, int gauss_points, TlCG **cg);
 void tl_cg_destroy(TlCG **cg);
 /* Sets the data (arrays are borrowed until the next set or evaluation; any

@@ -32,6 +32,11 @@ typedef struct {
   void (*profile)(size_t n, const double *q, double *f, double *dfdq);
   /* ∫_0^1 f(q) q^(dim-1) dq, dim = 1, 2, 3. */
   double (*radial_moment)(int dim);
+  /* Optional (NULL: Gauss-Legendre on the profile): for k < n,
+   * out[k] = ∫_{s0}^{s1} f(q(s)) ds along a straight line, where
+   * q(s)^2 = alpha s^2 + beta s + gamma (alpha > 0) and q < 1 on (s0, s1). */
+  void (*line_integral)(size_t n, const double *alpha, const double *beta, const double *gamma, const double *s0,
+                        const double *s1, double *out);
 } TlCGKernelOps;
 
 typedef struct {
@@ -57,6 +62,13 @@ static inline int tl_cg_kernel_is_dirac(const TlCGKernel *k) { return k->ops->is
  * The Dirac kernel refuses (TL_ERR_UNSUPPORTED): it has no point values. */
 TlStatus tl_cg_kernel_eval(const TlCGKernel *k, size_t n, const double *r2, double *w,
                            double *grad_over_r);
+/* Integrals of W along n line pieces: out[k] = ∫_{s0}^{s1} W(|d_k - s b_k|) ds
+ * given as the squared distance |d - s b|^2 = A s^2 + B s + C (A > 0,
+ * real units) and an interval inside the support (|d - s b| < c there).
+ * Closed form where the kernel has one (heaviside, gaussian, lucy),
+ * Gauss-Legendre with `gauss_points` (1..10) on the profile otherwise. */
+TlStatus tl_cg_kernel_line_integral(const TlCGKernel *k, size_t n, const double *A, const double *B, const double *C,
+                                    const double *s0, const double *s1, int gauss_points, double *out);
 /* Convenience for one point (tests, set-up code; not for loops). */
 double tl_cg_kernel_value(const TlCGKernel *k, double r);
 
