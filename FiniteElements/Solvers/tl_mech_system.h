@@ -75,7 +75,8 @@ typedef struct {
   TlStatus (*commit)(TlMechSystem *sys);
   TlStatus (*rollback)(TlMechSystem *sys);
   /* Largest eigenvalue bound of M_lumped^-1 K (e.g. max over elements of the
-   * element bound); used for the explicit critical step  [power iteration]. */
+   * element bound); used by the explicit stepper when asked to take the
+   * conservative bound  [Lanczos on M^-1 K]. */
   TlStatus (*max_frequency_squared)(TlMechSystem *sys, const double *u, double *omega2);
   void (*destroy)(TlMechSystem *sys); /* frees the derived type's content */
 } TlMechSystemOps;

@@ -245,40 +245,78 @@ TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2)
     TL_CHECK(sys->ops->max_frequency_squared(sys, st->u, omega2));
     return TL_OK;
   }
-  /* Power iteration on the symmetric form D^-1/2 K D^-1/2 (D = lumped
-   * mass), Dirichlet dofs removed; the Rayleigh quotient converges to the
-   * largest eigenvalue from below. */
+  /* Lanczos on the symmetric form S = D^-1/2 K D^-1/2 (D = lumped mass),
+   * Dirichlet dofs removed; the largest Ritz value (largest eigenvalue of
+   * the tridiagonal T_j, by Sturm bisection) rises to the largest
+   * eigenvalue from below and converges far faster than power iteration. */
+  enum { MAX_LANCZOS = 600 };
   TlSparse *K = NULL;
   TlStatus s = TL_OK;
-  double *x = NULL, *y = NULL;
+  double *q = NULL, *qp = NULL, *w = NULL, *isd = NULL;
+  double alpha[MAX_LANCZOS], beta[MAX_LANCZOS];
   TL_CHECK(sys->ops->create_matrix(sys, sys->symmetric, &K));
   TL_CHECK_GOTO(s, sys->ops->internal_tangent(sys, st->t, st->u, st->v, 1.0, 0.0, K), done);
   if (sys->ops->external_tangent)
     TL_CHECK_GOTO(s, sys->ops->external_tangent(sys, st->t, st->u, -1.0, K), done);
   tl_sparse_constrain(K, sys->n_dirichlet, sys->dirichlet_dofs, 0.0);
-  TL_CHECK_GOTO(s, tl_calloc(&x, (size_t)st->n, sizeof *x), done);
-  TL_CHECK_GOTO(s, tl_calloc(&y, (size_t)st->n, sizeof *y), done);
+  TL_CHECK_GOTO(s, tl_calloc(&q, (size_t)st->n, sizeof *q), done);
+  TL_CHECK_GOTO(s, tl_calloc(&qp, (size_t)st->n, sizeof *qp), done);
+  TL_CHECK_GOTO(s, tl_calloc(&w, (size_t)st->n, sizeof *w), done);
+  TL_CHECK_GOTO(s, tl_calloc(&isd, (size_t)st->n, sizeof *isd), done);
+  for (TlSparseIndex i = 0; i < st->n; ++i) isd[i] = 1.0 / sqrt(st->m[i]);
   /* A deterministic, non-smooth start vector reaches the high modes. */
-  for (TlSparseIndex i = 0; i < st->n; ++i) x[i] = (i % 2 ? 1.0 : -1.0) * (1.0 + 0.37 * (double)(i % 7));
-  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) x[sys->dirichlet_dofs[k]] = 0.0;
+  double nq = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) {
+    q[i] = (i % 2 ? 1.0 : -1.0) * (1.0 + 0.37 * (double)(i % 7));
+    nq += q[i] * q[i];
+  }
+  for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) q[sys->dirichlet_dofs[k]] = 0.0;
+  nq = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) nq += q[i] * q[i];
+  for (TlSparseIndex i = 0; i < st->n; ++i) q[i] /= sqrt(nq);
   double lambda = 0.0, prev = -1.0;
-  for (int it = 0; it < 20000; ++it) {
-    double nx = 0.0;
-    for (TlSparseIndex i = 0; i < st->n; ++i) nx += x[i] * x[i];
-    nx = sqrt(nx);
-    if (!(nx > 0.0)) break;
-    for (TlSparseIndex i = 0; i < st->n; ++i) x[i] /= nx * sqrt(st->m[i]);
-    tl_sparse_matvec(K, x, y);
-    double rq = 0.0;
+  int j = 0;
+  for (; j < MAX_LANCZOS; ++j) {
+    for (TlSparseIndex i = 0; i < st->n; ++i) w[i] = q[i] * isd[i];
+    tl_sparse_matvec(K, w, st->work);
+    double a = 0.0;
     for (TlSparseIndex i = 0; i < st->n; ++i) {
-      x[i] *= sqrt(st->m[i]);
-      y[i] /= sqrt(st->m[i]);
-      rq += x[i] * y[i];
+      w[i] = st->work[i] * isd[i] - (j > 0 ? beta[j - 1] * qp[i] : 0.0);
+      a += q[i] * w[i];
     }
-    lambda = rq;
-    memcpy(x, y, (size_t)st->n * sizeof *x);
-    if (it > 10 && fabs(lambda - prev) <= 1e-12 * fabs(lambda)) break;
+    double b = 0.0;
+    for (TlSparseIndex i = 0; i < st->n; ++i) {
+      w[i] -= a * q[i];
+      b += w[i] * w[i];
+    }
+    alpha[j] = a;
+    beta[j] = sqrt(b);
+    /* Largest eigenvalue of T (j+1 x j+1) by bisection on the Sturm count. */
+    double hi = 0.0, lo = 0.0;
+    for (int i = 0; i <= j; ++i) {
+      double r = fabs(i > 0 ? beta[i - 1] : 0.0) + fabs(i < j ? beta[i] : 0.0);
+      hi = fmax(hi, alpha[i] + r);
+      lo = fmin(lo, alpha[i] - r);
+    }
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * fabs(hi); ++it) {
+      double x = 0.5 * (lo + hi), d = 1.0;
+      int below = 0;
+      for (int i = 0; i <= j; ++i) {
+        d = alpha[i] - x - (i > 0 ? beta[i - 1] * beta[i - 1] / d : 0.0);
+        if (d == 0.0) d = -1e-300;
+        if (d < 0.0) ++below;
+      }
+      if (below == j + 1) hi = x; /* every eigenvalue below x */
+      else lo = x;
+    }
+    lambda = 0.5 * (lo + hi);
+    if (j > 4 && fabs(lambda - prev) <= 1e-13 * fabs(lambda)) break;
     prev = lambda;
+    if (!(beta[j] > 1e-14 * fabs(lambda))) break; /* invariant subspace found */
+    for (TlSparseIndex i = 0; i < st->n; ++i) {
+      qp[i] = q[i];
+      q[i] = w[i] / beta[j];
+    }
   }
   if (!(lambda > 0.0) || !isfinite(lambda)) {
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
@@ -287,8 +325,10 @@ TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2)
   }
   *omega2 = lambda;
 done:
-  tl_free(&x);
-  tl_free(&y);
+  tl_free(&q);
+  tl_free(&qp);
+  tl_free(&w);
+  tl_free(&isd);
   tl_sparse_destroy(&K);
   return s;
 }

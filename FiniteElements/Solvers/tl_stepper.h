@@ -42,7 +42,7 @@ typedef struct {
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
   double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
   int critical_bound;  /* explicit: take omega_max^2 from the system's (conservative) bound
-                        * instead of power iteration on M^-1 K (sharp, from below) [0] */
+                        * instead of Lanczos on M^-1 K (sharp, from below) [0] */
   double ramp_time;    /* quasi-static load ramp [0] */
   int max_cuts;        /* quasi-static step halvings [10] */
 } TlStepperOptions;
@@ -101,8 +101,8 @@ TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperO
 TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const double *v);
 TlStatus tl_stepper_step(TlStepper *st, double dt);
 TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e);
-/* Explicit: the critical step 2 / omega_max, omega_max^2 from power
- * iteration on M^-1 K at the current state (the Rayleigh quotient converges
+/* Explicit: the critical step 2 / omega_max, omega_max^2 from Lanczos
+ * iteration on M^-1 K at the current state (the largest Ritz value converges
  * from below: sharp), or from the system's own upper bound when
  * critical_bound is set (conservative, cheaper on big meshes). */
 TlStatus tl_stepper_critical_dt(TlStepper *st, double *dt_crit);
