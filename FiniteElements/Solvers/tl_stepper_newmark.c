@@ -133,6 +133,8 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   memcpy(st->v0, st->v, bytes);
   memcpy(st->a0, st->a, bytes);
   memcpy(st->f_ext0, st->f_ext, bytes);
+  /* Kept factors hold M / (beta dt^2): a new step size needs new ones. */
+  if (dt != st->dt) tl_newton_invalidate(st->newton);
   st->dt = dt;
   st->t_new = st->t + dt;
   memset(st->f_hook, 0, bytes);
