@@ -276,16 +276,30 @@ TlStatus tl_newton_solve(TlNewton *nw, double *x)
   nw->callback_message[0] = '\0';
   nw->n_history = 0;
   memcpy(N_VGetArrayPointer(nw->x), x, (size_t)nw->n * sizeof *x);
-  /* Reusing factors across solves: tell KINSOL not to set up at the start
-   * when valid factors are kept. */
-  KINSetNoInitSetup(nw->kin, (nw->opt.keep_factors && nw->factored) ? SUNTRUE : SUNFALSE);
   /* KINSOL scales steps by uscale: 1 / u_scale makes the step test relative
    * to the problem's displacement size; residuals stay unscaled. */
   N_VConst(1.0 / nw->opt.u_scale, nw->uscale);
-  int flag = KINSol(nw->kin, nw->x, nw->opt.line_search ? KIN_LINESEARCH : KIN_NONE, nw->uscale,
-                    nw->scale);
+  /* Reusing factors across solves: tell KINSOL not to set up at the start
+   * when valid factors are kept.  If the stale factors do not converge,
+   * start again from x with fresh ones. */
+  int stale = nw->opt.keep_factors && nw->factored;
+  int flag = 0;
   long iters = 0;
-  KINGetNumNonlinSolvIters(nw->kin, &iters);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    KINSetNoInitSetup(nw->kin, stale ? SUNTRUE : SUNFALSE);
+    flag = KINSol(nw->kin, nw->x, nw->opt.line_search ? KIN_LINESEARCH : KIN_NONE, nw->uscale,
+                  nw->scale);
+    long it = 0;
+    KINGetNumNonlinSolvIters(nw->kin, &it);
+    iters += it;
+    int ok = flag == KIN_SUCCESS || flag == KIN_INITIAL_GUESS_OK ||
+             (flag == KIN_STEP_LT_STPTOL && nw->n_history &&
+              nw->history[nw->n_history - 1] <= 1e3 * nw->opt.ftol);
+    if (ok || !stale || nw->callback_status != TL_OK) break;
+    stale = 0;
+    nw->factored = 0;
+    memcpy(N_VGetArrayPointer(nw->x), x, (size_t)nw->n * sizeof *x);
+  }
   nw->stats.last_iterations = iters;
   nw->stats.iterations += iters;
   nw->stats.solves++;
