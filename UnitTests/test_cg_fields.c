@@ -70,6 +70,29 @@ static void test_mass_isolated(const char *name)
     total_mom = tl_v3_axpy(total_mom, m[a], v[a]);
   }
   TL_TEST_ASSERT(fabs(mass - total_mass) < 1e-10 * total_mass, "%s: mass %.15g vs %.15g", name, mass, total_mass);
+  /* outside the balls the field is exactly zero, so the integral over the
+   * balls is the integral over the whole (enclosing) box */
+  {
+    uint64_t st = 17;
+    int outside = 0, nonzero = 0;
+    for (int q = 0; q < NQ; ++q) {
+      TlVec3 y = tl_v3(10.0 * uniform(&st), 8.0 * uniform(&st), 6.0 * uniform(&st));
+      int in = 0;
+      for (int a = 0; a < 5; ++a) {
+        TlVec3 dd = tl_v3_sub(y, x[a]);
+        dd.x -= 10.0 * nearbyint(dd.x / 10.0);
+        dd.y -= 8.0 * nearbyint(dd.y / 8.0);
+        in |= tl_v3_norm(dd) < c;
+      }
+      pts[q] = y;
+      wq[q] = in ? 0.0 : 1.0;
+      outside += !in;
+    }
+    TL_TEST_STATUS(tl_cg_evaluate_points(cg, NQ, pts, f), TL_OK);
+    for (int q = 0; q < NQ; ++q) nonzero += wq[q] > 0.0 && (f->density[q] != 0.0 || tl_v3_norm(f->momentum[q]) != 0.0);
+    TL_TEST_ASSERT(outside > 100 && nonzero == 0, "%s: %d of %d points outside every support see a field", name,
+                   nonzero, outside);
+  }
   TL_TEST_ASSERT(tl_v3_norm(tl_v3_sub(mom, total_mom)) < 1e-10 * tl_v3_norm(total_mom),
                  "%s: momentum (%.15g %.15g %.15g) vs (%.15g %.15g %.15g)", name, mom.x, mom.y, mom.z,
                  total_mom.x, total_mom.y, total_mom.z);
