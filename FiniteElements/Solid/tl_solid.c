@@ -17,6 +17,7 @@ typedef struct {
   TlQuadrature q;  /* stiffness rule */
   TlQuadrature qm; /* mass rule */
   int nn, nd, nq;
+  int symmetric; /* material tangent symmetric */
   double *grad;      /* n_el x nq x nn x dim: dN_a/dxi (reference gradients) */
   double *wdet;      /* n_el x nq: weight x det J0 */
   double *Nm;        /* qm.n x nn: shape values at the mass points */
@@ -462,6 +463,7 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
   TL_CHECK(tl_element_quadrature(t, t->order_mass, &B->qm));
   B->nn = nn;
   B->nd = nn * dim;
+  B->symmetric = tl_material_symmetric_tangent(B->material);
   B->nq = B->q.n;
   size_t ne = blk->n_elements ? blk->n_elements : 1;
   TL_CHECK(tl_calloc(&B->grad, ne * B->nq * nn * dim, sizeof(double)));
@@ -719,6 +721,9 @@ static void deformation_gradients(const SolidBlock *B, int dim, size_t e, const 
 static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 *F, const TlMat3 *S,
                            const double *D, double *fe, double *Ke, double *Bm, double *DB)
 {
+  /* With a symmetric material tangent only the upper triangle of B^T D B is
+   * formed, then mirrored. */
+  int sym = B->symmetric;
   int nn = B->nn, nd = B->nd;
   if (fe) memset(fe, 0, nd * sizeof(double));
   if (Ke) memset(Ke, 0, (size_t)nd * nd * sizeof(double));
@@ -766,11 +771,15 @@ static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 
         for (int J = 0; J < 6; ++J) v += Dp[6 * I + J] * Bm[J * nd + col];
         DB[I * nd + col] = v;
       }
-    for (int r = 0; r < nd; ++r)
-      for (int c = 0; c < nd; ++c) {
-        double v = 0.0;
-        for (int I = 0; I < 6; ++I) v += Bm[I * nd + r] * DB[I * nd + c];
-        Ke[r * nd + c] += w * v;
+    /* Ke += w B^T (D B), rows outer and the contiguous column loop inner
+     * so the compiler vectorises it. */
+    for (int I = 0; I < 6; ++I)
+      for (int r = 0; r < nd; ++r) {
+        double b = w * Bm[I * nd + r];
+        if (b == 0.0) continue;
+        const double *db = DB + I * nd;
+        double *krow = Ke + r * nd;
+        for (int c = sym ? r : 0; c < nd; ++c) krow[c] += b * db[c];
       }
     /* Geometric stiffness: (dN_a . S dN_b) delta_ik. */
     for (int a = 0; a < nn; ++a)
@@ -782,6 +791,9 @@ static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 
         for (int i = 0; i < dim; ++i) Ke[(a * dim + i) * nd + b * dim + i] += v;
       }
   }
+  if (Ke && sym)
+    for (int r = 0; r < nd; ++r)
+      for (int c = 0; c < r; ++c) Ke[r * nd + c] = Ke[c * nd + r];
 }
 
 TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
