@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include "peers/tl_peer.h"
 #include "talus.h"
 #include "tl_atomic_file.h"
@@ -71,11 +72,22 @@ static double resting_overlap(const Setup *s)
   return pow(m * 9.81 / (kn * sqrt(s->radius)), 2.0 / 3.0);
 }
 
-/* Runs `steps` DEM steps with a progress bar; returns the wall time. */
-static TlStatus timed_steps(TlDem *dem, long steps, const char *label, double *seconds)
+/* CPU seconds of this process (all threads): on a shared machine the wall
+ * clock also counts the time other programs held the cores. */
+static double cpu_seconds(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Runs `steps` DEM steps with a progress bar; returns the wall time and the
+ * CPU time. */
+static TlStatus timed_steps(TlDem *dem, long steps, const char *label, double *seconds, double *cpu)
 {
   TlProgress bar;
   tl_progress_init(&bar, label, (double)steps);
+  double c0 = cpu_seconds();
   double t0 = tl_wtime();
   long chunk = steps < 100 ? steps : 100;
   for (long done = 0; done < steps; done += chunk) {
@@ -84,27 +96,31 @@ static TlStatus timed_steps(TlDem *dem, long steps, const char *label, double *s
     tl_progress_update(&bar, (double)(done + n));
   }
   *seconds = tl_wtime() - t0;
+  *cpu = cpu_seconds() - c0;
   tl_progress_finish(&bar);
   return TL_OK;
 }
 
 /* Seconds per call of the wall's interact on the current state. */
-static TlStatus time_wall(TlDem *dem, TlWall *w, const TlContactLaw *law, long calls, double *seconds)
+static TlStatus time_wall(TlDem *dem, TlWall *w, const TlContactLaw *law, long calls, double *seconds, double *cpu)
 {
   TlWallStep st = {.particles = tl_dem_particles(dem), .grid = tl_dem_grid(dem), .domain = tl_dem_domain(dem),
                    .law = law, .t = tl_dem_time(dem), .dt = tl_dem_timestep(dem)};
   TlParticles *P = st.particles;
+  double c0 = cpu_seconds();
   double t0 = tl_wtime();
   for (long k = 0; k < calls; ++k) {
     for (size_t i = 0; i < P->n; ++i) P->f[i] = tl_v3(0, 0, 0);
     TL_CHECK(w->ops->interact(w, &st));
   }
   *seconds = (tl_wtime() - t0) / (double)calls;
+  *cpu = (cpu_seconds() - c0) / (double)calls;
   return TL_OK;
 }
 
 typedef struct {
   double triangles, floor_side, us_step, us_wall, us_brute, brute_ratio;
+  double cpu_step, cpu_wall, cpu_brute; /* the same in CPU time */
   size_t wall_contacts;
   int brute_measured;
 } ScalingRow;
@@ -157,21 +173,24 @@ static TlStatus scaling_case(const Setup *s, double n_triangles, ScalingRow *row
   TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
   TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
   TL_CHECK_GOTO(status, tl_dem_step(dem, s->warmup), done);
-  double sec = 0.0;
+  double sec = 0.0, cpu = 0.0;
   char label[64];
   snprintf(label, sizeof label, "%.0f triangles", row->triangles);
-  TL_CHECK_GOTO(status, timed_steps(dem, s->steps, label, &sec), done);
+  TL_CHECK_GOTO(status, timed_steps(dem, s->steps, label, &sec, &cpu), done);
   row->us_step = 1e6 * sec / ((double)s->steps * (double)P->n);
+  row->cpu_step = 1e6 * cpu / ((double)s->steps * (double)P->n);
   row->wall_contacts = w->n_contacts;
-  TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->steps / 4 + 1, &sec), done);
+  TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->steps / 4 + 1, &sec, &cpu), done);
   row->us_wall = 1e6 * sec / (double)P->n;
+  row->cpu_wall = 1e6 * cpu / (double)P->n;
   row->brute_measured = (double)P->n * row->triangles <= s->brute_max;
   if (row->brute_measured) {
     TL_CHECK_GOTO(status, tl_wall_trisurface_set_brute_force(w, 1), done);
-    TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->brute_steps, &sec), done);
+    TL_CHECK_GOTO(status, time_wall(dem, w, law_ref, s->brute_steps, &sec, &cpu), done);
     TL_CHECK_GOTO(status, tl_wall_trisurface_set_brute_force(w, 0), done);
     row->us_brute = 1e6 * sec / (double)P->n;
-    row->brute_ratio = row->us_brute / row->us_wall;
+    row->cpu_brute = 1e6 * cpu / (double)P->n;
+    row->brute_ratio = row->cpu_brute / row->cpu_wall;
   }
 done:
   tl_contact_law_destroy(&law);
@@ -182,7 +201,8 @@ done:
 }
 
 /* Talus on the peer scene: the settled spheres of `data` on an n x n floor. */
-static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, double *us, size_t *particles)
+static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, double *us, double *cpu_share,
+                                 size_t *particles)
 {
   TlLammpsData *data = NULL;
   TlDem *dem = NULL;
@@ -219,12 +239,13 @@ static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, d
   if (P->w)
     for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
   TL_CHECK_GOTO(status, tl_dem_step(dem, s->peer_warmup), done);
-  double sec = 0.0;
+  double sec = 0.0, cpu = 0.0;
   char label[64];
   snprintf(label, sizeof label, "talus %d triangles", 2 * n * n);
-  TL_CHECK_GOTO(status, timed_steps(dem, s->peer_steps, label, &sec), done);
+  TL_CHECK_GOTO(status, timed_steps(dem, s->peer_steps, label, &sec, &cpu), done);
   *particles = P->n;
   *us = 1e6 * sec / ((double)s->peer_steps * (double)P->n);
+  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
 done:
   tl_contact_law_destroy(&law);
   tl_trisurface_destroy(&surface);
@@ -283,21 +304,25 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
   memset(rows, 0, sizeof rows);
   printf("scaling: %ld spheres (r = %g m) on floors of growing triangle count, %ld thread(s), %ld steps each\n",
          s.n_particles, s.radius, threads, s.steps);
-  printf("%12s %10s %14s %14s %14s %12s %10s\n", "triangles", "floor_m", "us/part-step", "wall us/part", "brute us/part",
+  printf("times in us per particle-step, wall clock (CPU time in brackets; the ratios use CPU time, which a shared\n"
+         "machine does not inflate)\n");
+  printf("%10s %8s %20s %20s %20s %11s %9s\n", "triangles", "floor_m", "whole step", "wall alone", "brute-force wall",
          "brute/talus", "contacts");
   for (int k = 0; k < s.n_sizes; ++k) {
     TL_CHECK_GOTO(status, scaling_case(&s, s.triangles[k], &rows[k]), done);
     ScalingRow *r = &rows[k];
-    char brute[32], ratio[32];
-    if (r->brute_measured) snprintf(brute, sizeof brute, "%.4g", r->us_brute), snprintf(ratio, sizeof ratio, "%.1f", r->brute_ratio);
+    char step[48], wall[48], brute[48], ratio[32];
+    snprintf(step, sizeof step, "%.4f (%.4f)", r->us_step, r->cpu_step);
+    snprintf(wall, sizeof wall, "%.4f (%.4f)", r->us_wall, r->cpu_wall);
+    if (r->brute_measured) snprintf(brute, sizeof brute, "%.4g (%.4g)", r->us_brute, r->cpu_brute), snprintf(ratio, sizeof ratio, "%.1f", r->brute_ratio);
     else snprintf(brute, sizeof brute, "(skipped)"), snprintf(ratio, sizeof ratio, "-");
-    printf("%12.0f %10.3f %14.4f %14.4f %14s %12s %10zu\n", r->triangles, r->floor_side, r->us_step, r->us_wall, brute,
-           ratio, r->wall_contacts);
+    printf("%10.0f %8.3f %20s %20s %20s %11s %9zu\n", r->triangles, r->floor_side, step, wall, brute, ratio,
+           r->wall_contacts);
     fflush(stdout);
   }
-  double flat = rows[s.n_sizes - 1].us_step / rows[0].us_step;
-  double flat_wall = rows[s.n_sizes - 1].us_wall / rows[0].us_wall;
-  printf("time per step, largest / smallest floor: %.2f (whole step), %.2f (wall alone)\n", flat, flat_wall);
+  double flat = rows[s.n_sizes - 1].cpu_step / rows[0].cpu_step;
+  double flat_wall = rows[s.n_sizes - 1].cpu_wall / rows[0].cpu_wall;
+  printf("CPU time per step, largest / smallest floor: %.2f (whole step), %.2f (wall alone)\n", flat, flat_wall);
   {
     char *path = NULL;
     TlAtomicFile *f = NULL;
@@ -306,10 +331,13 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
     tl_free(&path);
     if (status != TL_OK) goto done;
     FILE *out = tl_atomic_file_stream(f);
-    fprintf(out, "triangles,floor_m,us_per_particle_step,wall_us_per_particle,brute_us_per_particle,brute_over_talus,wall_contacts\n");
+    fprintf(out, "triangles,floor_m,us_per_particle_step,cpu_us_per_particle_step,wall_us_per_particle,"
+                 "wall_cpu_us_per_particle,brute_us_per_particle,brute_cpu_us_per_particle,brute_over_talus_cpu,"
+                 "wall_contacts\n");
     for (int k = 0; k < s.n_sizes; ++k)
-      fprintf(out, "%.0f,%.6g,%.6g,%.6g,%.6g,%.6g,%zu\n", rows[k].triangles, rows[k].floor_side, rows[k].us_step,
-              rows[k].us_wall, rows[k].brute_measured ? rows[k].us_brute : NAN,
+      fprintf(out, "%.0f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%zu\n", rows[k].triangles, rows[k].floor_side,
+              rows[k].us_step, rows[k].cpu_step, rows[k].us_wall, rows[k].cpu_wall,
+              rows[k].brute_measured ? rows[k].us_brute : NAN, rows[k].brute_measured ? rows[k].cpu_brute : NAN,
               rows[k].brute_measured ? rows[k].brute_ratio : NAN, rows[k].wall_contacts);
     TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
   }
@@ -337,9 +365,9 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
     fprintf(out, "triangles,talus_us_per_particle_step,liggghts_us_min,liggghts_us_median,talus_over_liggghts\n");
     for (int c = 0; c < n_cases; ++c) {
       int n = sides[c];
-      double us = 0.0;
+      double us = 0.0, share = 0.0;
       size_t np = 0;
-      status = peer_scene_talus(&s, data, n, &us, &np);
+      status = peer_scene_talus(&s, data, n, &us, &share, &np);
       if (status != TL_OK) {
         tl_atomic_file_abort(&f);
         goto done;
@@ -354,9 +382,9 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
         goto done;
       }
       double ratio = us / peer.us_median;
-      printf("peer scene, %d triangles, %zu spheres: talus %.4f us/particle-step (%ld thread(s)), liggghts %.4f "
-             "(min %.4f), talus/liggghts = %.3f\n",
-             2 * n * n, np, us, threads, peer.us_median, peer.us_min, ratio);
+      printf("peer scene, %d triangles, %zu spheres: talus %.4f us/particle-step (%ld thread(s), cpu_share %.2f), "
+             "liggghts %.4f (median; min %.4f), talus/liggghts = %.3f\n",
+             2 * n * n, np, us, threads, share, peer.us_median, peer.us_min, ratio);
       fprintf(out, "%d,%.6g,%.6g,%.6g,%.6g\n", 2 * n * n, us, peer.us_min, peer.us_median, ratio);
       if (n == 40) ratio40 = ratio, talus40 = us, lig40 = peer.us_median;
       fflush(stdout);
