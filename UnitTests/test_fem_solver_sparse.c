@@ -4,6 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunmatrix/sunmatrix_sparse.h>
+
 #include "tl_linear_solver.h"
 #include "tl_sparse.h"
 #include "tl_test.h"
@@ -91,6 +95,26 @@ int main(void)
   }
   TL_TEST_ASSERT(e1 < 1e-13 && e2 < 1e-13 && e3 < 1e-13,
                  "matvec errors full %g upper %g mixed %g", e1, e2, e3);
+  /* The SUNMatrix view multiplies like the matrix, shares its arrays, and
+   * is refused for upper-triangle storage. */
+  {
+    SUNContext ctx = NULL;
+    SUNContext_Create(NULL, &ctx);
+    void *view = NULL;
+    TL_TEST_STATUS(tl_sparse_sunmatrix_view(A, ctx, &view), TL_OK);
+    N_Vector xv = N_VMake_Serial((sunindextype)n, x, ctx), yv = N_VNew_Serial((sunindextype)n, ctx);
+    TL_TEST_ASSERT(SUNMatMatvec((SUNMatrix)view, xv, yv) == 0, "SUNMatMatvec");
+    double ev = 0;
+    for (TlSparseIndex i = 0; i < n; ++i) ev = fmax(ev, fabs(N_VGetArrayPointer(yv)[i] - ref[i]));
+    TL_TEST_ASSERT(ev < 1e-13 && SUNSparseMatrix_Data((SUNMatrix)view) == A->values,
+                   "SUNMatrix view error %g", ev);
+    N_VDestroy(xv);
+    N_VDestroy(yv);
+    tl_sparse_sunmatrix_destroy(&view);
+    TL_TEST_ASSERT(view == NULL && A->values != NULL, "view destroyed, arrays kept");
+    TL_TEST_STATUS(tl_sparse_sunmatrix_view(U, ctx, &view), TL_ERR_ARG);
+    SUNContext_Free(&ctx);
+  }
   /* Entries outside the pattern are refused; the error names them. */
   TL_TEST_STATUS(tl_sparse_add(A, 0, n - 1, 1.0), TL_ERR_ARG);
   TL_TEST_ASSERT(strstr(tl_error_message(), "not in the sparsity pattern") != NULL, "%s",
