@@ -6,6 +6,7 @@
  * energies, reactions, the rigid-body-mode check, and a uniaxial finite-
  * strain solve through the quasi-static stepper against the closed form. */
 #include <math.h>
+#include <stddef.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -630,6 +631,136 @@ static void threads_test(void)
   tl_mesh_destroy(&mesh);
 }
 
+/* Assembled internal tangent against central differences along a random
+ * direction. */
+static void tangent_check_system(TlMechSystem *sys, const double *u, const char *what)
+{
+  size_t n = (size_t)sys->ndof;
+  double *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp), *rm = calloc(n, sizeof *rm),
+         *Kd = calloc(n, sizeof *Kd);
+  for (size_t i = 0; i < n; ++i) d[i] = urand();
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, sys->symmetric, &K), TL_OK);
+  if (!K) return;
+  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  tl_sparse_matvec(K, d, Kd);
+  double h = 1e-7;
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rp);
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rm);
+  double err = 0.0;
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
+  TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "%s: assembled tangent off by %g of %g", what, err, max_abs(Kd, n));
+  tl_sparse_destroy(&K);
+  free(d), free(up), free(rp), free(rm), free(Kd);
+}
+
+/* A law defined outside the kernel (Saint Venant-Kirchhoff, S = lambda tr(E)
+ * 1 + 2 mu E) with one state value per point (the largest tr E seen on the
+ * committed path) and commit/rollback callbacks, as a DEM-cell law would
+ * use them. */
+typedef struct {
+  TlMaterial base;
+  double lambda, mu;
+  size_t commits, rollbacks, last_npts;
+} TestLaw;
+
+static TlStatus test_law_setup(TlMaterial *m)
+{
+  m->state_size = 1;
+  return TL_OK;
+}
+
+static TlStatus test_law_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
+                                  const double *so, double *sn, TlMat3 *S, double *D, double *W)
+{
+  (void)F;
+  const TestLaw *l = (const TestLaw *)m;
+  for (size_t p = 0; p < npts; ++p) {
+    double tr = tl_m3_trace(gamma[p]);
+    S[p] = tl_m3_add(tl_m3_scale(tl_m3_identity(), l->lambda * tr), tl_m3_scale(gamma[p], 2 * l->mu));
+    sn[p] = fmax(so[p], tr);
+    if (W) W[p] = 0.5 * l->lambda * tr * tr + l->mu * tl_m3_ddot(gamma[p], gamma[p]);
+    if (D) {
+      memset(D + 36 * p, 0, 36 * sizeof(double));
+      for (int I = 0; I < 3; ++I) {
+        for (int J = 0; J < 3; ++J) D[36 * p + 6 * I + J] = l->lambda;
+        D[36 * p + 7 * I] += 2 * l->mu;
+        D[36 * p + 7 * (I + 3)] = l->mu;
+      }
+    }
+  }
+  return TL_OK;
+}
+
+static TlStatus test_law_commit(TlMaterial *m, size_t npts, const double *state)
+{
+  (void)state;
+  ((TestLaw *)m)->commits++;
+  ((TestLaw *)m)->last_npts = npts;
+  return TL_OK;
+}
+
+static TlStatus test_law_rollback(TlMaterial *m, size_t npts, const double *state)
+{
+  (void)npts, (void)state;
+  ((TestLaw *)m)->rollbacks++;
+  return TL_OK;
+}
+
+static int test_law_symmetric(const TlMaterial *m)
+{
+  (void)m;
+  return 1;
+}
+
+static const TlMaterialParam test_law_params[] = {
+    {"lambda", 5e7, 0, 1e12, "Pa", "first Lame constant", offsetof(TestLaw, lambda)},
+    {"mu", 4e7, 1, 1e12, "Pa", "shear modulus", offsetof(TestLaw, mu)},
+};
+
+static const TlMaterialOps test_law_ops = {
+    .header = {"material", "test_svk_history", "Saint Venant-Kirchhoff with a history value (test)"},
+    .size = sizeof(TestLaw), .n_params = 2, .params = test_law_params, .setup = test_law_setup,
+    .evaluate = test_law_evaluate, .symmetric_tangent = test_law_symmetric, .commit = test_law_commit,
+    .rollback = test_law_rollback};
+
+static void state_test(void)
+{
+  TL_TEST_STATUS(tl_registry_add(&test_law_ops.header), TL_OK);
+  TlMaterial *mat = NULL;
+  TL_TEST_STATUS(tl_material_create("test_svk_history", &mat), TL_OK);
+  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
+  if (!mat || !mesh) return;
+  TL_TEST_STATUS(tl_material_set(mat, "mu", 3e7), TL_OK);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u);
+  for (size_t a = 0; a < mesh->n_nodes; ++a) u[tl_solid_dof(solid, a, 0)] = 0.01 * mesh->x[3 * a];
+  /* Tangent of the outside law against differences, through the solid. */
+  tangent_check_system(sys, u, "test law");
+  double W = 0.0;
+  TL_TEST_STATUS(tl_solid_strain_energy(solid, u, &W), TL_OK);
+  TL_TEST_STATUS(sys->ops->commit(sys), TL_OK);
+  TL_TEST_STATUS(sys->ops->rollback(sys), TL_OK);
+  const TestLaw *l = (const TestLaw *)mat;
+  TL_TEST_ASSERT(l->commits == 1 && l->rollbacks == 1 && l->last_npts == 8 * 8, "commits %zu rollbacks %zu points %zu",
+                 l->commits, l->rollbacks, l->last_npts);
+  TlMat3 E = tl_m3_zero();
+  E.m[0][0] = 0.01 + 0.5 * 0.01 * 0.01;
+  double Wexp = (0.5 * 5e7 * E.m[0][0] * E.m[0][0] + 3e7 * E.m[0][0] * E.m[0][0]) * tl_mesh_volume(mesh);
+  TL_TEST_CLOSE(W / Wexp, 1.0, 1e-12);
+  free(u);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 static double ramp(double t, void *ctx)
 {
   (void)ctx;
@@ -696,6 +827,7 @@ int main(void)
   reaction_test();
   term_test();
   threads_test();
+  state_test();
   load_test(&tl_element_hex27);
   load_test(&tl_element_tet10);
   load_test(&tl_element_quad8);

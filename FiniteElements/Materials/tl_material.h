@@ -56,6 +56,13 @@ typedef struct {
   int (*symmetric_tangent)(const TlMaterial *m);
   /* Optional: initial state of npts points (default zeros). */
   TlStatus (*init_state)(const TlMaterial *m, size_t npts, double *state);
+  /* Optional: the solid accepted the step (commit) or rejected it
+   * (rollback); `state` holds the npts committed states after the call.  A
+   * law with state outside these arrays (a DEM cell's particles) keeps or
+   * restores it here.  evaluate() may be called from several threads at
+   * once on disjoint points; commit and rollback are called from one. */
+  TlStatus (*commit)(TlMaterial *m, size_t npts, const double *state);
+  TlStatus (*rollback)(TlMaterial *m, size_t npts, const double *state);
   /* Optional: frees what the derived type owns. */
   void (*destroy)(TlMaterial *m);
 } TlMaterialOps;

@@ -1141,12 +1141,14 @@ static TlStatus op_commit(TlMechSystem *sys)
   TlSolid *s = (TlSolid *)sys;
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     SolidBlock *B = &s->blocks[b];
-    size_t ss = B->material->state_size;
-    if (!ss) continue;
-    double *tmp = B->state_old;
-    B->state_old = B->state_new;
-    B->state_new = tmp;
-    memcpy(B->state_new, B->state_old, s->mesh->blocks[b].n_elements * B->nq * ss * sizeof(double));
+    size_t ss = B->material->state_size, np = s->mesh->blocks[b].n_elements * B->nq;
+    if (ss) {
+      double *tmp = B->state_old;
+      B->state_old = B->state_new;
+      B->state_new = tmp;
+      memcpy(B->state_new, B->state_old, np * ss * sizeof(double));
+    }
+    if (B->material->ops->commit) TL_CHECK(B->material->ops->commit(B->material, np, B->state_old));
   }
   return TL_OK;
 }
@@ -1156,8 +1158,9 @@ static TlStatus op_rollback(TlMechSystem *sys)
   TlSolid *s = (TlSolid *)sys;
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     SolidBlock *B = &s->blocks[b];
-    size_t ss = B->material->state_size;
-    if (ss) memcpy(B->state_new, B->state_old, s->mesh->blocks[b].n_elements * B->nq * ss * sizeof(double));
+    size_t ss = B->material->state_size, np = s->mesh->blocks[b].n_elements * B->nq;
+    if (ss) memcpy(B->state_new, B->state_old, np * ss * sizeof(double));
+    if (B->material->ops->rollback) TL_CHECK(B->material->ops->rollback(B->material, np, B->state_old));
   }
   return TL_OK;
 }
