@@ -39,7 +39,7 @@ static void repo_root(char *out, size_t cap)
 }
 
 /* Builds the Talus scene from a LAMMPS data file. */
-static double g_skin = 0.1;
+static double g_skin = 0.1, g_mu = 0.5;
 
 static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
 {
@@ -65,7 +65,7 @@ static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
   p.k_t = 2.0 / 7.0 * p.k_n;
   p.restitution = 0.0; /* explicit damping, LAMMPS form: c_n = gamma_n m_eff */
   p.gamma_n = 50.0;
-  p.mu = 0.5;
+  p.mu = g_mu;
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_create_linear(&p, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
@@ -108,7 +108,7 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   p.hertz_k_t = 2.0 / 7.0 * 7.3e5;
   p.gamma_n = 50.0;
   p.gamma_t = 25.0;
-  p.mu = 0.5;
+  p.mu = g_mu;
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_create_hertz(&p, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
@@ -195,6 +195,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_options_get_int(o, "-threads_max", 2, 1, 64, "largest thread / rank count measured (1, then this)", &tmax));
   TL_CHECK(tl_options_get_string(o, "-chute_data", def_chute, "LAMMPS data file of the chute scene", &c.chute_path));
   TL_CHECK(tl_options_get_string(o, "-scene", "both", "chute, hertz or both", &scene));
+  TL_CHECK(tl_options_get_real(o, "-mu", 0.5, 0.0, 10.0, "",
+                               "friction coefficient (0: frictionless, no history, no rotation; Talus only)", &g_mu));
   TL_CHECK(tl_options_get_real(o, "-skin", 0.1, 0.0, 1.0, "mean diameters",
                                "Verlet skin of Talus (LAMMPS runs with 0.1 diameters)", &g_skin));
   TlStatus s = tl_options_finish(o, stdout);

@@ -18,40 +18,19 @@
 static TlStatus linear_evaluate(const TlContactLaw *base, const TlContactBatch *b)
 {
   const TlStdLaw *law = (const TlStdLaw *)base;
-  const TlContactParameters *p = &law->p;
-  const double kn = p->k_n, kt = law->k_t, eta = law->eta, mu = p->mu, dt = b->dt;
-  const int friction = mu > 0.0, rolling = p->mu_roll > 0.0, bonded = p->bonded;
-  const double fa = p->adhesion_force;
   for (size_t c = 0; c < b->n; ++c) {
     const TlContactGeometry *g = &b->geometry[c];
     TlContactResult *r = &b->result[c];
-    double delta = g->overlap;
-    if (delta <= 0.0 && !(bonded && g->bonded)) {
+    double e = 0.0;
+    if (!tl_linear_contact(law, g->normal, g->overlap, g->vrel, g->spin_mean, g->spin_rel, g->meff, g->reff,
+                           g->history, g->bonded, b->dt, b->want_energy, &r->force, &r->couple, &e)) {
       r->force = r->couple = (TlVec3){0, 0, 0};
       r->elastic_energy = r->power = 0.0;
       continue;
     }
-    double vn = tl_v3_dot(g->vrel, g->normal); /* = -dδ/dt */
-    double cn = eta > 0.0 ? 2.0 * eta * sqrt(kn * g->meff) : law->gamma_lin + p->gamma_n * g->meff;
-    double fn = kn * delta - cn * vn;
-    if (fa > 0.0 && delta > 0.0) fn -= fa;
-    TlVec3 force = tl_v3_scale(g->normal, -fn);
-    double e_el = b->want_energy ? 0.5 * kn * delta * delta - (fa > 0.0 && delta > 0.0 ? fa * delta : 0.0) : 0.0;
-    TlVec3 couple = {0, 0, 0};
-    double fn_plus = fn > 0.0 ? fn : 0.0;
-    if (friction) {
-      double et = 0.0;
-      TlVec3 ft = tl_friction_force(g->history, g->normal, g->vrel, g->spin_mean, kt,
-                                    p->gamma_t_linear, mu, fn_plus, dt, b->want_energy ? &et : NULL);
-      force = tl_v3_add(force, ft);
-      e_el += et;
-    }
-    if (rolling) couple = tl_rolling_couple(g->normal, g->spin_rel, p->mu_roll, g->reff, fn_plus);
-    r->force = force;
-    r->couple = couple;
     if (b->want_energy) {
-      r->elastic_energy = e_el;
-      r->power = tl_v3_dot(force, g->vrel) + tl_v3_dot(couple, g->spin_rel);
+      r->elastic_energy = e;
+      r->power = tl_v3_dot(r->force, g->vrel) + tl_v3_dot(r->couple, g->spin_rel);
     }
   }
   return TL_OK;

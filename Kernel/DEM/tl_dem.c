@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include "tl_contact_kernels.h"
 #include "tl_contact_list.h"
 #include "tl_log.h"
 #include "tl_memory.h"
@@ -650,21 +651,142 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chu
   c->touching += m;
 }
 
-static void process_range(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
+/* The same loop for the built-in laws (LAW 1 linear, 2 Hertz), with the law
+ * evaluated in place: no staging of the geometry, forces scattered at once.
+ * Same arithmetic as the batch ops (tl_contact_kernels.h). */
+static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *c, Chunk ch, const int ORTHO,
+                                                                      const int GENERAL, const int ROT, const int LAW)
+{
+  TlDem *d = c->d;
+  TlContactList *L = c->L;
+  const TlVec3 *x = c->x, *v = c->v, *w = c->w;
+  const double *radius = c->radius, *inv_mass = c->inv_mass;
+  const TlDomain *dom = &d->domain;
+  const size_t hd = c->hd;
+  const int bonded = c->bonded, want = c->want_energy;
+  const TlStdLaw *law = (const TlStdLaw *)d->laws[ch.law];
+  const double dt = d->dt;
+  TlVec3 *F = c->F, *T = c->T;
+  for (size_t k = ch.start; k < ch.end; ++k) {
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 b;
+    if (GENERAL) {
+      b = tl_domain_branch(dom, x[i], x[j]);
+    } else {
+      b.x = x[j].x - x[i].x;
+      b.y = x[j].y - x[i].y;
+      b.z = x[j].z - x[i].z;
+      if (ORTHO) {
+        double *bc = &b.x;
+        for (int q = 0; q < 3; ++q) {
+          if (c->len[q] <= 0.0) continue;
+          if (bc[q] > c->half[q]) bc[q] -= c->len[q];
+          else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
+        }
+      }
+    }
+    const double ri = radius[i], rj = radius[j], cut = ri + rj;
+    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+    if (r2 >= cut * cut && !bonded) {
+      if (L->touching[k]) {
+        L->touching[k] = 0;
+        L->force[k] = tl_v3(0, 0, 0);
+        if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+      }
+      continue;
+    }
+    const double dist = sqrt(r2);
+    const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
+    const TlVec3 n = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
+    const double delta = cut - dist;
+    const double li = ri - 0.5 * delta, lj = rj - 0.5 * delta; /* lever arms along ±n */
+    TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, v[j].z - v[i].z};
+    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+    TlVec3 spin_mean = {0, 0, 0}, spin_rel = {0, 0, 0};
+    if (ROT) {
+      const TlVec3 wi = w[i], wj = w[j];
+      /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
+      TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
+      vr = tl_v3_sub(vr, tl_v3_cross(s, n));
+      spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+      spin_rel = tl_v3_sub(wj, wi);
+    }
+    const double isum = inv_mass[i] + inv_mass[j];
+    const double meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
+    const double reff = ri * rj / cut;
+    double *hist = hd ? L->history + k * hd : NULL;
+    TlVec3 f, cpl;
+    double e = 0.0;
+    int on = LAW == 1 ? tl_linear_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, bonded, dt, want,
+                                          &f, &cpl, &e)
+                      : tl_hertz_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, dt, want, &f,
+                                         &cpl, &e);
+    if (!on) {
+      if (L->touching[k]) {
+        L->touching[k] = 0;
+        L->force[k] = tl_v3(0, 0, 0);
+      }
+      continue;
+    }
+    if (want) {
+      const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
+      c->el += e;
+      c->pw += 0.5 * tl_v3_dot(tl_v3_add(fo, f), vr) + tl_v3_dot(cpl, spin_rel);
+    }
+    L->force[k] = f;
+    L->touching[k] = 1;
+    F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
+    F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
+    if (ROT) {
+      /* branch_i = li n, branch_j = -lj n */
+      const TlVec3 nf = tl_v3_cross(n, f);
+      T[i].x += li * nf.x + cpl.x; T[i].y += li * nf.y + cpl.y; T[i].z += li * nf.z + cpl.z;
+      T[j].x += lj * nf.x - cpl.x; T[j].y += lj * nf.y - cpl.y; T[j].z += lj * nf.z - cpl.z;
+    }
+    c->touching++;
+  }
+}
+
+#define TL_DISPATCH_CHUNKS(FN, ...)                                                  \
+  do {                                                                               \
+    if (general) {                                                                   \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 0 __VA_ARGS__);    \
+    } else if (ortho) {                                                              \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 0 __VA_ARGS__);    \
+    } else {                                                                         \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 0 __VA_ARGS__);    \
+    }                                                                                \
+  } while (0)
+
+/* Compiled twice: for x86-64 with AVX2 and FMA (three-operand forms and
+ * fused multiply-adds shorten this register-hungry loop by a third) and for
+ * the baseline; the loader picks the one the processor runs. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define TL_HOT_CLONES
+#endif
+
+TL_HOT_CLONES static void process_range(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
 {
   const TlDomain *dom = &c->d->domain;
   const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);
   const int ortho = dom->any_periodic && !general;
   const int rot = c->w != NULL;
-  if (general) {
-    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 1, 1);
-    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 1, 0);
-  } else if (ortho) {
-    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 1, 0, 1);
-    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 1, 0, 0);
+  /* one law for the whole range (the common case) runs the fused loop of
+   * the built-in laws; anything else goes through the batch ops */
+  int uniform = 1;
+  for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;
+  const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;
+  if (uniform && ops == &tl_contact_linear_ops) {
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1);
+  } else if (uniform && ops == &tl_contact_hertz_ops) {
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2);
   } else {
-    if (rot) for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 0, 1);
-    else for (size_t k = lo; k < hi; ++k) process_chunk(c, chunks[k], 0, 0, 0);
+    TL_DISPATCH_CHUNKS(process_chunk);
   }
 }
 
