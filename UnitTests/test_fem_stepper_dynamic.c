@@ -134,6 +134,34 @@ int main(void)
            its[0], fac[0], its[1], fac[1]);
   }
 
+  /* Other (beta, gamma): gamma > 1/2 with beta = (gamma + 1/2)^2 / 4 damps
+   * numerically, so the linear chain's energy falls and never rises. */
+  {
+    TlStepperOptions m = o;
+    m.gamma = 0.6;
+    m.beta = 0.3025;
+    TlMechSystem *sys = NULL;
+    TlStepper *st = NULL;
+    TL_TEST_STATUS(tl_spring_chain_create(&p, &sys), TL_OK);
+    TL_TEST_STATUS(tl_stepper_create("newmark", sys, &m, &st), TL_OK);
+    double u0[10];
+    for (int i = 0; i < 10; ++i) u0[i] = 0.01 * (i % 2 ? 1.0 : -1.0);
+    TL_TEST_STATUS(tl_stepper_set_state(st, 0.0, u0, NULL), TL_OK);
+    TlEnergies e;
+    TL_TEST_STATUS(tl_stepper_energies(st, &e), TL_OK);
+    double e0 = e.total, prev = e.total;
+    int monotone = 1;
+    for (int k = 0; k < 100; ++k) {
+      TL_TEST_STATUS(tl_stepper_step(st, 0.5), TL_OK);
+      TL_TEST_STATUS(tl_stepper_energies(st, &e), TL_OK);
+      if (e.total > prev * (1 + 1e-12)) monotone = 0;
+      prev = e.total;
+    }
+    TL_TEST_ASSERT(monotone && prev < 0.5 * e0, "beta 0.3025, gamma 0.6: energy %g from %g", prev, e0);
+    tl_stepper_destroy(&st);
+    tl_mech_system_destroy(&sys);
+  }
+
   /* Damping: energy decreases every step. */
   {
     TlSpringChainParams q = p;
