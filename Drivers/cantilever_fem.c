@@ -244,7 +244,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
     TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e), done);
     tl_cantilever_tip(beam, nm->u, tip);
     double w = -tip[2];
-    if (prev_w < 0.0 && w >= 0.0 && n_cross < 64)
+    if ((prev_w < 0.0) != (w < 0.0) && n_cross < 64) /* zero crossing, either way */
       t_cross[n_cross++] = nm->t - c->dt * w / (w - prev_w);
     prev_w = w;
     drift = fmax(drift, fabs(e.total - e0.total) / fabs(e0.total));
@@ -254,7 +254,8 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   }
   tl_progress_finish(&bar);
   double wall = tl_wtime() - t0;
-  double period = n_cross >= 2 ? (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : NAN;
+  /* Successive zero crossings are half a period apart. */
+  double period = n_cross >= 2 ? 2.0 * (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : NAN;
   /* drift: the largest |E(t) - E(0)| / E(0) over the run; per period: that
    * divided by the number of periods run (at least one). */
   double periods_run = steps * c->dt / T1;
