@@ -282,6 +282,30 @@ static void test_gmsh_generated(void)
   check_set_normal(m, "left", 0, -1.0);
   check_set_normal(m, "right", 0, 1.0);
   tl_mesh_destroy(&m);
+  /* Extruded, recombined box of 27-node hexahedra with 9-node quadrilateral
+   * faces: gmsh's node order must give positive Jacobians, the exact
+   * volume and outward faces. */
+  write_file("hex.geo",
+             "Point(1) = {0, 0, 0}; Point(2) = {2, 0, 0}; Point(3) = {2, 1, 0}; Point(4) = {0, 1, 0};\n"
+             "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+             "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\n"
+             "Transfinite Curve {1, 3} = 3; Transfinite Curve {2, 4} = 2;\n"
+             "Transfinite Surface {1}; Recombine Surface {1};\n"
+             "out[] = Extrude {0, 0, 1} { Surface{1}; Layers{2}; Recombine; };\n"
+             "Physical Volume(\"block\") = {out[1]};\nPhysical Surface(\"bottom\") = {1};\n"
+             "Physical Surface(\"top\") = {out[0]};\nMesh.ElementOrder = 2;\n");
+  rc = system("gmsh -3 -format msh41 -o hex.msh hex.geo > gmsh_hex.log 2>&1");
+  TL_TEST_ASSERT(rc == 0, "gmsh failed (see gmsh_hex.log)");
+  if (rc) return;
+  TL_TEST_STATUS(tl_mesh_read_gmsh("hex.msh", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_ASSERT(m->blocks[0].type == &tl_element_hex27 && m->blocks[0].n_elements == 4, "block of %zu %s",
+                 m->blocks[0].n_elements, m->blocks[0].type->header.name);
+  TL_TEST_CLOSE(tl_mesh_volume(m), 2.0, 1e-12);
+  check_outward(m);
+  check_set_normal(m, "bottom", 2, -1.0);
+  check_set_normal(m, "top", 2, 1.0);
+  tl_mesh_destroy(&m);
 }
 
 int main(void)
