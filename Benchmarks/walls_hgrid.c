@@ -354,7 +354,7 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
     TL_CHECK_GOTO(status, tl_peer_prepare("mesh_liggghts_rest", data, sizeof data, stl, sizeof stl), done);
     int sides[4] = {40, 10, 20, 80};
     int n_cases = s.peer_sweep ? 4 : 1;
-    double ratio40 = NAN, talus40 = NAN, lig40 = NAN;
+    double ratio40 = NAN, talus40 = NAN, lig40 = NAN, cpu40 = NAN;
     char *path = NULL;
     TlAtomicFile *f = NULL;
     TL_CHECK_GOTO(status, tl_path_join(s.output_dir, "peer.csv", &path), done);
@@ -386,11 +386,12 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
              "liggghts %.4f (median; min %.4f), talus/liggghts = %.3f\n",
              2 * n * n, np, us, threads, share, peer.us_median, peer.us_min, ratio);
       fprintf(out, "%d,%.6g,%.6g,%.6g,%.6g\n", 2 * n * n, us, peer.us_min, peer.us_median, ratio);
-      if (n == 40) ratio40 = ratio, talus40 = us, lig40 = peer.us_median;
+      if (n == 40) ratio40 = ratio, talus40 = us, lig40 = peer.us_median, cpu40 = us * share;
       fflush(stdout);
     }
     TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
     tl_summary_real(summary, "talus_us", talus40);
+    tl_summary_real(summary, "talus_cpu_us", cpu40);
     tl_summary_real(summary, "liggghts_us", lig40);
     tl_summary_real(summary, "ratio", ratio40);
   }
