@@ -1,12 +1,16 @@
 /* Triangle walls and triangulated surfaces as walls of the DEM world.
  *
- * A triangulated surface wall owns a TlTriSurface.  Each step it finds the
- * particles near every triangle through the hierarchical grid, one query per
- * triangle bounding box (seeds/001 Algorithm 2), computes one contact per
- * touching triangle (face, edge or vertex), applies the triangle-edge
- * corrections of Algorithm 1 (tl_trisurface_contacts.h) and evaluates the
- * remaining contacts with the contact law in one batch per thread.  A single
- * triangle is the surface of one triangle.
+ * A triangulated surface wall owns a TlTriSurface.  Detection follows
+ * seeds/001 Algorithm 2 with a Verlet skin: the triangles near some particle
+ * (tl_trisurface_bins.h) send their bounding boxes to the hierarchical grid
+ * (tl_hgrid_query_box), and every (triangle, particle) pair closer than
+ * radius + skin is listed; the list is reused until a particle has moved
+ * more than skin/2, the particles were renumbered, or the surface moved.
+ * Each step the listed pairs are tested exactly: one contact per touching
+ * triangle (face, edge or vertex); then the triangle-edge corrections of
+ * Algorithm 1 (tl_trisurface_contacts.h), and the contact law in one batch
+ * per thread.  The cost per step is O(particles + pairs), whatever the size
+ * of the surface.  A single triangle is the surface of one triangle.
  *
  * Coupling (seeds/001 §5.3.1): the owner of the surface writes vertex
  * positions and velocities before a step,
