@@ -11,7 +11,9 @@
  *                    bending frequency, energy drift per period.
  *   -mode all        the three in turn (default).
  *
- * Output: <output_dir>/<mode>.csv time series; last line `summary: ...`. */
+ * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
+ * Hex8 beam HDF5/XDMF snapshots (beam.xmf, warp by "displacement" in
+ * ParaView); last line `summary: ...`. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +22,7 @@
 #include "talus.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
+#include "tl_mesh_snapshot.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
 
@@ -27,7 +30,7 @@ typedef struct {
   TlCantileverParams beam;
   const char *solver, *output_dir;
   double rtol, load_parameter, dt, periods;
-  long load_steps, reuse;
+  long load_steps, reuse, snapshot_every;
   int mode, check;
   double tolerance;
   TlOptions *options; /* holds the option strings until the end */
@@ -70,6 +73,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1, 1, 1000, "refactorise every n Newton iterations (1 = full Newton)", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
+                                      "vibration: HDF5/XDMF mesh snapshot every n steps (0: none; Hex8)",
+                                      &c->snapshot_every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when a result misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 10.0, "", "relative tolerance for -check", &c->tolerance), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
@@ -203,17 +209,72 @@ done:
   return s;
 }
 
+/* Mesh snapshots (HDF5 + XDMF, open beam.xmf in ParaView and warp by
+ * "displacement"); Hex8 only: its node order is VTK's. */
+typedef struct {
+  TlMeshWriter *writer;
+  TlVec3 *ref, *disp;
+  int *conn;
+  double *un;
+  TlMeshBlock block;
+  TlMeshView view;
+} Snapshots;
+
+static TlStatus snapshots_open(const Config *c, const TlCantilever *beam, Snapshots *sn)
+{
+  memset(sn, 0, sizeof *sn);
+  if (c->snapshot_every <= 0 || c->beam.type != &tl_element_hex8) return TL_OK;
+  const TlMesh *m = beam->mesh;
+  const TlElementBlock *b = &m->blocks[0];
+  TL_CHECK(tl_calloc(&sn->ref, m->n_nodes, sizeof *sn->ref));
+  TL_CHECK(tl_calloc(&sn->disp, m->n_nodes, sizeof *sn->disp));
+  TL_CHECK(tl_calloc(&sn->un, 3 * m->n_nodes, sizeof *sn->un));
+  TL_CHECK(tl_calloc(&sn->conn, 8 * b->n_elements, sizeof *sn->conn));
+  for (size_t i = 0; i < m->n_nodes; ++i)
+    sn->ref[i] = (TlVec3){m->x[3 * i], m->x[3 * i + 1], m->x[3 * i + 2]};
+  for (size_t k = 0; k < 8 * b->n_elements; ++k) sn->conn[k] = (int)b->conn[k];
+  sn->block = (TlMeshBlock){.name = "beam", .type = TL_CELL_HEX8, .n_cells = b->n_elements,
+                            .connectivity = sn->conn};
+  sn->view = (TlMeshView){.n_nodes = m->n_nodes, .reference = sn->ref, .displacement = sn->disp,
+                          .n_blocks = 1, .blocks = &sn->block};
+  TL_CHECK(tl_mesh_writer_create(c->output_dir, "beam", &sn->writer));
+  return TL_OK;
+}
+
+static TlStatus snapshots_write(Snapshots *sn, const TlCantilever *beam, long step, double t,
+                                const double *u)
+{
+  if (!sn->writer) return TL_OK;
+  tl_solid_dofs_to_nodes(beam->solid, u, sn->un);
+  for (size_t i = 0; i < sn->view.n_nodes; ++i)
+    sn->disp[i] = (TlVec3){sn->un[3 * i], sn->un[3 * i + 1], sn->un[3 * i + 2]};
+  TL_CHECK(tl_mesh_writer_write(sn->writer, step, t, &sn->view));
+  return TL_OK;
+}
+
+static void snapshots_close(Snapshots *sn)
+{
+  tl_mesh_writer_destroy(&sn->writer);
+  tl_free(&sn->ref);
+  tl_free(&sn->disp);
+  tl_free(&sn->un);
+  tl_free(&sn->conn);
+}
+
 /* -------------------------------------------------------- vibration */
 static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
 {
   TlCantilever *beam = NULL;
   TlStepper *qs = NULL, *nm = NULL;
   TlTimeSeries *ts = NULL;
+  Snapshots sn;
+  memset(&sn, 0, sizeof sn);
   TlStepperOptions so;
   stepper_options(c, &so);
   TL_CHECK(tl_cantilever_create(&c->beam, &beam));
   TlStatus s = TL_OK;
   TlMechSystem *sys = tl_solid_system(beam->solid);
+  TL_CHECK_GOTO(s, snapshots_open(c, beam, &sn), done);
   /* The static deflection under the tip load is the initial shape. */
   TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", sys, &so, &qs), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(qs, 0.0, NULL, NULL), done);
@@ -239,6 +300,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), done);
   double row0[5] = {0.0, prev_w, e0.kinetic, e0.strain, e0.total};
   TL_CHECK_GOTO(s, tl_timeseries_append(ts, row0), done);
+  TL_CHECK_GOTO(s, snapshots_write(&sn, beam, 0, 0.0, nm->u), done);
   for (long k = 1; k <= steps; ++k) {
     TL_CHECK_GOTO(s, tl_stepper_step(nm, c->dt), done);
     TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e), done);
@@ -250,6 +312,8 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
     drift = fmax(drift, fabs(e.total - e0.total) / fabs(e0.total));
     double row[5] = {nm->t, w, e.kinetic, e.strain, e.total};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
+    if (c->snapshot_every > 0 && k % c->snapshot_every == 0)
+      TL_CHECK_GOTO(s, snapshots_write(&sn, beam, k, nm->t, nm->u), done);
     tl_progress_update(&bar, (double)k);
   }
   tl_progress_finish(&bar);
@@ -280,6 +344,7 @@ done:
     TlStatus s2 = tl_timeseries_close(&ts);
     if (s == TL_OK) s = s2;
   }
+  snapshots_close(&sn);
   tl_stepper_destroy(&qs);
   tl_stepper_destroy(&nm);
   tl_cantilever_destroy(&beam);
