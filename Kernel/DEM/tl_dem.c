@@ -137,7 +137,12 @@ TlWall *tl_dem_wall(TlDem *d, size_t k) { return k < d->n_walls ? d->walls[k] : 
 double tl_dem_timestep(const TlDem *d) { return d->dt; }
 double tl_dem_time(const TlDem *d) { return d->t; }
 void tl_dem_set_gravity(TlDem *d, TlVec3 g) { d->gravity = g; }
-void tl_dem_set_threads(TlDem *d, int threads) { d->threads = threads; }
+void tl_dem_set_threads(TlDem *d, int threads)
+{
+  d->threads = threads;
+  if (threads > 0) omp_set_num_threads(threads); /* walls follow the OpenMP default */
+  if (d->setup_done) d->nt = threads > 0 ? threads : omp_get_max_threads();
+}
 void tl_dem_skip_fixed_pairs(TlDem *d, int skip) { d->skip_fixed = skip; d->need_rebuild = 1; }
 void tl_dem_track_energy(TlDem *d, int on) { d->track_energy = on; }
 void tl_dem_track_orientation(TlDem *d, int on) { d->orientation = on; }
@@ -849,6 +854,8 @@ static TlStatus compute_forces(TlDem *d)
   const int want = d->track_energy;
   /* body and external forces */
   const TlVec3 g = d->gravity;
+  const int ntb = n >= 8192 ? d->nt : 1;
+#pragma omp parallel for num_threads(ntb) if (ntb > 1) schedule(static)
   for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(g, P->mass[i]);
   if (P->f_ext)
     for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
@@ -1046,6 +1053,8 @@ static TlStatus one_step(TlDem *d)
         TlVec3 vv = tl_v3_axpy(v[i], h * im[i], f[i]);
         d->work_ext += dt * tl_v3_dot(P->f_ext[i], vv);
       }
+  const int nt = n >= 8192 ? d->nt : 1;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(max : v2max, disp2max)
   for (size_t i = 0; i < n; ++i) {
     if (motion[i] != TL_MOTION_FREE) continue;
     const double hi = h * im[i];
@@ -1069,12 +1078,14 @@ static TlStatus one_step(TlDem *d)
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = P->inv_inertia;
+    const int orient = d->orientation;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
     for (size_t i = 0; i < n; ++i) {
       if (motion[i] != TL_MOTION_FREE) continue;
       const double hi = h * ii[i];
       TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
       w[i] = ww;
-      if (!d->orientation) continue;
+      if (!orient) continue;
       /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
        * then renormalised */
       TlQuat q = P->q[i];
@@ -1092,6 +1103,7 @@ static TlStatus one_step(TlDem *d)
   TL_CHECK(compute_forces(d));
   /* second half kick; a NaN anywhere poisons the sum and is then located */
   double sum = 0.0;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(+ : sum)
   for (size_t i = 0; i < n; ++i) {
     const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
     TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
@@ -1102,6 +1114,7 @@ static TlStatus one_step(TlDem *d)
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = P->inv_inertia;
+#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
     for (size_t i = 0; i < n; ++i) {
       const double hi = h * ii[i];
       w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};

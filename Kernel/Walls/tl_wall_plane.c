@@ -1,5 +1,6 @@
 /* The infinite plane wall, and the two helpers of the wall base type. */
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -70,12 +71,20 @@ static TlStatus plane_fit(TlWallPlane *p, size_t n, size_t hd)
   return TL_OK;
 }
 
-static TlStatus flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g, TlContactResult *r,
-                      const size_t *idx, size_t m, double *elastic, double *power, double *work)
+typedef struct {
+  double elastic, power, work;
+  TlVec3 force, torque;
+  size_t n;
+  TlStatus status;
+} PlaneSums;
+
+static void flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g, TlContactResult *r, const size_t *idx,
+                  size_t m, PlaneSums *sum)
 {
-  if (!m) return TL_OK;
+  if (!m) return;
   TlContactBatch b = {m, g, r, st->dt, st->want_energy};
-  TL_CHECK(st->law->ops->evaluate(st->law, &b));
+  TlStatus s = st->law->ops->evaluate(st->law, &b);
+  if (s != TL_OK) sum->status = s;
   TlParticles *P = st->particles;
   for (size_t c = 0; c < m; ++c) {
     size_t i = idx[c];
@@ -84,75 +93,96 @@ static TlStatus flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g
     if (P->torque)
       P->torque[i] = tl_v3_add(P->torque[i], tl_v3_add(tl_v3_cross(g[c].branch_i, F), r[c].couple));
     TlVec3 cp = tl_v3_add(P->x[i], g[c].branch_i);
-    p->base.force = tl_v3_sub(p->base.force, F);
-    p->base.torque = tl_v3_sub(p->base.torque, tl_v3_cross(cp, F));
+    sum->force = tl_v3_sub(sum->force, F);
+    sum->torque = tl_v3_sub(sum->torque, tl_v3_cross(cp, F));
     if (st->want_energy) {
       /* trapezoidal rule over the step, as for particle contacts */
       TlVec3 Fm = tl_v3_scale(tl_v3_add(F, p->force_prev[i]), 0.5);
-      *elastic += r[c].elastic_energy;
-      *power += tl_v3_dot(Fm, g[c].vrel) + tl_v3_dot(r[c].couple, g[c].spin_rel);
-      *work += tl_v3_dot(Fm, p->velocity);
+      sum->elastic += r[c].elastic_energy;
+      sum->power += tl_v3_dot(Fm, g[c].vrel) + tl_v3_dot(r[c].couple, g[c].spin_rel);
+      sum->work += tl_v3_dot(Fm, p->velocity);
     }
     p->force_prev[i] = F;
   }
-  return TL_OK;
 }
 
+/* Every particle touches a plane at most once, so threads working on
+ * disjoint particle ranges write disjoint forces: race-free by construction. */
 static TlStatus plane_interact(TlWall *w, const TlWallStep *st)
 {
   TlWallPlane *p = (TlWallPlane *)w;
   TlParticles *P = st->particles;
-  size_t hd = st->law->history_doubles;
-  TL_CHECK(plane_fit(p, P->n, hd));
-  TlContactGeometry g[PLANE_CHUNK];
-  TlContactResult r[PLANE_CHUNK];
-  size_t idx[PLANE_CHUNK], m = 0;
-  double elastic = 0.0, power = 0.0, work = 0.0;
-  w->force = w->torque = tl_v3(0, 0, 0);
-  w->n_contacts = 0;
+  const size_t hd = st->law->history_doubles, n = P->n;
+  TL_CHECK(plane_fit(p, n, hd));
+  PlaneSums tot;
+  memset(&tot, 0, sizeof tot);
   const TlVec3 nrm = p->normal, pt = p->point;
-  for (size_t i = 0; i < P->n; ++i) {
-    double s = tl_v3_dot(tl_v3_sub(P->x[i], pt), nrm);
-    double ri = P->radius[i];
-    if (s >= ri || P->motion[i] != TL_MOTION_FREE) {
-      if (p->touching[i]) {
-        p->touching[i] = 0;
-        p->force_prev[i] = tl_v3(0, 0, 0);
-        if (hd) memset(p->history + i * hd, 0, hd * sizeof *p->history);
+  int nt = n >= 8192 ? omp_get_max_threads() : 1;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+  {
+    TlContactGeometry g[PLANE_CHUNK];
+    TlContactResult r[PLANE_CHUNK];
+    size_t idx[PLANE_CHUNK], m = 0;
+    PlaneSums loc;
+    memset(&loc, 0, sizeof loc);
+#pragma omp for schedule(static) nowait
+    for (size_t i = 0; i < n; ++i) {
+      double s = tl_v3_dot(tl_v3_sub(P->x[i], pt), nrm);
+      double ri = P->radius[i];
+      if (s >= ri || P->motion[i] != TL_MOTION_FREE) {
+        if (p->touching[i]) {
+          p->touching[i] = 0;
+          p->force_prev[i] = tl_v3(0, 0, 0);
+          if (hd) memset(p->history + i * hd, 0, hd * sizeof *p->history);
+        }
+        continue;
       }
-      continue;
+      p->touching[i] = 1;
+      loc.n++;
+      TlContactGeometry *c = &g[m];
+      c->normal = tl_v3_neg(nrm);
+      c->overlap = ri - s;
+      c->branch_i = tl_v3_scale(nrm, -0.5 * (ri + s)); /* middle of the overlap, as between particles */
+      c->branch_j = tl_v3(0, 0, 0);
+      TlVec3 vi = P->v[i];
+      if (P->w) {
+        vi = tl_v3_add(vi, tl_v3_cross(P->w[i], c->branch_i));
+        c->spin_mean = tl_v3_scale(P->w[i], 0.5);
+        c->spin_rel = tl_v3_neg(P->w[i]);
+      } else {
+        c->spin_mean = c->spin_rel = tl_v3(0, 0, 0);
+      }
+      c->vrel = tl_v3_sub(p->velocity, vi);
+      c->meff = P->mass[i];
+      c->reff = ri;
+      c->history = hd ? p->history + i * hd : NULL;
+      c->bonded = 0;
+      idx[m++] = i;
+      if (m == PLANE_CHUNK) {
+        flush(p, st, g, r, idx, m, &loc);
+        m = 0;
+      }
     }
-    p->touching[i] = 1;
-    w->n_contacts++;
-    TlContactGeometry *c = &g[m];
-    c->normal = tl_v3_neg(nrm);
-    c->overlap = ri - s;
-    c->branch_i = tl_v3_scale(nrm, -0.5 * (ri + s)); /* middle of the overlap, as between particles */
-    c->branch_j = tl_v3(0, 0, 0);
-    TlVec3 vi = P->v[i];
-    if (P->w) {
-      vi = tl_v3_add(vi, tl_v3_cross(P->w[i], c->branch_i));
-      c->spin_mean = tl_v3_scale(P->w[i], 0.5);
-      c->spin_rel = tl_v3_neg(P->w[i]);
-    } else {
-      c->spin_mean = c->spin_rel = tl_v3(0, 0, 0);
-    }
-    c->vrel = tl_v3_sub(p->velocity, vi);
-    c->meff = P->mass[i];
-    c->reff = ri;
-    c->history = hd ? p->history + i * hd : NULL;
-    c->bonded = 0;
-    idx[m++] = i;
-    if (m == PLANE_CHUNK) {
-      TL_CHECK(flush(p, st, g, r, idx, m, &elastic, &power, &work));
-      m = 0;
+    flush(p, st, g, r, idx, m, &loc);
+#pragma omp critical(tl_wall_plane_sums)
+    {
+      tot.elastic += loc.elastic;
+      tot.power += loc.power;
+      tot.work += loc.work;
+      tot.force = tl_v3_add(tot.force, loc.force);
+      tot.torque = tl_v3_add(tot.torque, loc.torque);
+      tot.n += loc.n;
+      if (loc.status != TL_OK) tot.status = loc.status;
     }
   }
-  TL_CHECK(flush(p, st, g, r, idx, m, &elastic, &power, &work));
+  if (tot.status != TL_OK) return tl_error_trace(tot.status, __FILE__, __LINE__);
+  w->force = tot.force;
+  w->torque = tot.torque;
+  w->n_contacts = tot.n;
   if (st->want_energy) {
-    w->elastic_energy = elastic;
-    w->contact_work += st->dt * power;
-    w->work += st->dt * work;
+    w->elastic_energy = tot.elastic;
+    w->contact_work += st->dt * tot.power;
+    w->work += st->dt * tot.work;
   }
   return TL_OK;
 }
