@@ -586,7 +586,7 @@ static TlStatus evaluate_points(TlCG *c, size_t n, const TlVec3 *points, const T
     TL_ERROR(TL_ERR_ARG, "momentum or kinetic stress asked for, but no particle velocities were given");
   TlStatus status = TL_OK;
   long long count = (long long)n;
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) num_threads(c->n_threads)
   for (long long q = 0; q < count; ++q) {
     int t = 0;
 #ifdef _OPENMP
@@ -927,7 +927,7 @@ static TlStatus evaluate_grid_scatter(TlCG *c, const TlCGGrid *g, TlCGFields *ou
   }
   TlStatus status = TL_OK;
   int nz = g->n[2];
-#pragma omp parallel
+#pragma omp parallel num_threads(c->n_threads)
   {
     int t = 0, nt = 1;
 #ifdef _OPENMP

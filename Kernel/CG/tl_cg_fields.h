@@ -123,6 +123,8 @@ typedef struct TlCG TlCG;
  * periodic box (NULL: open space).  gauss_points: points of the branch-line
  * integral for kernels without a closed form (1..10; 0 picks 6). */
 TlStatus tl_cg_create(const TlCGKernel *kernel, const TlCGBox *box, int gauss_points, TlCG **cg);
+/* The evaluator keeps one workspace per OpenMP thread of omp_get_max_threads()
+ * at creation and never runs more threads than that. */
 void tl_cg_destroy(TlCG **cg);
 /* Sets the data (arrays are borrowed until the next set or evaluation; any
  * may be NULL for "none") and rebuilds the bins.  Allocates only when the
