@@ -7,6 +7,9 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include "talus.h"
 #include "tl_cg_fields.h"
 #include "tl_test.h"
@@ -298,6 +301,25 @@ static void test_grid_vs_points(int periodic)
   }
   TL_TEST_ASSERT(scale > 1.0, "grid sees data (max density %g)", scale);
   TL_TEST_ASSERT(worst < 1e-12 * scale, "periodic %d: grid scatter vs point gather differ by %g", periodic, worst);
+  /* the grid is the same to the bit whatever the number of threads */
+#ifdef _OPENMP
+  {
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(threads > 1 ? 1 : 2);
+    TlCG *cg1;
+    TL_TEST_STATUS(tl_cg_create(k, periodic ? &box : NULL, 0, &cg1), TL_OK);
+    TL_TEST_STATUS(tl_cg_set_data(cg1, &p, &c, &w), TL_OK);
+    TL_TEST_STATUS(tl_cg_evaluate_grid(cg1, &g, b), TL_OK);
+    omp_set_num_threads(threads);
+    int same = memcmp(a->density, b->density, nodes * sizeof(double)) == 0 &&
+               memcmp(a->stress_contact, b->stress_contact, nodes * sizeof(TlMat3)) == 0 &&
+               memcmp(a->stress_kinetic, b->stress_kinetic, nodes * sizeof(TlMat3)) == 0 &&
+               memcmp(a->boundary_force, b->boundary_force, nodes * sizeof(TlVec3)) == 0;
+    TL_TEST_ASSERT(same, "periodic %d: grid fields differ between %d and %d threads", periodic, threads,
+                   threads > 1 ? 1 : 2);
+    tl_cg_destroy(&cg1);
+  }
+#endif
   free(pts);
   tl_cg_fields_destroy(&a);
   tl_cg_fields_destroy(&b);
