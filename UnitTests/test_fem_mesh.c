@@ -10,6 +10,7 @@
 
 #include "talus.h"
 #include "tl_mesh.h"
+#include "tl_mesh_locator.h"
 #include "tl_test.h"
 
 /* Every boundary face's normal points away from its element's centroid;
@@ -308,6 +309,66 @@ static void test_gmsh_generated(void)
   tl_mesh_destroy(&m);
 }
 
+/* Point location: random points of random elements (and every node) are
+ * found in an element whose map reproduces them; outside points are not;
+ * a moved configuration is located after an update. */
+static void test_locator(TlMesh *m)
+{
+  if (!m) return;
+  TlMeshLocator *loc = NULL;
+  TL_TEST_STATUS(tl_mesh_locator_create(m, NULL, &loc), TL_OK);
+  if (!loc) return;
+  const TlElementBlock *blk = &m->blocks[0];
+  const TlElementType *t = blk->type;
+  double worst = 0.0;
+  size_t misses = 0;
+  for (int k = 0; k < 200 + (int)m->n_nodes; ++k) {
+    double p[3];
+    if (k < 200) {
+      size_t e = (size_t)rand() % blk->n_elements;
+      double xi[3] = {0, 0, 0}, s = 0.0, x[TL_ELEMENT_MAX_NODES * 3];
+      for (int d = 0; d < t->dim; ++d) {
+        xi[d] = t->shape == TL_SHAPE_TET ? (double)rand() / RAND_MAX : 2.0 * rand() / RAND_MAX - 1.0;
+        s += xi[d];
+      }
+      if (t->shape == TL_SHAPE_TET && s > 1.0)
+        for (int d = 0; d < 3; ++d) xi[d] /= s;
+      tl_mesh_element_coords(m, 0, e, x);
+      tl_element_interpolate(t, x, xi, p);
+    } else {
+      memcpy(p, m->x + 3 * (k - 200), sizeof p);
+    }
+    TlFaceRef where;
+    double xi[3], x[TL_ELEMENT_MAX_NODES * 3], back[3];
+    if (tl_mesh_locate(loc, p, 1e-10, &where, xi) != TL_OK) {
+      ++misses;
+      continue;
+    }
+    tl_mesh_element_coords(m, where.block, where.element, x);
+    tl_element_interpolate(m->blocks[where.block].type, x, xi, back);
+    for (int i = 0; i < 3; ++i) worst = fmax(worst, fabs(back[i] - p[i]));
+  }
+  TL_TEST_ASSERT(misses == 0 && worst < 1e-12, "%s: %zu points not located, worst mismatch %g", t->header.name, misses, worst);
+  double far[3] = {100.0, 0.0, 0.0};
+  TlFaceRef where;
+  double xi[3];
+  TL_TEST_STATUS(tl_mesh_locate(loc, far, 1e-10, &where, xi), TL_ERR_NOT_FOUND);
+  /* Translate the whole mesh by (1, 2, 3): the moved centroid of element 0
+   * is found in element 0 after an update. */
+  double *moved = malloc(3 * m->n_nodes * sizeof *moved);
+  for (size_t i = 0; i < m->n_nodes; ++i)
+    for (int k = 0; k < 3; ++k) moved[3 * i + k] = m->x[3 * i + k] + (m->dim == 3 || k < 2 ? k + 1.0 : 0.0);
+  TL_TEST_STATUS(tl_mesh_locator_update(loc, moved), TL_OK);
+  double c[3] = {0, 0, 0};
+  int nc = t->n_corners;
+  for (int a = 0; a < nc; ++a)
+    for (int k = 0; k < 3; ++k) c[k] += moved[3 * blk->conn[a] + k] / nc;
+  TL_TEST_STATUS(tl_mesh_locate(loc, c, 1e-10, &where, xi), TL_OK);
+  TL_TEST_ASSERT(where.block == 0 && where.element == 0, "moved centroid found in element %zu", where.element);
+  free(moved);
+  tl_mesh_locator_destroy(&loc);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -320,6 +381,23 @@ int main(void)
   test_sector(&tl_element_hex8);
   test_sector(&tl_element_hex27);
   test_inverted();
+  {
+    size_t n[3] = {4, 3, 2};
+    double lo[3] = {0, 0, 0}, hi[3] = {2, 1.5, 1};
+    TlMesh *m = NULL;
+    tl_mesh_create_box(&tl_element_tet10, n, lo, hi, &m);
+    test_locator(m);
+    tl_mesh_destroy(&m);
+    size_t ns[3] = {2, 5, 2};
+    tl_mesh_create_cylinder_sector(&tl_element_hex27, 1.0, 1.5, 0.0, 1.2, 0.4, ns, &m);
+    test_locator(m);
+    tl_mesh_destroy(&m);
+    size_t nr[2] = {5, 3};
+    double lr[2] = {0, 0}, hr[2] = {1, 0.6};
+    tl_mesh_create_rectangle(&tl_element_quad8, nr, lr, hr, &m);
+    test_locator(m);
+    tl_mesh_destroy(&m);
+  }
   test_gmsh_quad8();
   test_gmsh_generated();
   return tl_test_report();
