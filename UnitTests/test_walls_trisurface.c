@@ -360,6 +360,30 @@ static void test_grid_equals_brute(void)
     }
     TL_TEST_ASSERT(memcmp(f1, m.p->f, m.p->n * sizeof *f1) == 0, "forces differ between 1 and 2 threads");
     tl_free(&f1);
+
+    /* a moving surface and moving particles, small steps: the candidate
+     * list is kept while the displacements allow it and rebuilt after; the
+     * contacts stay those of brute force at every step */
+    TL_TEST_STATUS(tl_wall_trisurface_set_corrections(m.wall[0], 0), TL_OK);
+    TlTriSurface *ms = tl_wall_trisurface_surface(m.wall[0]);
+    int all_same = 1;
+    for (int it = 0; it < 6; ++it) {
+      for (size_t i = 0; i < ms->n_vertices; ++i) ms->x[i].z += 0.0002 * (urand(&seed) - 0.5) + 0.0004;
+      TL_TEST_STATUS(tl_trisurface_update(ms), TL_OK);
+      for (size_t i = 0; i < m.p->n; ++i) m.p->x[i].z -= 0.0001 * urand(&seed);
+      TL_TEST_STATUS(tl_wall_trisurface_set_brute_force(m.wall[0], 0), TL_OK);
+      TL_TEST_STATUS(m.wall[0]->ops->interact(m.wall[0], &st), TL_OK);
+      tl_tricontacts_clear(grid_set);
+      TL_TEST_STATUS(tl_tricontacts_append_all(grid_set, tl_wall_trisurface_contacts(m.wall[0])), TL_OK);
+      TL_TEST_STATUS(tl_wall_trisurface_set_brute_force(m.wall[0], 1), TL_OK);
+      TL_TEST_STATUS(m.wall[0]->ops->interact(m.wall[0], &st), TL_OK);
+      brute = tl_wall_trisurface_contacts(m.wall[0]);
+      int same_it = grid_set->count == brute->count && brute->count > 1000;
+      for (size_t k = 0; same_it && k < brute->count; ++k)
+        same_it &= grid_set->c[k].particle == brute->c[k].particle && grid_set->c[k].triangle == brute->c[k].triangle;
+      all_same &= same_it;
+    }
+    TL_TEST_ASSERT(all_same, "%s: moving surface: grid and brute force differ", periodic ? "periodic" : "open");
     tl_tricontacts_destroy(&grid_set);
     mini_destroy(&m);
   }

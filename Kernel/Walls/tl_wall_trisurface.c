@@ -2,6 +2,7 @@
 
 #include "tl_trisurface_bins.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -38,6 +39,8 @@ typedef struct {
   size_t n_pairs, pair_capacity;
   TlVec3 *x_list;
   size_t n_list, x_list_capacity;
+  TlVec3 *vertex_list; /* vertex positions at the list build */
+  size_t vertex_list_capacity;
   unsigned long list_version;
   double list_skin;
   int list_valid;
@@ -106,6 +109,7 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
   tl_tribins_free(&t->bins);
   tl_free(&t->pair);
   tl_free(&t->x_list);
+  tl_free(&t->vertex_list);
   tl_free(&t);
 }
 
@@ -173,17 +177,21 @@ static TlStatus tl_wall_trisurface_threads(TlWallTriSurface *t, int *nthreads)
   return TL_OK;
 }
 
-/* Whether the candidate list must be rebuilt: never built, the surface or
- * the particle count changed, or a particle moved more than skin/2. */
+/* Whether the candidate list must be rebuilt: never built, the particle
+ * count or the skin changed, or the largest particle displacement plus the
+ * largest vertex displacement since the build exceeds skin/2.  (A pair left
+ * out was farther than radius + skin apart; every point of a triangle moves
+ * at most as far as its farthest vertex.) */
 static int tl_wall_trisurface_list_stale(const TlWallTriSurface *t, const TlParticles *p, double skin)
 {
-  if (!t->list_valid || t->list_version != t->surface->version || t->n_list != p->n || skin != t->list_skin ||
-      skin <= 0.0)
-    return 1;
-  double limit = 0.25 * skin * skin;
-  for (size_t i = 0; i < p->n; ++i)
-    if (tl_v3_norm2(tl_v3_sub(p->x[i], t->x_list[i])) > limit) return 1;
-  return 0;
+  if (!t->list_valid || t->n_list != p->n || skin != t->list_skin || skin <= 0.0) return 1;
+  const TlTriSurface *s = t->surface;
+  double dv2 = 0.0;
+  if (t->list_version != s->version)
+    for (size_t i = 0; i < s->n_vertices; ++i) dv2 = fmax(dv2, tl_v3_norm2(tl_v3_sub(s->x[i], t->vertex_list[i])));
+  double dp2 = 0.0;
+  for (size_t i = 0; i < p->n; ++i) dp2 = fmax(dp2, tl_v3_norm2(tl_v3_sub(p->x[i], t->x_list[i])));
+  return sqrt(dp2) + sqrt(dv2) > 0.5 * skin;
 }
 
 /* Algorithm 2 with a skin: the triangles near particles (bins), each
@@ -239,6 +247,8 @@ static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallS
   TL_CHECK(tl_array_reserve(&t->x_list, &t->x_list_capacity, p->n, sizeof *t->x_list));
   if (p->n) memcpy(t->x_list, p->x, p->n * sizeof *p->x);
   t->n_list = p->n;
+  TL_CHECK(tl_array_reserve(&t->vertex_list, &t->vertex_list_capacity, s->n_vertices, sizeof *t->vertex_list));
+  memcpy(t->vertex_list, s->x, s->n_vertices * sizeof *s->x);
   t->list_version = s->version;
   t->list_skin = skin;
   t->list_valid = 1;
