@@ -1,10 +1,3 @@
-/* Benchmark source for Benchmarks/cg_fields.c.
- *
- * Parked under this name because a program built from Benchmarks/cg_fields.c
- * would take the CMake target name of the driver Drivers/cg_fields.c; rename
- * it to cg_fields.c once Benchmarks/CMakeLists.txt names benchmark targets
- * bench_<name>.  Until then build it by hand (Kernel/CG/README.md). */
-/* Benchmark of the CG fields (issue 5): the stress field (contact and
  * kinetic parts) on a 64^3 grid from about 10^5 particles, for growing CG
  * widths c, with the Dirac cell averages as the c = 0 reference.
  *
