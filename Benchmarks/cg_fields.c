@@ -1,3 +1,4 @@
+/* Benchmark of the CG fields (issue 5): the stress field (contact and
  * kinetic parts) on a 64^3 grid from about 10^5 particles, for growing CG
  * widths c, with the Dirac cell averages as the c = 0 reference.
  *
