@@ -160,6 +160,50 @@ static void vibration_energy(void)
   TL_TEST_ASSERT(d2 < 1e-4 && d2 < d1, "large-amplitude energy drift %g (T/200), %g (T/100)", d2, d1);
 }
 
+/* The system's bound of the largest eigenvalue of M^-1 K (explicit critical
+ * step): at least the assembled eigenvalue (power iterations), and tight. */
+static void frequency_bound(const TlElementType *t)
+{
+  TlMesh *mesh = NULL;
+  TlMaterial *mat = NULL;
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(build(t, 10, &mesh, &mat, &solid), TL_OK);
+  if (!solid) return;
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *x = calloc(n, sizeof *x), *y = calloc(n, sizeof *y), *m = calloc(n, sizeof *m);
+  sys->ops->lumped_mass(sys, m);
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 0, &K), TL_OK);
+  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  for (size_t i = 0; i < n; ++i) x[i] = sin(0.7 * i) + 0.3;
+  double lam = 0.0;
+  for (int it = 0; it < 3000; ++it) {
+    double nrm = 0.0;
+    for (size_t i = 0; i < n; ++i) nrm += x[i] * x[i];
+    nrm = sqrt(nrm);
+    for (size_t i = 0; i < n; ++i) y[i] = x[i] / nrm / sqrt(m[i]);
+    tl_sparse_matvec(K, y, u);
+    lam = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      x[i] = u[i] / sqrt(m[i]);
+      lam += x[i] * y[i] * sqrt(m[i]);
+    }
+  }
+  memset(u, 0, n * sizeof *u);
+  double bound = 0.0;
+  TL_TEST_STATUS(sys->ops->max_frequency_squared(sys, u, &bound), TL_OK);
+  printf("%s: omega_max^2 %.4e (power iterations), system bound %.4e (ratio %.3f)\n", t->header.name, lam, bound,
+         bound / lam);
+  TL_TEST_ASSERT(bound >= lam * (1 - 1e-9) && bound < 1.2 * lam, "%s: bound %g vs omega^2 %g", t->header.name, bound, lam);
+  tl_sparse_destroy(&K);
+  free(u), free(x), free(y), free(m);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -169,6 +213,8 @@ int main(void)
   static_deflection(&tl_element_hex8, 0.5);
   double t2 = omp_get_wtime();
   vibration_energy();
+  frequency_bound(&tl_element_hex8);
+  frequency_bound(&tl_element_hex27);
   printf("wall: hex27 static %.2f s, hex8 static %.2f s, vibration %.2f s\n", t1 - t0, t2 - t1, omp_get_wtime() - t2);
   return tl_test_report();
 }
