@@ -7,8 +7,10 @@
  * force loop); the summary gives each figure and flatness = max / min. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 #include "talus.h"
 #include "tl_dem.h"
 
@@ -134,6 +136,14 @@ static TlStatus run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+  /* OpenMP threads that wait by sleeping rather than spinning: on a shared
+   * machine a spinning thread at a barrier steals the core its partner
+   * needs.  The runtime reads the variable at start-up, so set it and
+   * start again (once). */
+  if (!getenv("OMP_WAIT_POLICY")) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);
+  }
   TlStatus s = tl_initialize();
   if (s == TL_OK) s = run(argc, argv);
   return tl_driver_exit(s);

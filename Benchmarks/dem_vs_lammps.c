@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 #include "peers/tl_peer.h"
 #include "talus.h"
 #include "tl_dem.h"
@@ -258,6 +259,14 @@ static TlStatus run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+  /* OpenMP threads that wait by sleeping rather than spinning: on a shared
+   * machine a spinning thread at a barrier steals the core its partner
+   * needs.  The runtime reads the variable at start-up, so set it and
+   * start again (once). */
+  if (!getenv("OMP_WAIT_POLICY")) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);
+  }
   TlStatus s = tl_initialize();
   if (s == TL_OK) s = run(argc, argv);
   return tl_driver_exit(s);
