@@ -236,7 +236,7 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
   size_t n = set->count, hd = history_doubles;
   set->history_doubles = hd;
   for (size_t i = 0; i < n; ++i) set->c[i].force_prev = tl_v3(0, 0, 0);
-  if (hd) {
+  if (hd && n) {
     TL_CHECK(tl_array_reserve(&set->history, &set->history_capacity, n * hd, sizeof *set->history));
     memset(set->history, 0, n * hd * sizeof *set->history);
   }

@@ -241,7 +241,8 @@ static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallS
   TL_CHECK(tl_array_reserve(&t->pair, &t->pair_capacity, 2 * total, sizeof *t->pair));
   t->n_pairs = 0;
   for (int k = 0; k < t->n_threads; ++k) {
-    memcpy(t->pair + 2 * t->n_pairs, t->thread[k].pairs, 2 * t->thread[k].n_pairs * sizeof *t->pair);
+    if (t->thread[k].n_pairs)
+      memcpy(t->pair + 2 * t->n_pairs, t->thread[k].pairs, 2 * t->thread[k].n_pairs * sizeof *t->pair);
     t->n_pairs += t->thread[k].n_pairs;
   }
   TL_CHECK(tl_array_reserve(&t->x_list, &t->x_list_capacity, p->n, sizeof *t->x_list));
