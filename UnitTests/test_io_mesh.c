@@ -31,26 +31,6 @@ static void build(double scale)
   pressure[0] = 1e5 / 3.0;
 }
 
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *s = calloc((size_t)n + 1, 1);
-  if (fread(s, 1, (size_t)n, f) != (size_t)n) s[0] = '\0';
-  fclose(f);
-  return s;
-}
-
-static int count_of(const char *text, const char *what)
-{
-  int n = 0;
-  for (const char *p = text; (p = strstr(p, what)); p += strlen(what)) ++n;
-  return n;
-}
-
 static void test_two_blocks(void)
 {
   build(1.0);
@@ -94,15 +74,15 @@ static void test_two_blocks(void)
   }
   tl_mesh_snapshot_free(&m);
 
-  char *xmf = slurp("fem/beam.xmf");
+  char *xmf = tl_test_read_file("fem/beam.xmf");
   TL_TEST_ASSERT(xmf != NULL, "no beam.xmf");
   if (xmf) {
-    TL_TEST_ASSERT(count_of(xmf, "CollectionType=\"Spatial\"") == 2, "two steps of two blocks make spatial collections");
-    TL_TEST_ASSERT(count_of(xmf, "TopologyType=\"Hexahedron\" NumberOfElements=\"2\" NodesPerElement=\"8\"") == 2, "hex");
-    TL_TEST_ASSERT(count_of(xmf, "TopologyType=\"Quadrilateral\" NumberOfElements=\"1\" NodesPerElement=\"4\"") == 2, "quad");
-    TL_TEST_ASSERT(count_of(xmf, ">beam_mesh_0000.h5:/mesh/reference_coordinates<") == 4, "geometry references");
-    TL_TEST_ASSERT(count_of(xmf, "<Attribute Name=\"strain\" AttributeType=\"Tensor\" Center=\"Cell\">") == 2, "strain");
-    TL_TEST_ASSERT(count_of(xmf, ">beam_000001.h5:/mesh/displacement<") == 2, "displacement of step 1 per block");
+    TL_TEST_ASSERT(tl_test_count(xmf, "CollectionType=\"Spatial\"") == 2, "two steps of two blocks make spatial collections");
+    TL_TEST_ASSERT(tl_test_count(xmf, "TopologyType=\"Hexahedron\" NumberOfElements=\"2\" NodesPerElement=\"8\"") == 2, "hex");
+    TL_TEST_ASSERT(tl_test_count(xmf, "TopologyType=\"Quadrilateral\" NumberOfElements=\"1\" NodesPerElement=\"4\"") == 2, "quad");
+    TL_TEST_ASSERT(tl_test_count(xmf, ">beam_mesh_0000.h5:/mesh/reference_coordinates<") == 4, "geometry references");
+    TL_TEST_ASSERT(tl_test_count(xmf, "<Attribute Name=\"strain\" AttributeType=\"Tensor\" Center=\"Cell\">") == 2, "strain");
+    TL_TEST_ASSERT(tl_test_count(xmf, ">beam_000001.h5:/mesh/displacement<") == 2, "displacement of step 1 per block");
   }
   free(xmf);
 
@@ -165,11 +145,11 @@ static void test_single_block_and_types(void)
   TL_TEST_STATUS(tl_mesh_writer_create(NULL, "one", &w), TL_OK);
   if (!w) return;
   TL_TEST_STATUS(tl_mesh_writer_write(w, 0, 0.0, &v), TL_OK);
-  char *xmf = slurp("one.xmf");
-  TL_TEST_ASSERT(xmf && count_of(xmf, "CollectionType=\"Spatial\"") == 0, "single block must be a uniform grid");
+  char *xmf = tl_test_read_file("one.xmf");
+  TL_TEST_ASSERT(xmf && tl_test_count(xmf, "CollectionType=\"Spatial\"") == 0, "single block must be a uniform grid");
   TL_TEST_ASSERT(xmf && strstr(xmf, "<Grid Name=\"tet\" GridType=\"Uniform\">\n        <Time Value=\"0\"/>"),
                  "time inside the uniform grid");
-  TL_TEST_ASSERT(xmf && count_of(xmf, "Name=\"displacement\"") == 0, "displacement listed though absent");
+  TL_TEST_ASSERT(xmf && tl_test_count(xmf, "Name=\"displacement\"") == 0, "displacement listed though absent");
   free(xmf);
   TlMeshSnapshot m;
   TL_TEST_STATUS(tl_mesh_snapshot_read("one_000000.h5", &m), TL_OK);
@@ -206,7 +186,7 @@ static void test_restart(void)
   TL_TEST_ASSERT(tl_mesh_writer_count(c) == 2, "restored count %zu", tl_mesh_writer_count(c));
   for (int k = 2; k < 4; ++k) TL_TEST_STATUS(tl_mesh_writer_write(c, k, 0.1 * k, &v), TL_OK);
   TL_TEST_ASSERT(access("restarted/m_mesh_0001.h5", F_OK) != 0, "restart rewrote an unchanged mesh");
-  char *x = slurp("straight/m.xmf"), *y = slurp("restarted/m.xmf");
+  char *x = tl_test_read_file("straight/m.xmf"), *y = tl_test_read_file("restarted/m.xmf");
   TL_TEST_ASSERT(x && y && strcmp(x, y) == 0, "restarted series differs from the straight one");
   free(x);
   free(y);

@@ -35,26 +35,6 @@ static void fill(unsigned long seed)
   }
 }
 
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *s = calloc((size_t)n + 1, 1);
-  if (fread(s, 1, (size_t)n, f) != (size_t)n) s[0] = '\0';
-  fclose(f);
-  return s;
-}
-
-static int count_of(const char *text, const char *what)
-{
-  int n = 0;
-  for (const char *p = text; (p = strstr(p, what)); p += strlen(what)) ++n;
-  return n;
-}
-
 static TlParticleView full_view(const TlField *fields)
 {
   return (TlParticleView){.n = N, .position = pos, .radius = radius, .velocity = vel, .angular_velocity = omega,
@@ -106,17 +86,17 @@ static void test_round_trip(void)
   tl_particle_snapshot_free(&s);
 
   /* the series lists all three steps with their times and relative file names */
-  char *xmf = slurp("out/sub/grains.xmf");
+  char *xmf = tl_test_read_file("out/sub/grains.xmf");
   TL_TEST_ASSERT(xmf != NULL, "no grains.xmf");
   if (xmf) {
-    TL_TEST_ASSERT(count_of(xmf, "<Grid Name=\"step_") == 3, "%d step grids", count_of(xmf, "<Grid Name=\"step_"));
+    TL_TEST_ASSERT(tl_test_count(xmf, "<Grid Name=\"step_") == 3, "%d step grids", tl_test_count(xmf, "<Grid Name=\"step_"));
     TL_TEST_ASSERT(strstr(xmf, "CollectionType=\"Temporal\"") != NULL, "not a temporal collection");
     TL_TEST_ASSERT(strstr(xmf, "<Time Value=\"1.1000000000000001\"/>") != NULL, "time of step 2 missing");
     TL_TEST_ASSERT(strstr(xmf, ">grains_000001.h5:/particles/position<") != NULL, "relative file reference missing");
-    TL_TEST_ASSERT(count_of(xmf, "TopologyType=\"Polyvertex\" NumberOfElements=\"97\"") == 3, "topology");
-    TL_TEST_ASSERT(count_of(xmf, "<Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">") == 3, "radius");
-    TL_TEST_ASSERT(count_of(xmf, "<Attribute Name=\"stress\" AttributeType=\"Tensor6\"") == 3, "stress attribute");
-    TL_TEST_ASSERT(count_of(xmf, "Name=\"torque\"") == 0, "torque listed though absent");
+    TL_TEST_ASSERT(tl_test_count(xmf, "TopologyType=\"Polyvertex\" NumberOfElements=\"97\"") == 3, "topology");
+    TL_TEST_ASSERT(tl_test_count(xmf, "<Attribute Name=\"radius\" AttributeType=\"Scalar\" Center=\"Node\">") == 3, "radius");
+    TL_TEST_ASSERT(tl_test_count(xmf, "<Attribute Name=\"stress\" AttributeType=\"Tensor6\"") == 3, "stress attribute");
+    TL_TEST_ASSERT(tl_test_count(xmf, "Name=\"torque\"") == 0, "torque listed though absent");
   }
   free(xmf);
   TL_TEST_ASSERT(access("out/sub/grains_000003.h5", F_OK) != 0, "a fourth file exists");
@@ -179,7 +159,7 @@ static void test_restart(void)
   TL_TEST_STATUS(tl_particle_writer_write(a, 0, 0.0, &v), TL_OK);
   TL_TEST_STATUS(tl_particle_writer_write(a, 1, 0.25, &v), TL_OK);
   TL_TEST_STATUS(tl_particle_writer_write(a, 2, 0.5, &v), TL_OK);
-  char *expected = slurp("straight/p.xmf");
+  char *expected = tl_test_read_file("straight/p.xmf");
 
   TlParticleWriter *b;
   TL_TEST_STATUS(tl_particle_writer_create("restarted", "p", &b), TL_OK);
@@ -200,7 +180,7 @@ static void test_restart(void)
   TL_TEST_STATUS(tl_checkpoint_load(cp, "restart.h5", NULL, NULL), TL_OK);
   TL_TEST_ASSERT(tl_particle_writer_count(c) == 2, "restored count %zu", tl_particle_writer_count(c));
   TL_TEST_STATUS(tl_particle_writer_write(c, 2, 0.5, &v), TL_OK);
-  char *got = slurp("restarted/p.xmf");
+  char *got = tl_test_read_file("restarted/p.xmf");
   TL_TEST_ASSERT(expected && got && strcmp(expected, got) == 0, "restarted series differs from the straight one");
   free(expected);
   free(got);

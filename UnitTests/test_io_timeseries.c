@@ -19,19 +19,6 @@ static void row_of(int i, double *r)
   r[2] = i % 13;
 }
 
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *s = calloc((size_t)n + 1, 1);
-  if (fread(s, 1, (size_t)n, f) != (size_t)n) s[0] = '\0';
-  fclose(f);
-  return s;
-}
-
 static int table_matches(const TlTable *t, size_t rows)
 {
   if (t->rows != rows || t->cols != 3) return 0;
@@ -85,7 +72,7 @@ static void test_round_trip(void)
     TL_TEST_ASSERT(strcmp(t.names[1], "kinetic_energy") == 0 && strcmp(t.units[1], "J") == 0, "HDF5 names/units");
   tl_table_free(&t);
 
-  char *csv = slurp("energy.csv");
+  char *csv = tl_test_read_file("energy.csv");
   TL_TEST_ASSERT(csv && strncmp(csv, "time [s],kinetic_energy [J],contacts\n0,-0,0\n", 44) == 0, "CSV head: %.60s",
                  csv ? csv : "(none)");
   free(csv);
@@ -131,7 +118,7 @@ static void test_restart(void)
     TL_TEST_STATUS(tl_timeseries_append(c, r), TL_OK);
   }
   TL_TEST_STATUS(tl_timeseries_close(&c), TL_OK);
-  char *x = slurp("straight.csv"), *y = slurp("restarted.csv");
+  char *x = tl_test_read_file("straight.csv"), *y = tl_test_read_file("restarted.csv");
   TL_TEST_ASSERT(x && y && strcmp(x, y) == 0, "restarted CSV differs from the straight run");
   free(x);
   free(y);

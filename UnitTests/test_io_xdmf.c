@@ -13,19 +13,6 @@
 #include "tl_io.h"
 #include "tl_test.h"
 
-static char *slurp(const char *path)
-{
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *s = calloc((size_t)n + 1, 1);
-  if (fread(s, 1, (size_t)n, f) != (size_t)n) s[0] = '\0';
-  fclose(f);
-  return s;
-}
-
 /* ------------------------------------------------------------ a small XML checker */
 enum { MAX_DEPTH = 32, MAX_ATTRS = 16 };
 
@@ -119,7 +106,7 @@ static void check_xmf(const char *dir, const char *name, int *steps)
 {
   char path[512];
   snprintf(path, sizeof path, "%s/%s", dir, name);
-  char *xml = slurp(path);
+  char *xml = tl_test_read_file(path);
   TL_TEST_ASSERT(xml != NULL, "cannot read %s", path);
   if (!xml) return;
   Checker c = {.dir = dir};
@@ -348,12 +335,12 @@ static void test_long_series(void)
   }
   TL_TEST_ASSERT(tl_xdmf_series_steps(s) == 12, "%zu steps", tl_xdmf_series_steps(s));
   TL_TEST_STATUS(tl_xdmf_series_flush(s), TL_OK);
-  char *text = slurp("long.xmf");
+  char *text = tl_test_read_file("long.xmf");
   TL_TEST_ASSERT(text && strstr(text, "<Grid Name=\"g11\"") && strstr(text, "</Xdmf>"), "flush lost steps");
   free(text);
   TL_TEST_STATUS(tl_xdmf_series_add(s, grid), TL_OK);
   tl_xdmf_series_destroy(&s);
-  text = slurp("long.xmf");
+  text = tl_test_read_file("long.xmf");
   int count = 0;
   for (const char *p = text; p && (p = strstr(p, "<Time Value=")); ++p) ++count;
   TL_TEST_ASSERT(count == 13, "destroy left %d of 13 steps in the file", count);

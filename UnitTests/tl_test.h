@@ -6,6 +6,8 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 static int tl_test_passed, tl_test_failed;
 
@@ -36,6 +38,28 @@ static int tl_test_passed, tl_test_failed;
     TL_TEST_ASSERT(tl_s_ == (expected), "status %d (%s), expected %d; message: %s",  \
                    (int)tl_s_, tl_status_name(tl_s_), (int)(expected), tl_error_message()); \
   } while (0)
+
+/* The whole file as a NUL-terminated string (free it), or NULL. */
+static inline char *tl_test_read_file(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *s = calloc((size_t)n + 1, 1);
+  if (s && fread(s, 1, (size_t)n, f) != (size_t)n) s[0] = '\0';
+  fclose(f);
+  return s;
+}
+
+/* How many times `what` occurs in `text`. */
+static inline int tl_test_count(const char *text, const char *what)
+{
+  int n = 0;
+  for (const char *p = text; (p = strstr(p, what)); p += strlen(what)) ++n;
+  return n;
+}
 
 static inline int tl_test_report(void)
 {

@@ -32,6 +32,14 @@ TlStatus tl_realloc(void *p, size_t n, size_t size)
   return TL_OK;
 }
 
+TlStatus tl_strdup(const char *s, char **out)
+{
+  size_t n = strlen(s);
+  TL_CHECK(tl_calloc(out, n + 1, 1));
+  memcpy(*out, s, n);
+  return TL_OK;
+}
+
 void tl_free(void *p)
 {
   void **pp = (void **)p;

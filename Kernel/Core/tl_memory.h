@@ -9,6 +9,8 @@
 TlStatus tl_calloc(void *p, size_t n, size_t size);
 /* Resizes *p to n elements of size bytes, keeping the contents. */
 TlStatus tl_realloc(void *p, size_t n, size_t size);
+/* *out = a newly allocated copy of the string s. */
+TlStatus tl_strdup(const char *s, char **out);
 /* Frees *p and sets it to NULL. */
 void tl_free(void *p);
 

@@ -31,7 +31,7 @@ struct TlOptions {
   int help;
 };
 
-static char *tl_strdup(const char *s)
+static char *tl_options_strdup(const char *s)
 {
   if (!s) return NULL;
   size_t n = strlen(s) + 1;
@@ -63,15 +63,15 @@ static TlStatus tl_add_entry(TlOptions *o, const char *name, const char *value, 
     tl_debug("option %s from %s overrides %s", name, source, e->source);
     free(e->value);
     free(e->source);
-    e->value = tl_strdup(value);
-    e->source = tl_strdup(source);
+    e->value = tl_options_strdup(value);
+    e->source = tl_options_strdup(source);
     return TL_OK;
   }
   TL_CHECK(tl_array_reserve(&o->entry, &o->cap_entry, o->n_entry + 1, sizeof *o->entry));
   e = &o->entry[o->n_entry++];
-  e->name = tl_strdup(name);
-  e->value = tl_strdup(value);
-  e->source = tl_strdup(source);
+  e->name = tl_options_strdup(name);
+  e->value = tl_options_strdup(value);
+  e->source = tl_options_strdup(source);
   if (!e->name || (value && !e->value) || !e->source) TL_ERROR(TL_ERR_MEM, "out of memory storing option %s", name);
   return TL_OK;
 }
@@ -83,8 +83,8 @@ TlStatus tl_options_create(int argc, char **argv, const char *description, TlOpt
   *options = o;
   const char *prog = argc > 0 ? argv[0] : "talus";
   const char *slash = strrchr(prog, '/');
-  o->program = tl_strdup(slash ? slash + 1 : prog);
-  o->description = tl_strdup(description ? description : "");
+  o->program = tl_options_strdup(slash ? slash + 1 : prog);
+  o->description = tl_options_strdup(description ? description : "");
   size_t len = 1;
   for (int i = 0; i < argc; ++i) len += strlen(argv[i]) + 1;
   TL_CHECK(tl_calloc(&o->command_line, len, 1));
@@ -189,7 +189,7 @@ TlStatus tl_options_insert_file(TlOptions *o, const char *path)
         goto done;
       }
     if ((s = tl_array_reserve(&seen, &cap_seen, n_seen + 1, sizeof *seen))) break;
-    seen[n_seen++] = tl_strdup(name);
+    seen[n_seen++] = tl_options_strdup(name);
     TlOptionEntry *e = tl_find(o, name);
     if (e && strcmp(e->source, "command line") == 0) {
       tl_info("option %s: command-line value overrides %s", name, source);
@@ -211,11 +211,11 @@ static TlStatus tl_document(TlOptions *o, const char *name, const char *kind, co
     if (strcmp(o->doc[i].name, name) == 0) return TL_OK;
   TL_CHECK(tl_array_reserve(&o->doc, &o->cap_doc, o->n_doc + 1, sizeof *o->doc));
   TlOptionDoc *d = &o->doc[o->n_doc++];
-  d->name = tl_strdup(name);
-  d->kind = tl_strdup(kind);
-  d->def = tl_strdup(def ? def : "");
-  d->unit = tl_strdup(unit ? unit : "");
-  d->help = tl_strdup(help ? help : "");
+  d->name = tl_options_strdup(name);
+  d->kind = tl_options_strdup(kind);
+  d->def = tl_options_strdup(def ? def : "");
+  d->unit = tl_options_strdup(unit ? unit : "");
+  d->help = tl_options_strdup(help ? help : "");
   return TL_OK;
 }
 

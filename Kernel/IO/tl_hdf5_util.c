@@ -43,14 +43,6 @@ static hid_t tl_h5_fapl(void)
   tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot %s '%s' in '%s' (%s)", (what), (obj),   \
                (file)->path, tl_h5_reason())
 
-static TlStatus tl_strdup(const char *s, char **out)
-{
-  size_t n = strlen(s);
-  TL_CHECK(tl_calloc(out, n + 1, 1));
-  memcpy(*out, s, n);
-  return TL_OK;
-}
-
 /* ------------------------------------------------------------ files */
 TlStatus tl_h5_create(const char *path, TlH5File *file)
 {

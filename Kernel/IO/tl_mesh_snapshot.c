@@ -46,14 +46,6 @@ struct TlMeshWriter {
   TlText grid;
 };
 
-static TlStatus tl_mw_strdup(const char *s, char **out)
-{
-  size_t n = strlen(s);
-  TL_CHECK(tl_calloc(out, n + 1, 1));
-  memcpy(*out, s, n);
-  return TL_OK;
-}
-
 void tl_mesh_writer_destroy(TlMeshWriter **writer)
 {
   if (!writer || !*writer) return;
@@ -69,22 +61,10 @@ void tl_mesh_writer_destroy(TlMeshWriter **writer)
 TlStatus tl_mesh_writer_create(const char *dir, const char *name, TlMeshWriter **writer)
 {
   *writer = NULL;
-  int ok = name && name[0];
-  for (const char *c = name; ok && *c; ++c)
-    ok = !(*c == '/' || *c == '"' || *c == '<' || *c == '>' || *c == '&' || *c == ':' || *c == ' ');
-  if (!ok)
-    TL_ERROR(TL_ERR_ARG, "mesh output name '%s' must be non-empty without '/', ':', space, quotes or <>&",
-             name ? name : "(null)");
-  if (dir && dir[0]) TL_CHECK(tl_mkdir_p(dir));
   TlMeshWriter *w;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  char xmf[1024];
-  snprintf(xmf, sizeof xmf, "%s.xmf", name);
-  TL_CHECK_GOTO(s, tl_mw_strdup(dir ? dir : "", &w->dir), fail);
-  TL_CHECK_GOTO(s, tl_mw_strdup(name, &w->name), fail);
-  TL_CHECK_GOTO(s, tl_path_join(dir, xmf, &w->xmf_path), fail);
-  TL_CHECK_GOTO(s, tl_xdmf_series_create(w->xmf_path, &w->series), fail);
+  TL_CHECK_GOTO(s, tl_xdmf_series_open(dir, name, "mesh", &w->dir, &w->name, &w->xmf_path, &w->series), fail);
   *writer = w;
   return TL_OK;
 fail:

@@ -19,22 +19,6 @@ struct TlParticleWriter {
   size_t vertices_capacity;
 };
 
-static TlStatus tl_pw_strdup(const char *s, char **out)
-{
-  size_t n = strlen(s);
-  TL_CHECK(tl_calloc(out, n + 1, 1));
-  memcpy(*out, s, n);
-  return TL_OK;
-}
-
-static int tl_valid_base_name(const char *name)
-{
-  if (!name || !name[0]) return 0;
-  for (const char *c = name; *c; ++c)
-    if (*c == '/' || *c == '"' || *c == '<' || *c == '>' || *c == '&' || *c == ':' || *c == ' ') return 0;
-  return 1;
-}
-
 void tl_particle_writer_destroy(TlParticleWriter **writer)
 {
   if (!writer || !*writer) return;
@@ -51,19 +35,10 @@ void tl_particle_writer_destroy(TlParticleWriter **writer)
 TlStatus tl_particle_writer_create(const char *dir, const char *name, TlParticleWriter **writer)
 {
   *writer = NULL;
-  if (!tl_valid_base_name(name))
-    TL_ERROR(TL_ERR_ARG, "particle output name '%s' must be non-empty without '/', ':', space, quotes or <>&",
-             name ? name : "(null)");
-  if (dir && dir[0]) TL_CHECK(tl_mkdir_p(dir));
   TlParticleWriter *w;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  char xmf[1024];
-  snprintf(xmf, sizeof xmf, "%s.xmf", name);
-  TL_CHECK_GOTO(s, tl_pw_strdup(dir ? dir : "", &w->dir), fail);
-  TL_CHECK_GOTO(s, tl_pw_strdup(name, &w->name), fail);
-  TL_CHECK_GOTO(s, tl_path_join(dir, xmf, &w->xmf_path), fail);
-  TL_CHECK_GOTO(s, tl_xdmf_series_create(w->xmf_path, &w->series), fail);
+  TL_CHECK_GOTO(s, tl_xdmf_series_open(dir, name, "particle", &w->dir, &w->name, &w->xmf_path, &w->series), fail);
   *writer = w;
   return TL_OK;
 fail:

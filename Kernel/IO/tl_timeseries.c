@@ -30,14 +30,6 @@ static double tl_now(void)
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static TlStatus tl_ts_strdup(const char *s, char **out)
-{
-  size_t n = strlen(s);
-  TL_CHECK(tl_calloc(out, n + 1, 1));
-  memcpy(*out, s, n);
-  return TL_OK;
-}
-
 static TlStatus tl_ts_concat(const char *a, const char *b, char **out)
 {
   size_t na = strlen(a), nb = strlen(b);
@@ -113,8 +105,8 @@ TlStatus tl_timeseries_create(const char *base, int formats, size_t n_columns, c
   TL_CHECK_GOTO(s, tl_calloc(&t->names, n_columns, sizeof *t->names), fail);
   TL_CHECK_GOTO(s, tl_calloc(&t->units, n_columns, sizeof *t->units), fail);
   for (size_t j = 0; j < n_columns; ++j) {
-    TL_CHECK_GOTO(s, tl_ts_strdup(columns[j].name, &t->names[j]), fail);
-    TL_CHECK_GOTO(s, tl_ts_strdup(columns[j].unit ? columns[j].unit : "", &t->units[j]), fail);
+    TL_CHECK_GOTO(s, tl_strdup(columns[j].name, &t->names[j]), fail);
+    TL_CHECK_GOTO(s, tl_strdup(columns[j].unit ? columns[j].unit : "", &t->units[j]), fail);
   }
   if (formats & TL_TIMESERIES_CSV) TL_CHECK_GOTO(s, tl_ts_concat(base, ".csv", &t->csv_path), fail);
   if (formats & TL_TIMESERIES_HDF5) TL_CHECK_GOTO(s, tl_ts_concat(base, ".h5", &t->h5_path), fail);

@@ -104,6 +104,25 @@ static double tl_xdmf_now(void)
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+TlStatus tl_xdmf_series_open(const char *dir, const char *name, const char *what, char **dir_copy,
+                             char **name_copy, char **xmf_path, TlXdmfSeries **series)
+{
+  int ok = name && name[0];
+  for (const char *c = name; ok && *c; ++c)
+    ok = !(*c == '/' || *c == '"' || *c == '<' || *c == '>' || *c == '&' || *c == ':' || *c == ' ');
+  if (!ok)
+    TL_ERROR(TL_ERR_ARG, "%s output name '%s' must be non-empty without '/', ':', space, quotes or <>&", what,
+             name ? name : "(null)");
+  if (dir && dir[0]) TL_CHECK(tl_mkdir_p(dir));
+  char xmf[1024];
+  snprintf(xmf, sizeof xmf, "%s.xmf", name);
+  TL_CHECK(tl_strdup(dir ? dir : "", dir_copy));
+  TL_CHECK(tl_strdup(name, name_copy));
+  TL_CHECK(tl_path_join(dir, xmf, xmf_path));
+  TL_CHECK(tl_xdmf_series_create(*xmf_path, series));
+  return TL_OK;
+}
+
 TlStatus tl_xdmf_series_create(const char *path, TlXdmfSeries **series)
 {
   TlXdmfSeries *s;
