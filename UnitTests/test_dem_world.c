@@ -1,0 +1,236 @@
+/* The world's bookkeeping: laws chosen per species pair, a bonded pair
+ * acting in tension (harmonic oscillation at sqrt(k/m_eff)), insertion and
+ * removal during a run with contacts still equal to brute force, adhesion
+ * and rolling resistance acting in the right sense, and a frictionless
+ * scene allocating no rotation and no history. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "talus.h"
+#include "tl_dem.h"
+#include "tl_test.h"
+
+static TlContactLaw *linear(double kn, double e, double mu)
+{
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = kn;
+  p.restitution = e;
+  p.mu = mu;
+  TlContactLaw *law = NULL;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  return law;
+}
+
+/* Species 0 and 1 meet through law 1 (stiffer); 0-0 through law 0. */
+static void test_pair_laws(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int a, b, l0, l1;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &a), TL_OK);
+  TL_TEST_STATUS(tl_particles_add_species(P, "b", 2500, 0.01, 0.01, &b), TL_OK);
+  double ov = 1e-4;
+  /* a-a pair and a-b pair, far from each other, same overlap */
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.02 - ov, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(1, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(1.02 - ov, 0, 0), tl_v3(0, 0, 0), 0.01, b, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, linear(1e4, 1.0, 0.0), &l0), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, linear(3e4, 1.0, 0.3), &l1), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_pair_law(dem, a, b, l1), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-6, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_ASSERT(P->w != NULL, "a frictional law in the scene must allocate rotation");
+  double f[4];
+  for (size_t i = 0; i < P->n; ++i) f[P->id[i]] = P->f[i].x;
+  TL_TEST_CLOSE(f[0], -1e4 * ov, 1e-9);
+  TL_TEST_CLOSE(f[2], -3e4 * ov, 1e-9);
+  TL_TEST_CLOSE(f[1], 1e4 * ov, 1e-9);
+  TL_TEST_CLOSE(f[3], 3e4 * ov, 1e-9);
+  tl_dem_destroy(&dem);
+}
+
+/* A bonded pair started stretched oscillates harmonically through zero
+ * overlap: tension and compression alike. */
+static void test_bond(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &a), TL_OK);
+  double stretch = 2e-4, kn = 1e5;
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.02 + stretch, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = kn;
+  p.bonded = 1;
+  TlContactLaw *law;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_bond(dem, P->id[0], P->id[1]), TL_OK);
+  double meff = 0.5 * P->mass[0], period = 2 * TL_PI * sqrt(meff / kn);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, period / 2000, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  double gap_min = INFINITY, gap_max = -INFINITY, t_min = 0;
+  for (int s = 0; s < 2000; ++s) {
+    TL_TEST_STATUS(tl_dem_step(dem, 1), TL_OK);
+    double gap = P->x[1].x - P->x[0].x - 0.02;
+    if (P->id[0] == 1) gap = -gap - 0.04;
+    if (gap < gap_min) {
+      gap_min = gap;
+      t_min = tl_dem_time(dem);
+    }
+    gap_max = fmax(gap_max, gap);
+  }
+  printf("bond: gap from %.4e to %.4e m (expected +-%.1e), closest at t = %.5e s (half period %.5e s)\n", gap_max,
+         gap_min, stretch, t_min, 0.5 * period);
+  TL_TEST_CLOSE(gap_min, -stretch, 1e-3);
+  TL_TEST_CLOSE(t_min / (0.5 * period), 1.0, 2e-3);
+  TlMat3 sc;
+  TL_TEST_STATUS(tl_dem_stress(dem, &sc, NULL), TL_OK);
+  tl_dem_destroy(&dem);
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+  const uint64_t *p = a, *q = b;
+  return *p < *q ? -1 : *p > *q;
+}
+typedef struct {
+  size_t n;
+  uint64_t *key;
+  const int64_t *id;
+} Keys;
+static void collect(void *ctx, size_t i, size_t j, TlVec3 f, TlVec3 b, TlVec3 cp)
+{
+  Keys *k = ctx;
+  uint64_t a = (uint64_t)k->id[i], c = (uint64_t)k->id[j];
+  k->key[k->n++] = a < c ? (a << 32) | c : (c << 32) | a;
+}
+
+/* Particles inserted and removed during a run: contacts stay exact. */
+static void test_insert_remove(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  TlDomain dom;
+  int per[3] = {1, 1, 0};
+  TL_TEST_STATUS(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), tl_v3(0.2, 0.2, 0.4), per), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_domain(dem, &dom), TL_OK);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.005, 0.008, &a), TL_OK);
+  uint64_t s = 3;
+  for (int k = 0; k < 400; ++k) {
+    TlVec3 x = {0.2 * tl_random_uniform(&s), 0.2 * tl_random_uniform(&s), 0.01 + 0.3 * tl_random_uniform(&s)};
+    int ok = 1;
+    for (size_t i = 0; i < P->n && ok; ++i) ok = tl_v3_norm(tl_domain_branch(&dom, P->x[i], x)) > 0.017;
+    if (ok) TL_TEST_STATUS(tl_dem_add_particle(dem, x, tl_v3(0, 0, 0), tl_species_sample_radius(&P->species_table[a], &s), a, NULL), TL_OK);
+  }
+  TL_TEST_STATUS(tl_dem_add_law(dem, linear(2e3, 0.5, 0.4), NULL), TL_OK);
+  TlWall *w;
+  TL_TEST_STATUS(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_wall(dem, w, 0), TL_OK);
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-4, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  Keys K = {0, malloc(64 * 1000 * sizeof(uint64_t)), NULL};
+  int mismatches = 0;
+  size_t most = 0;
+  for (int round = 0; round < 20; ++round) {
+    TL_TEST_STATUS(tl_dem_step(dem, 150), TL_OK);
+    /* remove three particles, insert two */
+    for (int q = 0; q < 3 && P->n > 10; ++q)
+      TL_TEST_STATUS(tl_dem_remove_particle(dem, (size_t)(tl_random_uniform(&s) * (double)P->n)), TL_OK);
+    for (int q = 0; q < 2; ++q)
+      TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.2 * tl_random_uniform(&s), 0.2 * tl_random_uniform(&s), 0.38),
+                                         tl_v3(0, 0, -0.5), 0.006, a, NULL), TL_OK);
+    TL_TEST_STATUS(tl_dem_step(dem, 30), TL_OK);
+    K.n = 0;
+    K.id = P->id;
+    TL_TEST_STATUS(tl_dem_visit_contacts(dem, collect, &K), TL_OK);
+    TlPair *b = NULL;
+    size_t cb = 0, nb = 0;
+    TL_TEST_STATUS(tl_hgrid_pairs_brute_force(tl_dem_domain(dem), P->n, P->x, P->radius, 0.0, NULL, &b, &cb, &nb), TL_OK);
+    uint64_t *bk = malloc((nb + 1) * sizeof *bk);
+    for (size_t k = 0; k < nb; ++k) {
+      uint64_t x = (uint64_t)P->id[b[k].i], y = (uint64_t)P->id[b[k].j];
+      bk[k] = x < y ? (x << 32) | y : (y << 32) | x;
+    }
+    qsort(K.key, K.n, sizeof *K.key, cmp_pair);
+    qsort(bk, nb, sizeof *bk, cmp_pair);
+    if (!(K.n == nb && (nb == 0 || memcmp(K.key, bk, nb * sizeof *bk) == 0))) ++mismatches;
+    most = nb > most ? nb : most;
+    free(bk);
+    free(b);
+    TL_TEST_STATUS(tl_particles_check_finite(P), TL_OK);
+  }
+  printf("insert/remove: %zu particles at the end, up to %zu contacts, %d mismatches over 20 rounds\n", P->n, most,
+         mismatches);
+  TL_TEST_ASSERT(mismatches == 0, "contacts differ from brute force after insertion/removal in %d rounds", mismatches);
+  TL_TEST_ASSERT(most > 50, "too few contacts (%zu) to mean anything", most);
+  free(K.key);
+  tl_dem_destroy(&dem);
+}
+
+static void test_adhesion_rolling(void)
+{
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = 1e4;
+  p.adhesion_force = 0.5;
+  p.mu_roll = 0.1;
+  p.mu = 0.5;
+  TlContactLaw *law;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_ASSERT(law->needs_rotation && law->history_doubles == 3, "rolling and friction need rotation and history");
+  double h[3] = {0, 0, 0};
+  TlContactGeometry g;
+  memset(&g, 0, sizeof g);
+  g.normal = tl_v3(1, 0, 0);
+  g.overlap = 1e-5; /* k δ = 0.1 N < adhesion 0.5 N: net attraction */
+  g.meff = 0.01;
+  g.reff = 0.005;
+  g.history = h;
+  g.spin_rel = tl_v3(0, 0, 3.0); /* j spins about z relative to i: rolling about z */
+  TlContactResult r;
+  TL_TEST_STATUS(tl_contact_law_evaluate_one(law, &g, 1e-5, &r), TL_OK);
+  TL_TEST_CLOSE(r.force.x, 0.4, 1e-12); /* force on i towards j (+x): attraction */
+  TL_TEST_CLOSE(tl_v3_norm(r.couple), 0.0, 1e-15); /* net tension: no rolling couple */
+  g.overlap = 2e-4; /* k δ = 2 N: 1.5 N of repulsion */
+  TL_TEST_STATUS(tl_contact_law_evaluate_one(law, &g, 1e-5, &r), TL_OK);
+  TL_TEST_CLOSE(r.force.x, -1.5, 1e-12);
+  /* the couple on i acts with ω_j - ω_i: it opposes i's rolling relative to j */
+  TL_TEST_CLOSE(r.couple.z, 0.1 * 0.005 * 1.5, 1e-12);
+  TL_TEST_ASSERT(tl_v3_dot(r.couple, tl_v3_neg(g.spin_rel)) < 0.0, "rolling couple does not oppose the relative spin");
+  tl_contact_law_destroy(&law);
+  /* a frictionless scene pays for nothing it does not use */
+  TlContactLaw *plain = linear(1e4, 0.8, 0.0);
+  TL_TEST_ASSERT(!plain->needs_rotation && plain->history_doubles == 0, "frictionless law declares rotation %d, history %zu",
+                 plain->needs_rotation, plain->history_doubles);
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "a", 2500, 0.01, 0.01, &a), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, plain, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-6, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_ASSERT(tl_dem_particles(dem)->w == NULL && tl_dem_particles(dem)->q == NULL,
+                 "a frictionless scene allocated rotational state");
+  tl_dem_destroy(&dem);
+}
+
+int main(void)
+{
+  TL_TEST_STATUS(tl_initialize(), TL_OK);
+  test_pair_laws();
+  test_bond();
+  test_insert_remove();
+  test_adhesion_rolling();
+  return tl_test_report();
+}
