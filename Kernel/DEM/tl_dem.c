@@ -61,6 +61,8 @@ struct TlDem {
   size_t *perm, *old_to_new;
   size_t perm_cap;
   TlVec3 *tf, *tt;
+  double (*xr)[4]; /* position and radius packed: one cache line per neighbour in the pair scan */
+  size_t xr_cap;
   size_t t_cap;
   int nt, nt_now;
   Prescribed *presc;
@@ -119,6 +121,7 @@ void tl_dem_destroy(TlDem **dp)
   tl_free(&d->perm);
   tl_free(&d->old_to_new);
   tl_free(&d->tf);
+  tl_free(&d->xr);
   tl_free(&d->tt);
   for (size_t k = 0; k < d->n_presc; ++k) {
     Prescribed *p = &d->presc[k];
@@ -547,6 +550,7 @@ typedef struct {
   TlContactList *L;
   const TlVec3 *x, *v, *w;
   const double *radius, *inv_mass, *mass;
+  const double (*xr)[4];
   TlVec3 *F, *T;
   double len[3], half[3];
   int bonded, want_energy;
@@ -672,15 +676,21 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
   const TlStdLaw *law = (const TlStdLaw *)d->laws[ch.law];
   const double dt = d->dt;
   TlVec3 *F = c->F, *T = c->T;
+  const double(*xr)[4] = c->xr;
   for (size_t k = ch.start; k < ch.end; ++k) {
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
+    double ri, rj;
     if (GENERAL) {
       b = tl_domain_branch(dom, x[i], x[j]);
+      ri = radius[i];
+      rj = radius[j];
     } else {
-      b.x = x[j].x - x[i].x;
-      b.y = x[j].y - x[i].y;
-      b.z = x[j].z - x[i].z;
+      b.x = xr[j][0] - xr[i][0];
+      b.y = xr[j][1] - xr[i][1];
+      b.z = xr[j][2] - xr[i][2];
+      ri = xr[i][3];
+      rj = xr[j][3];
       if (ORTHO) {
         double *bc = &b.x;
         for (int q = 0; q < 3; ++q) {
@@ -690,7 +700,7 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
         }
       }
     }
-    const double ri = radius[i], rj = radius[j], cut = ri + rj;
+    const double cut = ri + rj;
     const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
     if (r2 >= cut * cut && !bonded) {
       if (L->touching[k]) {
@@ -817,6 +827,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     c.v = P->v;
     c.w = rot ? P->w : NULL;
     c.radius = P->radius;
+    c.xr = (const double(*)[4])d->xr;
     c.inv_mass = P->inv_mass;
     c.mass = P->mass;
     c.F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
@@ -852,11 +863,22 @@ static TlStatus compute_forces(TlDem *d)
   const size_t n = P->n;
   const int rot = P->w != NULL;
   const int want = d->track_energy;
-  /* body and external forces */
+  /* body forces, and the packed positions of this evaluation */
   const TlVec3 g = d->gravity;
   const int ntb = n >= 8192 ? d->nt : 1;
+  if (n > d->xr_cap) {
+    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
+    d->xr_cap = n + n / 2 + 16;
+  }
+  double(*xr)[4] = d->xr;
 #pragma omp parallel for num_threads(ntb) if (ntb > 1) schedule(static)
-  for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(g, P->mass[i]);
+  for (size_t i = 0; i < n; ++i) {
+    P->f[i] = tl_v3_scale(g, P->mass[i]);
+    xr[i][0] = P->x[i].x;
+    xr[i][1] = P->x[i].y;
+    xr[i][2] = P->x[i].z;
+    xr[i][3] = P->radius[i];
+  }
   if (P->f_ext)
     for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
   if (rot) memset(P->torque, 0, n * sizeof *P->torque);
