@@ -228,6 +228,8 @@ static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, d
   law = NULL;
   double lx = data->hi[0] - data->lo[0], ly = data->hi[1] - data->lo[1];
   TL_CHECK_GOTO(status, tl_trisurface_create_rectangle(data->lo[0], data->lo[1], lx, ly, 0.0, n, n, 0, &surface), done);
+  /* the floor crosses the periodic faces: join its edges there */
+  TL_CHECK_GOTO(status, tl_trisurface_link_periodic(surface, &dom, 1e-9, NULL), done);
   TL_CHECK_GOTO(status, tl_wall_trisurface_create(surface, &wall), done);
   surface = NULL;
   TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);

@@ -58,6 +58,9 @@ static TlStatus pour(int triangles, PourResult *out)
   if (triangles) {
     TlTriSurface *s = NULL;
     TL_CHECK(tl_trisurface_create_rectangle(0, 0, L, L, 0, 7, 7, 2, &s));
+    size_t linked = 0;
+    TL_CHECK(tl_trisurface_link_periodic(s, &dom, 1e-9, &linked));
+    TL_TEST_ASSERT(linked == 14, "floor edges joined across the periodic faces: %zu, expected 14", linked);
     TL_CHECK(tl_wall_trisurface_create(s, &floor_));
   } else {
     TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &floor_));

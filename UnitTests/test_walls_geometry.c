@@ -199,9 +199,9 @@ static void test_topology_and_shapes(void)
     /* just inside and just outside the middle of the edge */
     TlVec3 m = tl_v3_scale(tl_v3_add(s->x[s->edge_vertex[2 * e]], s->x[s->edge_vertex[2 * e + 1]]), 0.5);
     TlVec3 in = tl_v3_normalize(tl_v3_add(s->normal[s->edge_tri[2 * e]], s->normal[s->edge_tri[2 * e + 1]]));
-    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3(0.5, 1, 1.5)) == TL_EDGE_CONCAVE;
-    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3_axpy(m, 0.1, in)) == TL_EDGE_CONCAVE;
-    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3_axpy(m, -0.1, in)) == TL_EDGE_CONVEX;
+    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3(0.5, 1, 1.5), s->edge_tri[2 * e]) == TL_EDGE_CONCAVE;
+    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3_axpy(m, 0.1, in), s->edge_tri[2 * e]) == TL_EDGE_CONCAVE;
+    seen_ok &= tl_trisurface_edge_shape_seen_from(s, (int)e, tl_v3_axpy(m, -0.1, in), s->edge_tri[2 * e]) == TL_EDGE_CONVEX;
   }
   TL_TEST_ASSERT(seen_ok, "box edges concave from inside, convex from outside");
   tl_trisurface_destroy(&s);

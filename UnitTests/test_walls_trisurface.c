@@ -291,6 +291,96 @@ static void test_sliding_triangulations(void)
   tl_free(&f);
 }
 
+/* A floor spanning a periodic box: without joining its edges across the
+ * periodic faces a sliding particle feels the seam; joined, the force
+ * history is the plane's, seam crossings included. */
+static TlStatus seam_run(int kind, int link, int steps, TlVec3 *force, size_t *n_linked)
+{
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 1e4;
+  cp.restitution = 0.5;
+  cp.mu = 0.3;
+  Mini m;
+  TL_CHECK(mini_create(&m, &cp, 1));
+  int per[3] = {1, 1, 0};
+  const double L = 0.5;
+  TL_CHECK(tl_domain_init_periodic_box(&m.domain, tl_v3(0, 0, -0.5), tl_v3(L, L, 0.5), per));
+  int sp;
+  TL_CHECK(tl_particles_add_species(m.p, "glass", 2500, 0.05, 0.05, &sp));
+  double r = 0.05, mass = 2500 * 4.0 / 3.0 * TL_PI * r * r * r;
+  m.g = tl_v3(0, 0, -9.81);
+  TL_CHECK(tl_particles_add(m.p, tl_v3(0.36, 0.3, r - mass * 9.81 / cp.k_n), tl_v3(1.7, 0.9, 0), r, sp, NULL));
+  m.dt = 1e-4;
+  m.skin = 0.01;
+  *n_linked = 0;
+  if (kind < 0) {
+    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &m.wall[0]));
+  } else {
+    TlTriSurface *s = NULL;
+    TL_CHECK(tl_trisurface_create_rectangle(0, 0, L, L, 0, 4, 4, kind, &s));
+    if (link) {
+      TlStatus st = tl_trisurface_link_periodic(s, &m.domain, 1e-9, n_linked);
+      if (st != TL_OK) {
+        tl_trisurface_destroy(&s);
+        return st;
+      }
+    }
+    TL_CHECK(tl_wall_trisurface_create(s, &m.wall[0]));
+  }
+  m.n_walls = 1;
+  TL_CHECK(mini_forces(&m));
+  for (int k = 0; k < steps; ++k) {
+    TL_CHECK(mini_step(&m));
+    force[k] = m.p->f[0];
+  }
+  mini_destroy(&m);
+  return TL_OK;
+}
+
+static void test_periodic_seam(void)
+{
+  const int steps = 4000;
+  double r = 0.05, mg = 2500 * 4.0 / 3.0 * TL_PI * r * r * r * 9.81;
+  TlVec3 *ref = NULL, *f = NULL;
+  TL_TEST_STATUS(tl_calloc(&ref, steps, sizeof *ref), TL_OK);
+  TL_TEST_STATUS(tl_calloc(&f, steps, sizeof *f), TL_OK);
+  size_t linked = 0;
+  TL_TEST_STATUS(seam_run(-1, 0, steps, ref, &linked), TL_OK);
+  for (int pattern = 0; pattern < 3; pattern += 2) {
+    TL_TEST_STATUS(seam_run(pattern, 1, steps, f, &linked), TL_OK);
+    double dev = 0;
+    for (int k = 0; k < steps; ++k) dev = fmax(dev, tl_v3_norm(tl_v3_sub(f[k], ref[k])));
+    printf("periodic seam, pattern %d: %zu edges joined, max |F - F_plane| / mg = %.3e\n", pattern, linked, dev / mg);
+    TL_TEST_ASSERT(linked == 8, "pattern %d: %zu edges joined across the periodic faces, expected 8", pattern, linked);
+    TL_TEST_ASSERT(dev < 1e-8 * mg, "pattern %d: force history across the seam differs by %g (mg %g)", pattern, dev, mg);
+  }
+  TL_TEST_STATUS(seam_run(0, 0, steps, f, &linked), TL_OK);
+  double dev = 0;
+  for (int k = 0; k < steps; ++k) dev = fmax(dev, tl_v3_norm(tl_v3_sub(f[k], ref[k])));
+  printf("periodic seam not joined: max |F - F_plane| / mg = %.3f\n", dev / mg);
+  TL_TEST_ASSERT(dev > 0.05 * mg, "an unjoined seam should be felt (%g)", dev);
+  /* two triangles at the faces x = 0 and x = 2 of a cell periodic in x:
+   * their edges on the faces are images; joined when traversed in opposite
+   * directions, refused when traversed the same way */
+  TlDomain dom;
+  int per[3] = {1, 0, 0};
+  TL_TEST_STATUS(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -1), tl_v3(2, 1, 1), per), TL_OK);
+  double x[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0, 2, 1, 0, 1.5, 0.5, 0};
+  int good[6] = {0, 1, 2, 3, 4, 5}, flipped[6] = {0, 1, 2, 3, 5, 4};
+  TlTriSurface *s = NULL;
+  size_t nl = 0;
+  TL_TEST_STATUS(tl_trisurface_create(6, x, 2, good, &s), TL_OK);
+  TL_TEST_STATUS(tl_trisurface_link_periodic(s, &dom, 1e-9, &nl), TL_OK);
+  TL_TEST_ASSERT(nl == 1, "one pair of image edges joined (%zu)", nl);
+  tl_trisurface_destroy(&s);
+  TL_TEST_STATUS(tl_trisurface_create(6, x, 2, flipped, &s), TL_OK);
+  TL_TEST_STATUS(tl_trisurface_link_periodic(s, &dom, 1e-9, &nl), TL_ERR_ARG);
+  tl_trisurface_destroy(&s);
+  tl_free(&ref);
+  tl_free(&f);
+}
+
 /* Grid = brute force for the contacts of a bumpy triangulated surface with a
  * polydisperse packing (radius ratio 10), open and periodic (x, y). */
 static void test_grid_equals_brute(void)
@@ -432,6 +522,7 @@ int main(void)
   test_features();
   test_box_bounce();
   test_sliding_triangulations();
+  test_periodic_seam();
   test_grid_equals_brute();
   test_moving_surface();
   return tl_test_report();

@@ -36,6 +36,8 @@ void tl_trisurface_destroy(TlTriSurface **surface)
   tl_free(&s->box_hi);
   tl_free(&s->edge_shape);
   tl_free(&s->edge_fold);
+  tl_free(&s->edge_twin);
+  tl_free(&s->edge_shift);
   tl_free(surface);
 }
 
@@ -87,6 +89,9 @@ static TlStatus tl_trisurface_build_topology(TlTriSurface *s)
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_tri, 2 * ne, sizeof *s->edge_tri), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_shape, ne, sizeof *s->edge_shape), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_fold, ne, sizeof *s->edge_fold), done);
+  TL_CHECK_GOTO(status, tl_calloc(&s->edge_twin, ne, sizeof *s->edge_twin), done);
+  TL_CHECK_GOTO(status, tl_calloc(&s->edge_shift, ne, sizeof *s->edge_shift), done);
+  for (size_t k = 0; k < ne; ++k) s->edge_twin[k] = -1;
   TL_CHECK_GOTO(status, tl_calloc(&s->tri_edge, 3 * nt, sizeof *s->tri_edge), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->tri_nbr, 3 * nt, sizeof *s->tri_nbr), done);
   size_t e = 0;
@@ -195,20 +200,32 @@ TlStatus tl_trisurface_update(TlTriSurface *s)
   ++s->version;
   for (size_t e = 0; e < s->n_edges; ++e) {
     int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
-    if (tb < 0) {
+    if (ta < 0 || tb < 0) {
+      /* a boundary edge, or the absorbed half of a periodic pair */
       s->edge_shape[e] = TL_EDGE_BOUNDARY;
       s->edge_fold[e] = 0.0;
       continue;
     }
     /* Sine of the fold: how far B's far vertex rises above A's plane,
-     * relative to its distance from the shared edge. */
+     * relative to its distance from the shared edge (B brought into A's
+     * frame across a periodic face). */
     TlVec3 p0 = s->x[s->edge_vertex[2 * e]], p1 = s->x[s->edge_vertex[2 * e + 1]];
     const int *vb = s->tri + 3 * (size_t)tb;
+    TlVec3 shift = tl_v3(0, 0, 0);
+    int e0 = s->edge_vertex[2 * e], e1 = s->edge_vertex[2 * e + 1];
+    if (s->edge_twin[e] >= 0) {
+      /* B's own edge vertices are the twins of e0 and e1 */
+      shift = tl_v3_sub(s->x[s->edge_twin[e]], p0);
+      int kb = 0;
+      while (kb < 2 && s->tri_edge[3 * (size_t)tb + kb] != (int)e) ++kb;
+      e0 = vb[kb], e1 = vb[(kb + 1) % 3];
+    }
+    s->edge_shift[e] = shift;
     int far = vb[0];
     for (int k = 0; k < 3; ++k)
-      if (vb[k] != s->edge_vertex[2 * e] && vb[k] != s->edge_vertex[2 * e + 1]) far = vb[k];
+      if (vb[k] != e0 && vb[k] != e1) far = vb[k];
     TlVec3 u = tl_v3_normalize(tl_v3_sub(p1, p0));
-    TlVec3 d = tl_v3_sub(s->x[far], p0);
+    TlVec3 d = tl_v3_sub(tl_v3_sub(s->x[far], shift), p0);
     TlVec3 h = tl_v3_axpy(d, -tl_v3_dot(d, u), u);
     double fold = tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h);
     s->edge_fold[e] = fold;
@@ -232,10 +249,11 @@ TlStatus tl_trisurface_set_tolerances(TlTriSurface *s, double flat_tolerance, do
   return TL_OK;
 }
 
-TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlVec3 x)
+TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlVec3 x, int t)
 {
   TlEdgeShape shape = (TlEdgeShape)s->edge_shape[e];
   if (shape == TL_EDGE_FLAT || shape == TL_EDGE_BOUNDARY) return shape;
+  if (t == s->edge_tri[2 * e + 1]) x = tl_v3_sub(x, s->edge_shift[e]);
   TlVec3 p0 = s->x[s->edge_vertex[2 * e]];
   TlVec3 r = tl_v3_sub(x, p0);
   int above_a = tl_v3_dot(s->normal[s->edge_tri[2 * e]], r) > 0.0;
@@ -325,4 +343,78 @@ TlStatus tl_trisurface_create_box(TlVec3 lo, TlVec3 hi, TlTriSurface **surface)
   }
   TL_CHECK(tl_trisurface_create(8, x, 12, tri, surface));
   return TL_OK;
+}
+
+/* Whether v is a lattice vector of the domain (integer reduced coordinates
+ * along periodic directions, zero along the others) other than zero. */
+static int tl_is_lattice_vector(const TlDomain *d, TlVec3 v, double tol)
+{
+  TlVec3 r = tl_m3_mulv(d->h_inv, v);
+  int nonzero = 0;
+  for (int k = 0; k < 3; ++k) {
+    double c = tl_v3_get(r, k), n = nearbyint(c);
+    if (fabs(c - n) > tol) return 0;
+    if (!d->periodic[k] && n != 0.0) return 0;
+    nonzero |= n != 0.0;
+  }
+  return nonzero;
+}
+
+TlStatus tl_trisurface_link_periodic(TlTriSurface *s, const TlDomain *domain, double tolerance, size_t *n_linked)
+{
+  if (!s || !domain) TL_ERROR(TL_ERR_ARG, "tl_trisurface_link_periodic: NULL surface or domain");
+  if (!(tolerance > 0.0 && tolerance < 0.1))
+    TL_ERROR(TL_ERR_ARG, "periodic link tolerance %g outside (0, 0.1)", tolerance);
+  if (n_linked) *n_linked = 0;
+  if (!domain->any_periodic) return TL_OK;
+  size_t nb = 0;
+  int *be = NULL;
+  TL_CHECK(tl_calloc(&be, s->n_edges + 1, sizeof *be));
+  for (size_t e = 0; e < s->n_edges; ++e)
+    if (s->edge_tri[2 * e] >= 0 && s->edge_tri[2 * e + 1] < 0) be[nb++] = (int)e;
+  double scale = pow(fabs(tl_m3_det(domain->h)), 1.0 / 3.0);
+  size_t linked = 0;
+  TlStatus status = TL_OK;
+  for (size_t i = 0; i < nb; ++i) {
+    int e = be[i];
+    if (e < 0) continue;
+    int ta = s->edge_tri[2 * e], ka = 0;
+    while (ka < 2 && s->tri_edge[3 * (size_t)ta + ka] != e) ++ka;
+    int a_from = s->tri[3 * (size_t)ta + ka], a_to = s->tri[3 * (size_t)ta + (ka + 1) % 3];
+    for (size_t j = i + 1; j < nb; ++j) {
+      int f = be[j];
+      if (f < 0) continue;
+      int tb = s->edge_tri[2 * f], kb = 0;
+      while (kb < 2 && s->tri_edge[3 * (size_t)tb + kb] != f) ++kb;
+      int b_from = s->tri[3 * (size_t)tb + kb], b_to = s->tri[3 * (size_t)tb + (kb + 1) % 3];
+      /* images traversed the same way: inconsistent orientation */
+      TlVec3 u1 = tl_v3_sub(s->x[b_from], s->x[a_from]), u2 = tl_v3_sub(s->x[b_to], s->x[a_to]);
+      if (tl_v3_norm(tl_v3_sub(u1, u2)) <= tolerance * scale && tl_is_lattice_vector(domain, u1, tolerance)) {
+        status = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                              "edges %d (triangle %d) and %d (triangle %d) are periodic images traversed in the "
+                              "same direction: orient the triangles consistently across the periodic faces",
+                              e, ta, f, tb);
+        goto done;
+      }
+      /* opposite traversal: b_from is the image of a_to, b_to that of a_from */
+      TlVec3 t1 = tl_v3_sub(s->x[b_from], s->x[a_to]), t2 = tl_v3_sub(s->x[b_to], s->x[a_from]);
+      if (tl_v3_norm(tl_v3_sub(t1, t2)) > tolerance * scale || !tl_is_lattice_vector(domain, t1, tolerance)) continue;
+      /* join: f is absorbed into e */
+      s->edge_tri[2 * e + 1] = tb;
+      s->tri_nbr[3 * (size_t)ta + ka] = tb;
+      s->tri_nbr[3 * (size_t)tb + kb] = ta;
+      s->tri_edge[3 * (size_t)tb + kb] = e;
+      s->edge_twin[e] = s->edge_vertex[2 * e] == a_to ? b_from : b_to;
+      s->edge_tri[2 * f] = -1;
+      s->edge_tri[2 * f + 1] = -1;
+      be[j] = -1;
+      ++linked;
+      break;
+    }
+  }
+  TL_CHECK_GOTO(status, tl_trisurface_update(s), done);
+  if (n_linked) *n_linked = linked;
+done:
+  tl_free(&be);
+  return status;
 }

@@ -24,6 +24,7 @@
 #define TL_TRISURFACE_H
 
 #include <stddef.h>
+#include "tl_domain.h"
 #include "tl_error.h"
 #include "tl_math.h"
 #include "tl_triangle_geometry.h"
@@ -54,6 +55,12 @@ typedef struct {
   TlVec3 surface_lo, surface_hi; /* box of the whole surface */
   signed char *edge_shape; /* TlEdgeShape per edge, seen from the + side */
   double *edge_fold;       /* sine of the fold angle: > 0 concave, < 0 convex */
+  /* Edges joined across a periodic face (tl_trisurface_link_periodic): the
+   * vertex of the second triangle that is the image of edge_vertex[2e]
+   * (-1 for ordinary edges), and the lattice translation from the first
+   * triangle's frame to the second's, recomputed by update. */
+  int *edge_twin;
+  TlVec3 *edge_shift;
   unsigned long version;    /* incremented by every update */
   /* Classification tolerances. */
   double flat_tolerance;    /* |fold sine| below it counts as flat (default 1e-9) */
@@ -78,11 +85,26 @@ TlStatus tl_trisurface_update(TlTriSurface *s);
 TlStatus tl_trisurface_set_tolerances(TlTriSurface *s, double flat_tolerance,
                                       double quality_tolerance);
 
-/* Shape of edge e as seen by a sphere whose centre is x: a two-sided surface
+/* Shape of edge e as seen by a sphere whose centre is x, given in the frame
+ * of triangle t, one of the edge's two triangles (it matters only for edges
+ * joined across a periodic face): a two-sided surface
  * looks inverted from its - side.  The outside of a convex ridge is the union
  * of the two half-spaces above its faces, the outside of a concave valley
  * their intersection; a centre outside in that sense sees the stored shape. */
-TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlVec3 x);
+TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlVec3 x, int t);
+
+/* A surface that crosses the faces of a periodic domain (a floor spanning a
+ * periodic box) has boundary edges on one face whose images by a lattice
+ * vector are boundary edges on the opposite face.  This joins each such pair
+ * into one shared edge, so that the triangle-edge corrections, the edge
+ * shapes and the history carry-over work across the periodic faces as
+ * anywhere else.  Two edges are images when their end points differ by the
+ * same lattice vector within tolerance (relative to the cell size); they
+ * must be traversed in opposite directions.  Call once after creation (the
+ * pairing is topological; the translation is recomputed by every update);
+ * *n_linked (may be NULL) receives the number of joined edges.  O(B^2) in
+ * the number B of boundary edges. */
+TlStatus tl_trisurface_link_periodic(TlTriSurface *s, const TlDomain *domain, double tolerance, size_t *n_linked);
 
 /* Velocity of triangle t at the point with barycentric coordinates bary. */
 static inline TlVec3 tl_trisurface_velocity_at(const TlTriSurface *s, int t, const double bary[3])

@@ -210,7 +210,7 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
         while (kb < 2 && s->tri_edge[3 * (size_t)nb + kb] != e) ++kb;
         if (!tl_tri_feature_on_edge(c[i].feature, k) && !tl_tri_feature_on_edge(c[j].feature, kb))
           continue;
-        TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center);
+        TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center, c[i].triangle);
         if (shape == TL_EDGE_CONCAVE) continue;
         int32_t ri = tl_root(link, (int32_t)i), rj = tl_root(link, (int32_t)j);
         if (ri == rj) continue;
