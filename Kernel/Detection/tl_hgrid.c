@@ -217,13 +217,40 @@ static inline TlStatus push_pair(TlPair **pairs, size_t *capacity, size_t *count
   return TL_OK;
 }
 
-static inline TlStatus check_pair(const TlDomain *dom, const TlVec3 *x, const double *radius, const uint8_t *skip,
-                                  double skin, size_t i, size_t j, TlPair **pairs, size_t *capacity, size_t *count)
+/* Pair test specialised on the frame: orthogonal frames (open or periodic
+ * box) use one conditional image shift per periodic direction (positions
+ * are wrapped at every build), other frames the rounding of Eq. 20. */
+typedef struct {
+  const TlDomain *dom;
+  const TlVec3 *x;
+  const double *radius;
+  const uint8_t *skip;
+  double skin, len[3], half[3];
+  int ortho;
+  TlPair **pairs;
+  size_t *capacity, *count;
+} PairScan;
+
+static inline __attribute__((always_inline)) TlStatus check_pair(const PairScan *ps, size_t i, size_t j)
 {
-  if (skip && skip[i] && skip[j]) return TL_OK;
-  TlVec3 b = tl_domain_branch(dom, x[i], x[j]);
-  double cut = radius[i] + radius[j] + skin;
-  if (b.x * b.x + b.y * b.y + b.z * b.z <= cut * cut) return push_pair(pairs, capacity, count, i, j);
+  if (ps->skip && ps->skip[i] && ps->skip[j]) return TL_OK;
+  TlVec3 b;
+  if (ps->ortho) {
+    b = tl_v3_sub(ps->x[j], ps->x[i]);
+    double *bc = &b.x;
+    for (int q = 0; q < 3; ++q) {
+      if (ps->len[q] <= 0.0) continue;
+      if (bc[q] > ps->half[q]) bc[q] -= ps->len[q];
+      else if (bc[q] < -ps->half[q]) bc[q] += ps->len[q];
+    }
+  } else {
+    b = tl_domain_branch(ps->dom, ps->x[i], ps->x[j]);
+  }
+  double cut = ps->radius[i] + ps->radius[j] + ps->skin;
+  if (b.x * b.x + b.y * b.y + b.z * b.z > cut * cut) return TL_OK;
+  if (*ps->count >= *ps->capacity)
+    TL_CHECK(tl_array_reserve(ps->pairs, ps->capacity, *ps->count + 1, sizeof **ps->pairs));
+  (*ps->pairs)[(*ps->count)++] = i < j ? (TlPair){(uint32_t)i, (uint32_t)j} : (TlPair){(uint32_t)j, (uint32_t)i};
   return TL_OK;
 }
 
@@ -231,7 +258,12 @@ TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius,
                         TlPair **pairs, size_t *capacity, size_t *count)
 {
   const TlDomain *dom = g->domain;
-  const double skin = g->skin;
+  PairScan ps = {dom, x, radius, skip, g->skin, {0, 0, 0}, {0, 0, 0}, 0, pairs, capacity, count};
+  ps.ortho = dom->kind != TL_DOMAIN_DEFORMABLE_CELL;
+  for (int q = 0; q < 3; ++q) {
+    ps.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
+    ps.half[q] = 0.5 * ps.len[q];
+  }
   *count = 0;
   for (int l = 0; l < g->n_levels; ++l) {
     const TlHGridLevel *Lv = &g->level[l];
@@ -245,8 +277,7 @@ TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius,
           /* same level: pairs inside the cell, then with each neighbouring
            * cell of larger number (each cell pair once) */
           for (size_t a = a0; a < a1; ++a)
-            for (size_t b = a + 1; b < a1; ++b)
-              TL_CHECK(check_pair(dom, x, radius, skip, skin, g->index[a], g->index[b], pairs, capacity, count));
+            for (size_t b = a + 1; b < a1; ++b) TL_CHECK(check_pair(&ps, g->index[a], g->index[b]));
           int nx[3], ny[3], nz[3];
           int mx = neighbours_1d(g, l, 0, cx, nx), my = neighbours_1d(g, l, 1, cy, ny),
               mz = neighbours_1d(g, l, 2, cz, nz);
@@ -257,8 +288,7 @@ TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius,
                 if (c2 <= c) continue;
                 size_t b0 = Lv->cell_start[c2], b1 = Lv->cell_start[c2 + 1];
                 for (size_t a = a0; a < a1; ++a)
-                  for (size_t b = b0; b < b1; ++b)
-                    TL_CHECK(check_pair(dom, x, radius, skip, skin, g->index[a], g->index[b], pairs, capacity, count));
+                  for (size_t b = b0; b < b1; ++b) TL_CHECK(check_pair(&ps, g->index[a], g->index[b]));
               }
           /* coarser levels: the 27 cells around each particle there */
           for (size_t a = a0; a < a1; ++a) {
@@ -276,7 +306,7 @@ TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius,
                   for (int ix = 0; ix < qx; ++ix) {
                     size_t c2 = cell_id(M, px[ix], py[iy], pz[iz]);
                     for (size_t q = M->cell_start[c2]; q < M->cell_start[c2 + 1]; ++q)
-                      TL_CHECK(check_pair(dom, x, radius, skip, skin, i, g->index[q], pairs, capacity, count));
+                      TL_CHECK(check_pair(&ps, i, g->index[q]));
                   }
             }
           }
