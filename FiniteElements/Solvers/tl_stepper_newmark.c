@@ -139,9 +139,13 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   st->t_new = st->t + dt;
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
-  /* Predictor: the last displacement (a constant-acceleration predictor
-   * throws nodes far off under a suddenly applied load and can invert
-   * elements); prescribed values at t_{n+1}. */
+  /* Predictor: the last displacement; prescribed values at t_{n+1}.  Not
+   * the constant-acceleration one: the trapezoidal rule keeps the unresolved
+   * element modes (omega dt >> 1) in a_n undamped, and dt^2/2 a_n moves them
+   * by omega^2 dt^2 / 2 times their amplitude, onto distorted states where
+   * K + M/(beta dt^2) is indefinite (CHOLMOD refuses it) or Newton diverges
+   * into inverted elements (test_fem_stepper_beam).  Suddenly applied loads
+   * throw it off the same way. */
   memcpy(nm->x, st->u0, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
   memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
