@@ -812,8 +812,10 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
     size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
     long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
 /* Threads only where a colour holds several chunks: below that the
-     * fork and barrier cost more than the work. */
-#pragma omp parallel for schedule(dynamic) reduction(+ : energy) if (n_chunks >= 4)
+     * fork and barrier cost more than the work.  Never more threads than
+     * the scratch areas sized at setup (the thread count may have been
+     * raised since). */
+#pragma omp parallel for schedule(dynamic) reduction(+ : energy) if (n_chunks >= 4) num_threads(s->n_threads)
     for (long ch = 0; ch < n_chunks; ++ch) {
       TlStatus seen;
 #pragma omp critical(tl_solid_error)
@@ -1316,6 +1318,48 @@ static TlStatus op_max_frequency_squared(TlMechSystem *sys, const double *u, dou
   return TL_OK;
 }
 
+/* Checkpoint of the committed material state, block by block (the trial
+ * state equals it between steps).  Loads and prescribed motions are
+ * functions of t: the stepper's time restores them. */
+static TlStatus solid_checkpoint_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlSolid *s = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "n_blocks", s->mesh->n_blocks));
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    const SolidBlock *B = &s->blocks[b];
+    size_t n = B->material->state_size * s->mesh->blocks[b].n_elements * (size_t)B->nq;
+    char name[64];
+    snprintf(name, sizeof name, "block%d_state", b);
+    TL_CHECK(tl_checkpoint_write_doubles(w, group, name, n, B->state_old));
+  }
+  return TL_OK;
+}
+
+static TlStatus solid_checkpoint_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlSolid *s = object;
+  int64_t nb = 0;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "n_blocks", &nb));
+  if (nb != s->mesh->n_blocks)
+    TL_ERROR(TL_ERR_ARG, "%s: solid state of %lld blocks; this mesh has %d", tl_checkpoint_reader_path(r),
+             (long long)nb, s->mesh->n_blocks);
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    SolidBlock *B = &s->blocks[b];
+    size_t n = B->material->state_size * s->mesh->blocks[b].n_elements * (size_t)B->nq;
+    char name[64];
+    snprintf(name, sizeof name, "block%d_state", b);
+    TL_CHECK(tl_checkpoint_read_doubles(r, group, name, n, B->state_old));
+    if (n) memcpy(B->state_new, B->state_old, n * sizeof(double));
+  }
+  return TL_OK;
+}
+
+static const TlCheckpointOps solid_checkpoint_ops = {
+    .header = {"checkpoint", "solid_v1", "committed material state of a finite-strain solid"},
+    .save = solid_checkpoint_save,
+    .load = solid_checkpoint_load,
+};
+
 static const TlMechSystemOps solid_ops = {
     .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},
     .create_matrix = op_create_matrix,
@@ -1330,6 +1374,7 @@ static const TlMechSystemOps solid_ops = {
     .commit = op_commit,
     .rollback = op_rollback,
     .max_frequency_squared = op_max_frequency_squared,
+    .checkpoint = &solid_checkpoint_ops,
     .destroy = solid_destroy_content,
 };
 

@@ -35,6 +35,7 @@
 #ifndef TL_MECH_SYSTEM_H
 #define TL_MECH_SYSTEM_H
 
+#include "tl_checkpoint.h"
 #include "tl_error.h"
 #include "tl_object.h"
 #include "tl_sparse.h"
@@ -78,6 +79,10 @@ typedef struct {
    * element bound); used by the explicit stepper when asked to take the
    * conservative bound  [Lanczos on M^-1 K]. */
   TlStatus (*max_frequency_squared)(TlMechSystem *sys, const double *u, double *omega2);
+  /* Saves / restores the system's own evolving state (committed material
+   * state) under a checkpoint group; the steppers' checkpoint section calls
+   * it  [no state beyond what the stepper holds]. */
+  const TlCheckpointOps *checkpoint;
   void (*destroy)(TlMechSystem *sys); /* frees the derived type's content */
 } TlMechSystemOps;
 

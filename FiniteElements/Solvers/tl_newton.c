@@ -262,6 +262,16 @@ TlStatus tl_newton_set_options(TlNewton *nw, const TlNewtonOptions *o)
 
 void tl_newton_invalidate(TlNewton *nw) { nw->factored = 0; }
 
+int tl_newton_has_factors(const TlNewton *nw) { return nw->factored; }
+
+TlStatus tl_newton_refactor(TlNewton *nw)
+{
+  nw->factored = 0;
+  TL_CHECK(tl_linear_solver_factor(nw->ls, nw->J));
+  nw->factored = 1;
+  return TL_OK;
+}
+
 static int history_text(const TlNewton *nw, char *buf, size_t size)
 {
   int w = snprintf(buf, size, "residual history (max norm):");

@@ -61,6 +61,12 @@ TlStatus tl_newton_set_options(TlNewton *newton, const TlNewtonOptions *options)
 TlStatus tl_newton_solve(TlNewton *newton, double *x);
 /* Forgets the kept factors: the next solve refactorises first. */
 void tl_newton_invalidate(TlNewton *newton);
+/* Whether valid factors are kept; they are those of the Jacobian's current
+ * values (J is only written by the Jacobian callback just before each
+ * factorisation), so a restart restores them by writing the saved values
+ * into J and calling tl_newton_refactor(). */
+int tl_newton_has_factors(const TlNewton *newton);
+TlStatus tl_newton_refactor(TlNewton *newton);
 void tl_newton_get_stats(const TlNewton *newton, TlNewtonStats *stats);
 /* Residual norms of the last solve (one per evaluation), count returned. */
 int tl_newton_history(const TlNewton *newton, const double **norms);

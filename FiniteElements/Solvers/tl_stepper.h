@@ -24,6 +24,7 @@
 #ifndef TL_STEPPER_H
 #define TL_STEPPER_H
 
+#include "tl_checkpoint.h"
 #include "tl_error.h"
 #include "tl_mech_system.h"
 #include "tl_newton.h"
@@ -108,6 +109,16 @@ TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e);
 TlStatus tl_stepper_critical_dt(TlStepper *st, double *dt_crit);
 void tl_stepper_get_stats(const TlStepper *st, TlStepperStats *stats);
 void tl_stepper_destroy(TlStepper **st);
+
+/* Checkpoint section of a stepper (tl_checkpoint.h; object: the TlStepper):
+ * t, u, v, a, the last external force, the external work, the last step
+ * size, the step counters, the explicit stepper's critical step and energy
+ * budget, and kept Newton factors (the Jacobian values they were computed
+ * from; refactorised on load, which gives the same factors).  The system's
+ * own state (sys->ops->checkpoint: committed material state) goes under
+ * <group>/system.  Restart: build the same scene and stepper (no
+ * set_state), load, and step on: the run continues bit for bit. */
+extern const TlCheckpointOps tl_stepper_checkpoint_ops;
 
 extern const TlStepperOps tl_stepper_newmark_ops;
 extern const TlStepperOps tl_stepper_central_difference_ops;

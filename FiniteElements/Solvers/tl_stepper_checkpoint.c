@@ -1,0 +1,115 @@
+/* Checkpoint section of the steppers: everything a later step reads.
+ *
+ * Per step the steppers recompute u0/v0/a0, the force scale, the predictor
+ * and the hook forces from the state at t, so the state is t, u, v, a,
+ * f_ext (the start-of-step external force of the work integral), W_ext, the
+ * last dt (kept factors are dropped when it changes), the explicit
+ * stepper's critical step and energy budget, and the kept factors. */
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_memory.h"
+#include "tl_stepper.h"
+
+static TlStatus stepper_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlStepper *st = object;
+  size_t n = (size_t)st->n;
+  TL_CHECK(tl_checkpoint_write_string(w, group, "stepper", st->ops->header.name));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "ndof", (int64_t)st->n));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "t", st->t));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "dt", st->dt));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "u", n, st->u));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "v", n, st->v));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "a", n, st->a));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "f_ext", n, st->f_ext));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "external_work", st->W_ext));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "dt_crit", st->dt_crit));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "energy_budget", st->energy_budget));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "steps", st->stats.steps));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "rejected", st->stats.rejected));
+  int factored = st->newton && tl_newton_has_factors(st->newton);
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "factored", factored));
+  if (factored) TL_CHECK(tl_checkpoint_write_doubles(w, group, "jacobian", (size_t)st->J->nnz, st->J->values));
+  const TlCheckpointOps *sys_ops = st->sys->ops->checkpoint;
+  if (sys_ops) {
+    char sub[512];
+    snprintf(sub, sizeof sub, "%s/system", group ? group : "");
+    TL_CHECK(tl_checkpoint_write_string(w, group, "system_type", sys_ops->header.name));
+    TL_CHECK(sys_ops->save(st->sys, w, sub));
+  }
+  return TL_OK;
+}
+
+static TlStatus stepper_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlStepper *st = object;
+  size_t n = (size_t)st->n;
+  const char *path = tl_checkpoint_reader_path(r);
+  char *name = NULL;
+  TL_CHECK(tl_checkpoint_read_string(r, group, "stepper", &name));
+  int same = strcmp(name, st->ops->header.name) == 0;
+  if (!same) {
+    char saved[128];
+    snprintf(saved, sizeof saved, "%s", name);
+    tl_free(&name);
+    TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds a '%s' stepper; this run has '%s'", path, group, saved,
+             st->ops->header.name);
+  }
+  tl_free(&name);
+  int64_t ndof = 0, steps = 0, rejected = 0, factored = 0;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "ndof", &ndof));
+  if (ndof != (int64_t)st->n)
+    TL_ERROR(TL_ERR_ARG, "%s: section '%s' has %lld dofs; this system has %lld", path, group, (long long)ndof,
+             (long long)st->n);
+  TL_CHECK(tl_checkpoint_read_double(r, group, "t", &st->t));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "dt", &st->dt));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "u", n, st->u));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "v", n, st->v));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "a", n, st->a));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "f_ext", n, st->f_ext));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "external_work", &st->W_ext));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "dt_crit", &st->dt_crit));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "energy_budget", &st->energy_budget));
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "steps", &steps));
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "rejected", &rejected));
+  st->stats.steps = (long)steps;
+  st->stats.rejected = (long)rejected;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "factored", &factored));
+  if (st->newton) {
+    tl_newton_invalidate(st->newton);
+    if (factored) {
+      TL_CHECK(tl_checkpoint_read_doubles(r, group, "jacobian", (size_t)st->J->nnz, st->J->values));
+      TL_CHECK(tl_newton_refactor(st->newton));
+    }
+  } else if (factored) {
+    TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds Newton factors; the '%s' stepper has none", path, group,
+             st->ops->header.name);
+  }
+  const TlCheckpointOps *sys_ops = st->sys->ops->checkpoint;
+  int has = tl_checkpoint_has(r, group, "system_type");
+  if (sys_ops && !has)
+    TL_ERROR(TL_ERR_ARG, "%s: section '%s' lacks the state of system '%s'", path, group,
+             st->sys->ops->header.name);
+  if (!sys_ops && has)
+    TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds a system state; system '%s' keeps none", path, group,
+             st->sys->ops->header.name);
+  if (sys_ops) {
+    char sub[512];
+    snprintf(sub, sizeof sub, "%s/system", group ? group : "");
+    TL_CHECK(tl_checkpoint_read_string(r, group, "system_type", &name));
+    same = strcmp(name, sys_ops->header.name) == 0;
+    tl_free(&name);
+    if (!same)
+      TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds the state of another kind of system than '%s'", path, group,
+               sys_ops->header.name);
+    TL_CHECK(sys_ops->load(st->sys, r, sub));
+  }
+  return TL_OK;
+}
+
+const TlCheckpointOps tl_stepper_checkpoint_ops = {
+    .header = {"checkpoint", "stepper_v1", "time stepper state (t, u, v, a, work, kept factors) and its system's state"},
+    .save = stepper_save,
+    .load = stepper_load,
+};
