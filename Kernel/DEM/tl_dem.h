@@ -85,7 +85,10 @@ void tl_dem_set_gravity(TlDem *dem, TlVec3 g);
 /* Verlet skin as a fraction of the mean diameter (default 0.1; 0 rebuilds
  * every step). */
 TlStatus tl_dem_set_skin(TlDem *dem, double skin_over_diameter);
-/* Number of threads for the force loop (0: OpenMP default). */
+/* Number of OpenMP threads (0: the OpenMP default).  A positive count also
+ * becomes the OpenMP default (omp_set_num_threads), so walls, which thread
+ * their own loops, follow it.  Small scenes run on one thread whatever the
+ * setting (a parallel region costs more than it saves below ~8000 pairs). */
 void tl_dem_set_threads(TlDem *dem, int threads);
 /* Renumber particles in grid order every `rebuilds` neighbour-list rebuilds
  * for memory locality (default 10; 0 never). */
