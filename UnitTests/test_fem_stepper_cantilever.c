@@ -2,7 +2,11 @@
  * tip load converges to the Timoshenko deflection under refinement (Hex8)
  * and Hex27 on the S1 mesh is close to it; the elastica reference is
  * checked against Mattiasson's published values; Newmark free vibration
- * conserves energy; the explicit critical step holds on the beam. */
+ * conserves energy; the explicit critical step holds on the beam.
+ *
+ * The unit run (no argument) takes a 20-cell beam and 600 explicit steps
+ * (~1 s); `test_fem_stepper_cantilever long` (ctest label long,
+ * SelfTests/fem_steppers) runs the S1 meshes with the same assertions. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -34,8 +38,20 @@ static TlStatus small_error(const TlElementType *type, size_t nx, size_t ny, dou
   return TL_OK;
 }
 
-int main(void)
+/* Mesh sizes and step counts: the unit run takes a shorter beam
+ * discretisation of the same S1 cantilever; `long` (registered under the
+ * label long) runs the S1 meshes. */
+typedef struct {
+  size_t ny;          /* cells along the beam (S1: 30) */
+  int newmark_steps;  /* per period (S1 run: 100) */
+  int explicit_steps; /* central-difference steps (S1 run: 2000) */
+} Sizes;
+
+int main(int argc, char **argv)
 {
+  int full = argc > 1 && strcmp(argv[1], "long") == 0;
+  const Sizes sz = full ? (Sizes){30, 100, 2000} : (Sizes){20, 100, 600};
+  double t_start = omp_get_wtime(), t_mark = t_start;
   /* One thread: CI machines are shared and this test times the solvers'
    * logic, not the parallel assembly (the solid's own tests cover that). */
   omp_set_num_threads(1);
@@ -52,16 +68,19 @@ int main(void)
 
   /* Small load: Hex8 S1 mesh, refined twice over, and Hex27. */
   double e8 = 1, e8r = 1, e27 = 1;
-  TL_TEST_STATUS(small_error(&tl_element_hex8, 2, 30, &e8), TL_OK);
-  TL_TEST_STATUS(small_error(&tl_element_hex8, 4, 60, &e8r), TL_OK);
-  TL_TEST_STATUS(small_error(&tl_element_hex27, 2, 30, &e27), TL_OK);
-  printf("tip deflection error vs Timoshenko: hex8 2x2x30 %+.3f %%, hex8 4x4x60 %+.3f %%, "
-         "hex27 2x2x30 %+.3f %%\n", 100 * e8, 100 * e8r, 100 * e27);
+  TL_TEST_STATUS(small_error(&tl_element_hex8, 2, sz.ny, &e8), TL_OK);
+  TL_TEST_STATUS(small_error(&tl_element_hex8, 4, 2 * sz.ny, &e8r), TL_OK);
+  TL_TEST_STATUS(small_error(&tl_element_hex27, 2, sz.ny, &e27), TL_OK);
+  printf("tip deflection error vs Timoshenko: hex8 2x2x%zu %+.3f %%, hex8 4x4x%zu %+.3f %%, "
+         "hex27 2x2x%zu %+.3f %% (%.2f s)\n", sz.ny, 100 * e8, 2 * sz.ny, 100 * e8r, sz.ny, 100 * e27,
+         omp_get_wtime() - t_mark);
+  t_mark = omp_get_wtime();
   TL_TEST_ASSERT(fabs(e8r) < fabs(e8) / 3.0, "hex8 refinement: %g -> %g", e8, e8r);
   TL_TEST_ASSERT(fabs(e27) < 0.005, "hex27 S1 mesh error %g", e27);
 
   TlCantileverParams p;
   tl_cantilever_params_default(&p);
+  p.ny = sz.ny;
   /* Newmark (1/4, 1/2) free vibration from a static deflection under a
    * tenth of the S1 load: the energy drift over one first-mode period.
    * The rule conserves energy exactly only for linear systems (the chain
@@ -87,8 +106,8 @@ int main(void)
     TlEnergies e0, e;
     TL_TEST_STATUS(tl_stepper_energies(nm, &e0), TL_OK);
     double T1 = 2.0 * M_PI / tl_cantilever_omega1(&p), drift = 0, wmin = 0;
-    for (int k = 0; k < 100; ++k) {
-      TL_TEST_STATUS(tl_stepper_step(nm, T1 / 100.0), TL_OK);
+    for (int k = 0; k < sz.newmark_steps; ++k) {
+      TL_TEST_STATUS(tl_stepper_step(nm, T1 / sz.newmark_steps), TL_OK);
       TL_TEST_STATUS(tl_stepper_energies(nm, &e), TL_OK);
       drift = fmax(drift, fabs(e.total - e0.total) / e0.total);
       double tip[3];
@@ -97,7 +116,9 @@ int main(void)
     }
     double tip0[3];
     tl_cantilever_tip(c, qs->u, tip0);
-    printf("Newmark free vibration: energy drift %.3e over one period (E = %.4g J)\n", drift, e0.total);
+    printf("Newmark free vibration (%zu cells, T/%d): energy drift %.3e over one period (E = %.4g J, %.2f s)\n", sz.ny,
+           sz.newmark_steps, drift, e0.total, omp_get_wtime() - t_mark);
+    t_mark = omp_get_wtime();
     TL_TEST_ASSERT(drift < 1e-7, "energy drift %g per period", drift);
     p.load = 1644.0;
     /* It did vibrate: the tip swung to the other side. */
@@ -126,7 +147,7 @@ int main(void)
     double dtc = st->dt_crit;
     TlStatus s = TL_OK;
     double umax = 0;
-    for (int k = 0; k < 2000 && s == TL_OK; ++k) {
+    for (int k = 0; k < sz.explicit_steps && s == TL_OK; ++k) {
       s = tl_stepper_step(st, 0.98 * dtc);
       for (TlSparseIndex i = 0; i < st->n; ++i) umax = fmax(umax, fabs(st->u[i]));
     }
@@ -134,10 +155,11 @@ int main(void)
     TL_TEST_STATUS(tl_stepper_set_state(st, 0.0, u0, NULL), TL_OK);
     s = TL_OK;
     int k = 0;
-    for (; k < 2000 && s == TL_OK; ++k) s = tl_stepper_step(st, 1.02 * dtc);
+    for (; k < sz.explicit_steps && s == TL_OK; ++k) s = tl_stepper_step(st, 1.02 * dtc);
     TL_TEST_ASSERT(s == TL_ERR_UNSTABLE, "1.02 dt_crit: status %d after %d steps", (int)s, k);
-    printf("central difference on the beam: dt_crit %.6e s (dX/c = %.6e s); blow-up after %d steps "
-           "at 1.02 dt_crit\n", dtc, 0.4 / sqrt(p.E / p.rho), k);
+    printf("central difference on the beam: dt_crit %.6e s (dX/c = %.6e s); stable over %d steps at 0.98 "
+           "dt_crit, blow-up after %d steps at 1.02 dt_crit (%.2f s)\n", dtc, 0.4 / sqrt(p.E / p.rho),
+           sz.explicit_steps, k, omp_get_wtime() - t_mark);
     tl_stepper_destroy(&st);
     o.allow_unstable = 0;
     TL_TEST_STATUS(tl_stepper_create("central_difference", sys, &o, &st), TL_OK);
@@ -148,5 +170,6 @@ int main(void)
     tl_stepper_destroy(&st);
     tl_cantilever_destroy(&c);
   }
+  printf("%s run: %.2f s\n", full ? "long" : "unit", omp_get_wtime() - t_start);
   return tl_test_report();
 }
