@@ -13,7 +13,13 @@
  *
  * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
  * Hex8 beam HDF5/XDMF snapshots (beam.xmf, warp by "displacement" in
- * ParaView); last line `summary: ...`. */
+ * ParaView); last line `summary: ...`.
+ *
+ * Restart (vibration): -checkpoint_every n writes <output_dir>/checkpoint.h5
+ * every n Newmark steps (the stepper with the solid's state, the table, the
+ * snapshot writer and the driver's running diagnostics); -restart <file>,
+ * with the same scene options, continues from it bit for bit (the static
+ * deflection is not recomputed); -stop_step n ends the run after step n. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,15 +28,16 @@
 #include "talus.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
+#include "tl_checkpoint.h"
 #include "tl_mesh_snapshot.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
 
 typedef struct {
   TlCantileverParams beam;
-  const char *solver, *output_dir;
+  const char *solver, *output_dir, *restart;
   double rtol, load_parameter, dt, periods;
-  long load_steps, reuse, snapshot_every;
+  long load_steps, reuse, snapshot_every, checkpoint_every, stop_step;
   int mode, check;
   double tolerance;
   TlOptions *options; /* holds the option strings until the end */
@@ -76,6 +83,13 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
                                       "vibration: HDF5/XDMF mesh snapshot every n steps (0: none; Hex8)",
                                       &c->snapshot_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 100000000,
+                                      "vibration: checkpoint every n steps to <output_dir>/checkpoint.h5 (0: none)",
+                                      &c->checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "vibration: continue from this checkpoint file", &c->restart),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 100000000, "vibration: stop after this step (0: run to the end)",
+                                      &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when a result misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 10.0, "", "relative tolerance for -check", &c->tolerance), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
@@ -262,74 +276,139 @@ static void snapshots_close(Snapshots *sn)
 }
 
 /* -------------------------------------------------------- vibration */
+/* The driver's running diagnostics, checkpointed with the run. */
+typedef struct {
+  int64_t step;
+  double e0[4]; /* kinetic, strain, external work, total at t = 0 */
+  double prev_w, drift;
+  int64_t n_cross;
+  double t_cross[64];
+} Vibration;
+
+static TlStatus vibration_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Vibration *v = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "step", v->step));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "initial_energies", 4, v->e0));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "previous_tip_w", v->prev_w));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "drift", v->drift));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "zero_crossings", (size_t)v->n_cross, v->t_cross));
+  return TL_OK;
+}
+
+static TlStatus vibration_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Vibration *v = object;
+  size_t n = 0;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "step", &v->step));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "initial_energies", 4, v->e0));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "previous_tip_w", &v->prev_w));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "drift", &v->drift));
+  TL_CHECK(tl_checkpoint_length(r, group, "zero_crossings", &n));
+  if (n > 64) TL_ERROR(TL_ERR_ARG, "%s: %zu zero crossings stored, at most 64", tl_checkpoint_reader_path(r), n);
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "zero_crossings", n, v->t_cross));
+  v->n_cross = (int64_t)n;
+  return TL_OK;
+}
+
+static const TlCheckpointOps vibration_checkpoint_ops = {
+    .header = {"checkpoint", "cantilever_vibration_v1", "running diagnostics of the cantilever vibration"},
+    .save = vibration_save,
+    .load = vibration_load,
+};
+
 static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
 {
   TlCantilever *beam = NULL;
   TlStepper *qs = NULL, *nm = NULL;
   TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
   Snapshots sn;
   memset(&sn, 0, sizeof sn);
+  Vibration vs;
+  memset(&vs, 0, sizeof vs);
+  int restart = c->restart && c->restart[0];
   TlStepperOptions so;
   stepper_options(c, &so);
   TL_CHECK(tl_cantilever_create(&c->beam, &beam));
   TlStatus s = TL_OK;
   TlMechSystem *sys = tl_solid_system(beam->solid);
   TL_CHECK_GOTO(s, snapshots_open(c, beam, &sn), done);
-  /* The static deflection under the tip load is the initial shape. */
-  TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", sys, &so, &qs), done);
-  TL_CHECK_GOTO(s, tl_stepper_set_state(qs, 0.0, NULL, NULL), done);
-  TL_CHECK_GOTO(s, tl_stepper_step(qs, 1.0), done);
   beam->load_scale = 0.0; /* released */
   so.rtol = fmin(c->rtol, 1e-12);
   TL_CHECK_GOTO(s, tl_stepper_create("newmark", sys, &so, &nm), done);
-  TL_CHECK_GOTO(s, tl_stepper_set_state(nm, 0.0, qs->u, NULL), done);
   const TlColumn cols[] = {{"t", "s"}, {"tip_w", "m"}, {"kinetic", "J"}, {"strain", "J"},
                            {"total", "J"}};
   TL_CHECK_GOTO(s, open_table(c, "vibration", 5, cols, &ts), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "newmark", &tl_stepper_checkpoint_ops, nm), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "vibration_table", &tl_timeseries_checkpoint_ops, ts), done);
+  if (sn.writer) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "snapshots", &tl_mesh_writer_checkpoint_ops, sn.writer), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &vibration_checkpoint_ops, &vs), done);
+  TL_CHECK_GOTO(s, tl_path_join(c->output_dir, "checkpoint.h5", &cp_path), done);
   double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c->beam);
   long steps = lround(c->periods * T1 / c->dt);
-  TlEnergies e0, e;
-  TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e0), done);
-  double tip[3], prev_w, t_cross[64];
-  int n_cross = 0;
-  tl_cantilever_tip(beam, nm->u, tip);
-  prev_w = -tip[2];
-  double drift = 0.0, t0 = tl_wtime();
+  TlEnergies e;
+  double tip[3];
+  if (restart) {
+    TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c->restart, NULL, NULL), done);
+    printf("restarted from %s at step %lld, t = %.9g s\n", c->restart, (long long)vs.step, nm->t);
+  } else {
+    /* The static deflection under the tip load is the initial shape. */
+    beam->load_scale = 1.0;
+    TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", sys, &so, &qs), done);
+    TL_CHECK_GOTO(s, tl_stepper_set_state(qs, 0.0, NULL, NULL), done);
+    TL_CHECK_GOTO(s, tl_stepper_step(qs, 1.0), done);
+    beam->load_scale = 0.0; /* released */
+    TL_CHECK_GOTO(s, tl_stepper_set_state(nm, 0.0, qs->u, NULL), done);
+    TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e), done);
+    vs.e0[0] = e.kinetic, vs.e0[1] = e.strain, vs.e0[2] = e.external_work, vs.e0[3] = e.total;
+    tl_cantilever_tip(beam, nm->u, tip);
+    vs.prev_w = -tip[2];
+    TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), done);
+    double row0[5] = {0.0, vs.prev_w, e.kinetic, e.strain, e.total};
+    TL_CHECK_GOTO(s, tl_timeseries_append(ts, row0), done);
+    TL_CHECK_GOTO(s, snapshots_write(&sn, beam, 0, 0.0, nm->u), done);
+  }
+  double t0 = tl_wtime();
   TlProgress bar;
   tl_progress_init(&bar, "Newmark steps", (double)steps);
-  TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), done);
-  double row0[5] = {0.0, prev_w, e0.kinetic, e0.strain, e0.total};
-  TL_CHECK_GOTO(s, tl_timeseries_append(ts, row0), done);
-  TL_CHECK_GOTO(s, snapshots_write(&sn, beam, 0, 0.0, nm->u), done);
-  for (long k = 1; k <= steps; ++k) {
+  long last = c->stop_step > 0 && c->stop_step < steps ? c->stop_step : steps;
+  for (long k = (long)vs.step + 1; k <= last; ++k) {
     TL_CHECK_GOTO(s, tl_stepper_step(nm, c->dt), done);
     TL_CHECK_GOTO(s, tl_stepper_energies(nm, &e), done);
     tl_cantilever_tip(beam, nm->u, tip);
     double w = -tip[2];
-    if ((prev_w < 0.0) != (w < 0.0) && n_cross < 64) /* zero crossing, either way */
-      t_cross[n_cross++] = nm->t - c->dt * w / (w - prev_w);
-    prev_w = w;
-    drift = fmax(drift, fabs(e.total - e0.total) / fabs(e0.total));
+    if ((vs.prev_w < 0.0) != (w < 0.0) && vs.n_cross < 64) /* zero crossing, either way */
+      vs.t_cross[vs.n_cross++] = nm->t - c->dt * w / (w - vs.prev_w);
+    vs.prev_w = w;
+    vs.drift = fmax(vs.drift, fabs(e.total - vs.e0[3]) / fabs(vs.e0[3]));
     double row[5] = {nm->t, w, e.kinetic, e.strain, e.total};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     if (c->snapshot_every > 0 && k % c->snapshot_every == 0)
       TL_CHECK_GOTO(s, snapshots_write(&sn, beam, k, nm->t, nm->u), done);
+    vs.step = k;
+    if (c->checkpoint_every > 0 && k % c->checkpoint_every == 0)
+      TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, nm->t, vs.step), done);
     tl_progress_update(&bar, (double)k);
   }
   tl_progress_finish(&bar);
+  double *t_cross = vs.t_cross, drift = vs.drift;
+  long n_cross = (long)vs.n_cross;
   double wall = tl_wtime() - t0;
   /* Successive zero crossings are half a period apart. */
   double period = n_cross >= 2 ? 2.0 * (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : NAN;
   /* drift: the largest |E(t) - E(0)| / E(0) over the run; per period: that
    * divided by the number of periods run (at least one). */
-  double periods_run = steps * c->dt / T1;
+  double periods_run = (double)vs.step * c->dt / T1;
   double drift_per_period = drift / fmax(periods_run, 1.0);
   TlStepperStats ss;
   tl_stepper_get_stats(nm, &ss);
   printf("free vibration: %ld Newmark steps of %g s (%.2f s wall, %ld Newton iterations, %ld "
          "factorisations); period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%); largest energy "
          "deviation %.2e (%.2e per period)\n",
-         steps, c->dt, wall, ss.newton_iterations, ss.factorisations, period, T1,
+         (long)vs.step, c->dt, wall, ss.newton_iterations, ss.factorisations, period, T1,
          100.0 * (period - T1) / T1, drift, drift_per_period);
   tl_summary_real(sum, "period", period);
   tl_summary_real(sum, "period_eb", T1);
@@ -344,6 +423,8 @@ done:
     TlStatus s2 = tl_timeseries_close(&ts);
     if (s == TL_OK) s = s2;
   }
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   snapshots_close(&sn);
   tl_stepper_destroy(&qs);
   tl_stepper_destroy(&nm);
