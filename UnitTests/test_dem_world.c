@@ -225,11 +225,64 @@ static void test_adhesion_rolling(void)
   tl_dem_destroy(&dem);
 }
 
+/* A bonded chain moving and oscillating across many neighbour-list
+ * rebuilds and renumberings: no pair may appear twice (once as a bond, once
+ * as a plain contact). */
+static void test_bond_rebuilds(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &a), TL_OK);
+  /* a loose particle (id 0) that will be removed, moving the last chain
+   * particle into its slot */
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 1.0, 0), tl_v3(0, 0, 0), 0.01, a, NULL), TL_OK);
+  for (int k = 0; k < 8; ++k)
+    TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.0199 * k, 0, 0), tl_v3(1.0, 0.05 * (k % 3), k == 0 ? 0.3 : 0.0),
+                                       0.01, a, NULL), TL_OK);
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = 1e5;
+  p.bonded = 1;
+  TlContactLaw *law;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  for (int k = 1; k < 8; ++k) TL_TEST_STATUS(tl_dem_add_bond(dem, k, k + 1), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_skin(dem, 0.002), TL_OK);
+  tl_dem_set_sort_interval(dem, 0); /* removal alone renumbers: the bond hash must follow */
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 2e-6, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  Keys K = {0, malloc(256 * sizeof(uint64_t)), NULL};
+  int dups = 0;
+  for (int r = 0; r < 100; ++r) {
+    TL_TEST_STATUS(tl_dem_step(dem, 20), TL_OK);
+    if (r == 10) {
+      size_t loose;
+      TL_TEST_STATUS(tl_particles_find(P, 0, &loose), TL_OK);
+      TL_TEST_STATUS(tl_dem_remove_particle(dem, loose), TL_OK);
+    }
+    K.n = 0;
+    K.id = P->id;
+    TL_TEST_STATUS(tl_dem_visit_contacts(dem, collect, &K), TL_OK);
+    qsort(K.key, K.n, sizeof *K.key, cmp_pair);
+    for (size_t q = 1; q < K.n; ++q) dups += K.key[q] == K.key[q - 1];
+  }
+  TlDemStats st;
+  tl_dem_stats(dem, &st);
+  printf("bonded chain: %ld rebuilds in %ld steps, %d duplicated pairs\n", st.rebuilds, st.steps, dups);
+  TL_TEST_ASSERT(st.rebuilds > 50, "only %ld rebuilds", st.rebuilds);
+  TL_TEST_ASSERT(dups == 0, "%d pairs counted both as bond and as contact", dups);
+  free(K.key);
+  tl_dem_destroy(&dem);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   test_pair_laws();
   test_bond();
+  test_bond_rebuilds();
   test_insert_remove();
   test_adhesion_rolling();
   return tl_test_report();

@@ -352,6 +352,9 @@ static TlStatus remap_everything(TlDem *d, const size_t *old_to_new, size_t n_ol
     }
     L->n = m;
   }
+  /* the bond hash (which keeps bonded pairs out of the neighbour list) is
+   * keyed by index: rebuild it */
+  if (d->bonds.n != (size_t)-1 && d->bonds.n) TL_CHECK(tl_contact_list_index(&d->bonds, 0));
   for (size_t w = 0; w < d->n_walls; ++w)
     if (d->walls[w]->ops->remap) TL_CHECK(d->walls[w]->ops->remap(d->walls[w], old_to_new, n_old));
   for (size_t g = 0; g < d->n_presc; ++g) {
