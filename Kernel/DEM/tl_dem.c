@@ -888,14 +888,20 @@ static TlStatus compute_forces(TlDem *d)
   /* threads only pay for themselves on large contact lists */
   d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
   if (d->nt_now > 1) {
-    size_t need = (size_t)d->nt_now * n;
+    const int nt = d->nt_now;
+    size_t need = (size_t)nt * n;
     if (need > d->t_cap) {
       TL_CHECK(tl_realloc(&d->tf, need, sizeof *d->tf));
       TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
       d->t_cap = need;
     }
-    memset(d->tf, 0, need * sizeof *d->tf);
-    if (rot) memset(d->tt, 0, need * sizeof *d->tt);
+    TlVec3 *tf = d->tf, *tt = d->tt;
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (size_t i = 0; i < n; ++i)
+      for (int t = 0; t < nt; ++t) {
+        tf[(size_t)t * n + i] = tl_v3(0, 0, 0);
+        if (rot) tt[(size_t)t * n + i] = tl_v3(0, 0, 0);
+      }
   }
   Accum acc = {0, 0, 0};
   TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, &acc));
