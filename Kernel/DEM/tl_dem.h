@@ -15,8 +15,10 @@
  *
  * Time step (seeds/001 Eqs. 1-2): Velocity-Verlet for translation; for
  * rotation of spheres the angular velocity is integrated the same way and the
- * orientation quaternion by the exact rotation of the half-step spin.
- * Forces at t+dt use positions at t+dt and velocities at t+dt/2.
+ * orientation quaternion by dq/dt = ½ (0, ω) ⊗ q with the half-step spin,
+ * renormalised.  Forces at t+dt use positions at t+dt and velocities at
+ * t+dt/2.  Contact work is booked by the trapezoidal rule over each step, so
+ * the energy balance (dissipation) is second-order accurate.
  *
  * Contacts: the neighbour list (pairs within r_i + r_j + skin, found with the
  * hierarchical grid) is the contact list; each entry holds the law's history.
