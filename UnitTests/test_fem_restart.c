@@ -2,9 +2,10 @@
  * a checkpoint, fresh objects built the same way, a load and N/2 more
  * steps.  The states must agree bit for bit (memcmp) for Newmark with full
  * Newton, with kept factors (modified Newton), with the lumped mass, with a
- * path-dependent law (its committed state travels with the solid), and for
- * central difference.  The scene: a clamped hex8 beam with an initial
- * velocity and a time-dependent tip traction. */
+ * path-dependent law (its committed state travels with the solid), with a
+ * prescribed end motion, and for central difference.  The scene: a clamped
+ * hex8 beam with an initial velocity and a time-dependent tip traction (or
+ * its free end driven sideways). */
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -82,12 +83,21 @@ typedef struct {
 typedef struct {
   const char *stepper;
   int lumped, keep_factors, hardening;
+  int prescribed; /* the free end driven sideways instead of loaded */
 } Case;
 
 static double amplitude(double t, void *ctx)
 {
   (void)ctx;
   return sin(2.0 * t) + 0.5 * t;
+}
+
+static void drive(double t, const double X[3], int component, void *ctx, double out[3])
+{
+  (void)X, (void)component, (void)ctx;
+  out[0] = 0.05 * sin(3.0 * t);
+  out[1] = 0.15 * cos(3.0 * t);
+  out[2] = -0.45 * sin(3.0 * t);
 }
 
 static TlStatus scene_create(const Case *c, Scene *sc)
@@ -106,7 +116,8 @@ static TlStatus scene_create(const Case *c, Scene *sc)
   TL_CHECK(tl_solid_create(sc->mesh, &sc->solid));
   TL_CHECK(tl_solid_set_material(sc->solid, NULL, sc->mat));
   TL_CHECK(tl_solid_fix(sc->solid, "ymin", 7));
-  TL_CHECK(tl_solid_add_traction(sc->solid, "ymax", tl_v3(2e4, 0.0, -5e4), amplitude, NULL));
+  if (c->prescribed) TL_CHECK(tl_solid_prescribe(sc->solid, "ymax", 0, drive, NULL));
+  else TL_CHECK(tl_solid_add_traction(sc->solid, "ymax", tl_v3(2e4, 0.0, -5e4), amplitude, NULL));
   TL_CHECK(tl_solid_setup(sc->solid));
   TlStepperOptions o;
   tl_stepper_options_default(&o);
@@ -214,7 +225,7 @@ static void restart_case(const Case *c, int N, const char *label, Final *out_ref
              !memcmp(&ref.W, &sc.st->W_ext, sizeof ref.W) && !memcmp(&ref.t, &sc.st->t, sizeof ref.t);
   double umax = 0.0;
   for (size_t i = 0; i < n; ++i) umax = fmax(umax, fabs(ref.u[i]));
-  printf("%-36s %d steps (restart at %d): bit-for-bit %s (max |du| %.1e, |dv| %.1e, |da| %.1e; |u| %.3e m)\n",
+  printf("%-38s %d steps (restart at %d): bit-for-bit %s (max |du| %.1e, |dv| %.1e, |da| %.1e; |u| %.3e m)\n",
          label, N, N / 2, same ? "yes" : "NO", max_diff(ref.u, sc.st->u, n), max_diff(ref.v, sc.st->v, n),
          max_diff(ref.a, sc.st->a, n), umax);
   TL_TEST_ASSERT(same, "%s: restarted run differs from the continuous one", label);
@@ -230,7 +241,7 @@ static void restart_case(const Case *c, int N, const char *label, Final *out_ref
  * system of another size is named. */
 static void refusals(void)
 {
-  Case cd = {"central_difference", 0, 0, 0}, nm = {"newmark", 0, 0, 0};
+  Case cd = {"central_difference", 0, 0, 0, 0}, nm = {"newmark", 0, 0, 0, 0};
   Scene a, b;
   TL_TEST_STATUS(scene_create(&cd, &a), TL_OK);
   TL_TEST_STATUS(scene_create(&nm, &b), TL_OK);
@@ -255,16 +266,21 @@ int main(void)
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   TL_TEST_STATUS(tl_registry_add(&law_ops.header), TL_OK);
   const Case cases[] = {
-      {"newmark", 0, 0, 0}, {"newmark", 0, 1, 0}, {"newmark", 1, 0, 0}, {"newmark", 0, 0, 1}, {"central_difference", 0, 0, 0},
+      {"newmark", 0, 0, 0, 0}, {"newmark", 0, 1, 0, 0},           {"newmark", 1, 0, 0, 0},
+      {"newmark", 0, 0, 1, 0}, {"newmark", 0, 0, 0, 1},           {"central_difference", 0, 0, 0, 0},
+      {"central_difference", 0, 0, 0, 1},
   };
   const char *labels[] = {"newmark, consistent mass", "newmark, kept factors (reuse 4)", "newmark, lumped mass",
-                          "newmark, path-dependent law", "central difference"};
+                          "newmark, path-dependent law", "newmark, prescribed end motion", "central difference",
+                          "central difference, prescribed motion"};
+  const int n_cases = (int)(sizeof cases / sizeof cases[0]);
   Final hard;
   memset(&hard, 0, sizeof hard);
-  for (int k = 0; k < 5; ++k) restart_case(&cases[k], k == 4 ? 200 : 20, labels[k], k == 3 ? &hard : NULL);
+  for (int k = 0; k < n_cases; ++k)
+    restart_case(&cases[k], strcmp(cases[k].stepper, "newmark") ? 200 : 20, labels[k], k == 3 ? &hard : NULL);
   /* The law's state matters: the same run with k = 0 ends elsewhere. */
   if (hard.u) {
-    Case plain = {"newmark", 0, 0, 2};
+    Case plain = {"newmark", 0, 0, 2, 0};
     Scene sc;
     TL_TEST_STATUS(scene_create(&plain, &sc), TL_OK);
     if (sc.st) {

@@ -117,7 +117,11 @@ void tl_stepper_destroy(TlStepper **st);
  * from; refactorised on load, which gives the same factors).  The system's
  * own state (sys->ops->checkpoint: committed material state) goes under
  * <group>/system.  Restart: build the same scene and stepper (no
- * set_state), load, and step on: the run continues bit for bit. */
+ * set_state), load, and step on: the run continues bit for bit.  The
+ * step counters carry over; Newton iteration, factorisation and timing
+ * counters count the restarted process only.  A material whose state lives
+ * outside the solid's per-point arrays (material commit/rollback callbacks)
+ * must checkpoint that state itself. */
 extern const TlCheckpointOps tl_stepper_checkpoint_ops;
 
 extern const TlStepperOps tl_stepper_newmark_ops;
