@@ -3,6 +3,7 @@
  * sheared periodic cell; the wall box query returns a superset of the
  * particles that can reach the box; and during a run with a Verlet skin the
  * world's touching contacts equal the brute-force overlaps at every step. */
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 #include "talus.h"
@@ -183,10 +184,45 @@ static void test_dynamic(int periodic)
   tl_dem_destroy(&dem);
 }
 
+/* A grid large enough to be scanned by several threads gives the same
+ * pairs as one thread (whose equality with brute force the other cases
+ * check). */
+static void test_threaded(void)
+{
+  size_t n = 24000;
+  TlVec3 *x = malloc(n * sizeof *x);
+  double *r = malloc(n * sizeof *r);
+  TlDomain dom;
+  int per[3] = {1, 1, 1};
+  TL_TEST_STATUS(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), tl_v3(1, 1, 1), per), TL_OK);
+  random_packing(&dom, n, 0.01, 3.0, 9, x, r);
+  TlHGrid *g;
+  TL_TEST_STATUS(tl_hgrid_create(&g), TL_OK);
+  TL_TEST_STATUS(tl_hgrid_build(g, &dom, n, x, r, 0.002), TL_OK);
+  TlPair *a = NULL, *b = NULL;
+  size_t ca = 0, cb = 0, na = 0, nb = 0;
+  omp_set_num_threads(1);
+  TL_TEST_STATUS(tl_hgrid_pairs(g, x, r, NULL, &a, &ca, &na), TL_OK);
+  omp_set_num_threads(2);
+  TL_TEST_STATUS(tl_hgrid_pairs(g, x, r, NULL, &b, &cb, &nb), TL_OK);
+  qsort(a, na, sizeof *a, cmp_pair);
+  qsort(b, nb, sizeof *b, cmp_pair);
+  int same = na == nb && memcmp(a, b, na * sizeof *a) == 0;
+  printf("threaded scan: %zu particles, 1 thread %zu pairs, 2 threads %zu%s\n", n, na, nb,
+         same ? ", identical" : ", DIFFERENT");
+  TL_TEST_ASSERT(same && na > n, "threaded pair scan differs (%zu, %zu)", na, nb);
+  free(a);
+  free(b);
+  free(x);
+  free(r);
+  tl_hgrid_destroy(&g);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   test_static();
+  test_threaded();
   test_dynamic(0);
   test_dynamic(1);
   return tl_test_report();

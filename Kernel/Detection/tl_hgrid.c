@@ -1,6 +1,7 @@
 #include "tl_hgrid.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdint.h>
 #include <string.h>
 #include "tl_memory.h"
@@ -20,6 +21,7 @@ void tl_hgrid_destroy(TlHGrid **gp)
   tl_free(&g->cell_of);
   tl_free(&g->level_of);
   tl_free(&g->reduced);
+  for (int t = 0; t < TL_HGRID_MAX_THREADS; ++t) tl_free(&g->thread_pairs[t]);
   tl_free(gp);
 }
 
@@ -254,63 +256,103 @@ static inline __attribute__((always_inline)) TlStatus check_pair(const PairScan 
   return TL_OK;
 }
 
-TlStatus tl_hgrid_pairs(const TlHGrid *g, const TlVec3 *x, const double *radius, const uint8_t *skip,
+/* The pairs found from the cells with cz in [z0, z1) of level l (same level
+ * and coarser levels), appended through ps. */
+static TlStatus pairs_slab(const TlHGrid *g, const PairScan *ps, int l, int z0, int z1)
+{
+  const TlHGridLevel *Lv = &g->level[l];
+  for (int cz = z0; cz < z1; ++cz)
+    for (int cy = 0; cy < Lv->n[1]; ++cy)
+      for (int cx = 0; cx < Lv->n[0]; ++cx) {
+        size_t c = cell_id(Lv, cx, cy, cz);
+        size_t a0 = Lv->cell_start[c], a1 = Lv->cell_start[c + 1];
+        if (a0 == a1) continue;
+        /* same level: pairs inside the cell, then with each neighbouring
+         * cell of larger number (each cell pair once) */
+        for (size_t a = a0; a < a1; ++a)
+          for (size_t b = a + 1; b < a1; ++b) TL_CHECK(check_pair(ps, g->index[a], g->index[b]));
+        int nx[3], ny[3], nz[3];
+        int mx = neighbours_1d(g, l, 0, cx, nx), my = neighbours_1d(g, l, 1, cy, ny),
+            mz = neighbours_1d(g, l, 2, cz, nz);
+        for (int iz = 0; iz < mz; ++iz)
+          for (int iy = 0; iy < my; ++iy)
+            for (int ix = 0; ix < mx; ++ix) {
+              size_t c2 = cell_id(Lv, nx[ix], ny[iy], nz[iz]);
+              if (c2 <= c) continue;
+              size_t b0 = Lv->cell_start[c2], b1 = Lv->cell_start[c2 + 1];
+              for (size_t a = a0; a < a1; ++a)
+                for (size_t b = b0; b < b1; ++b) TL_CHECK(check_pair(ps, g->index[a], g->index[b]));
+            }
+        /* coarser levels: the 27 cells around each particle there */
+        for (size_t a = a0; a < a1; ++a) {
+          size_t i = g->index[a];
+          TlVec3 s = g->reduced[i];
+          for (int m = l + 1; m < g->n_levels; ++m) {
+            const TlHGridLevel *M = &g->level[m];
+            if (!M->count) continue;
+            int px[3], py[3], pz[3];
+            int qx = neighbours_1d(g, m, 0, cell_coord(g, m, 0, s.x), px);
+            int qy = neighbours_1d(g, m, 1, cell_coord(g, m, 1, s.y), py);
+            int qz = neighbours_1d(g, m, 2, cell_coord(g, m, 2, s.z), pz);
+            for (int iz = 0; iz < qz; ++iz)
+              for (int iy = 0; iy < qy; ++iy)
+                for (int ix = 0; ix < qx; ++ix) {
+                  size_t c2 = cell_id(M, px[ix], py[iy], pz[iz]);
+                  for (size_t q = M->cell_start[c2]; q < M->cell_start[c2 + 1]; ++q)
+                    TL_CHECK(check_pair(ps, i, g->index[q]));
+                }
+          }
+        }
+      }
+  return TL_OK;
+}
+
+TlStatus tl_hgrid_pairs(const TlHGrid *gc, const TlVec3 *x, const double *radius, const uint8_t *skip,
                         TlPair **pairs, size_t *capacity, size_t *count)
 {
+  TlHGrid *g = (TlHGrid *)gc; /* only the scratch buffers change */
   const TlDomain *dom = g->domain;
-  PairScan ps = {dom, x, radius, skip, g->skin, {0, 0, 0}, {0, 0, 0}, 0, pairs, capacity, count};
-  ps.ortho = dom->kind != TL_DOMAIN_DEFORMABLE_CELL;
+  PairScan base = {dom, x, radius, skip, g->skin, {0, 0, 0}, {0, 0, 0}, 0, pairs, capacity, count};
+  base.ortho = dom->kind != TL_DOMAIN_DEFORMABLE_CELL;
   for (int q = 0; q < 3; ++q) {
-    ps.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
-    ps.half[q] = 0.5 * ps.len[q];
+    base.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
+    base.half[q] = 0.5 * base.len[q];
   }
   *count = 0;
+  int nt = g->n_particles >= 20000 ? omp_get_max_threads() : 1;
+  if (nt > TL_HGRID_MAX_THREADS) nt = TL_HGRID_MAX_THREADS;
   for (int l = 0; l < g->n_levels; ++l) {
     const TlHGridLevel *Lv = &g->level[l];
     if (!Lv->count) continue;
-    for (int cz = 0; cz < Lv->n[2]; ++cz)
-      for (int cy = 0; cy < Lv->n[1]; ++cy)
-        for (int cx = 0; cx < Lv->n[0]; ++cx) {
-          size_t c = cell_id(Lv, cx, cy, cz);
-          size_t a0 = Lv->cell_start[c], a1 = Lv->cell_start[c + 1];
-          if (a0 == a1) continue;
-          /* same level: pairs inside the cell, then with each neighbouring
-           * cell of larger number (each cell pair once) */
-          for (size_t a = a0; a < a1; ++a)
-            for (size_t b = a + 1; b < a1; ++b) TL_CHECK(check_pair(&ps, g->index[a], g->index[b]));
-          int nx[3], ny[3], nz[3];
-          int mx = neighbours_1d(g, l, 0, cx, nx), my = neighbours_1d(g, l, 1, cy, ny),
-              mz = neighbours_1d(g, l, 2, cz, nz);
-          for (int iz = 0; iz < mz; ++iz)
-            for (int iy = 0; iy < my; ++iy)
-              for (int ix = 0; ix < mx; ++ix) {
-                size_t c2 = cell_id(Lv, nx[ix], ny[iy], nz[iz]);
-                if (c2 <= c) continue;
-                size_t b0 = Lv->cell_start[c2], b1 = Lv->cell_start[c2 + 1];
-                for (size_t a = a0; a < a1; ++a)
-                  for (size_t b = b0; b < b1; ++b) TL_CHECK(check_pair(&ps, g->index[a], g->index[b]));
-              }
-          /* coarser levels: the 27 cells around each particle there */
-          for (size_t a = a0; a < a1; ++a) {
-            size_t i = g->index[a];
-            TlVec3 s = g->reduced[i];
-            for (int m = l + 1; m < g->n_levels; ++m) {
-              const TlHGridLevel *M = &g->level[m];
-              if (!M->count) continue;
-              int px[3], py[3], pz[3];
-              int qx = neighbours_1d(g, m, 0, cell_coord(g, m, 0, s.x), px);
-              int qy = neighbours_1d(g, m, 1, cell_coord(g, m, 1, s.y), py);
-              int qz = neighbours_1d(g, m, 2, cell_coord(g, m, 2, s.z), pz);
-              for (int iz = 0; iz < qz; ++iz)
-                for (int iy = 0; iy < qy; ++iy)
-                  for (int ix = 0; ix < qx; ++ix) {
-                    size_t c2 = cell_id(M, px[ix], py[iy], pz[iz]);
-                    for (size_t q = M->cell_start[c2]; q < M->cell_start[c2 + 1]; ++q)
-                      TL_CHECK(check_pair(&ps, i, g->index[q]));
-                  }
-            }
-          }
-        }
+    int nz = Lv->n[2];
+    int use = nt < nz ? nt : 1;
+    if (use <= 1) {
+      TL_CHECK(pairs_slab(g, &base, l, 0, nz));
+      continue;
+    }
+    TlStatus status = TL_OK;
+#pragma omp parallel num_threads(use)
+    {
+      int t = omp_get_thread_num();
+      PairScan ps = base;
+      g->thread_count[t] = 0;
+      ps.pairs = &g->thread_pairs[t];
+      ps.capacity = &g->thread_capacity[t];
+      ps.count = &g->thread_count[t];
+      TlStatus s = pairs_slab(g, &ps, l, nz * t / use, nz * (t + 1) / use);
+      if (s != TL_OK) {
+#pragma omp critical(tl_hgrid_pairs_status)
+        status = s;
+      }
+    }
+    if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+    size_t total = *count;
+    for (int t = 0; t < use; ++t) total += g->thread_count[t];
+    TL_CHECK(tl_array_reserve(pairs, capacity, total, sizeof **pairs));
+    for (int t = 0; t < use; ++t) {
+      memcpy(*pairs + *count, g->thread_pairs[t], g->thread_count[t] * sizeof **pairs);
+      *count += g->thread_count[t];
+    }
   }
   return TL_OK;
 }

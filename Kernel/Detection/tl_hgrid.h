@@ -34,7 +34,12 @@
 #include "tl_error.h"
 #include "tl_math.h"
 
-enum { TL_HGRID_MAX_LEVELS = 16 };
+enum { TL_HGRID_MAX_LEVELS = 16, TL_HGRID_MAX_THREADS = 64 };
+
+/* A pair of particle indices with i < j. */
+typedef struct {
+  uint32_t i, j;
+} TlPair;
 
 typedef struct {
   double cell_size;     /* s_l, real length */
@@ -57,14 +62,12 @@ typedef struct {
   const TlDomain *domain;
   TlVec3 *reduced;      /* per particle: reduced coordinates at the build (wrapped) */
   TlVec3 cell_width[TL_HGRID_MAX_LEVELS]; /* reduced width of a cell per direction */
+  /* per-thread pair buffers of tl_hgrid_pairs (scratch, reused) */
+  TlPair *thread_pairs[TL_HGRID_MAX_THREADS];
+  size_t thread_capacity[TL_HGRID_MAX_THREADS], thread_count[TL_HGRID_MAX_THREADS];
   size_t capacity_particles;
   size_t cell_capacity[TL_HGRID_MAX_LEVELS];
 } TlHGrid;
-
-/* A pair of particle indices with i < j. */
-typedef struct {
-  uint32_t i, j;
-} TlPair;
 
 TlStatus tl_hgrid_create(TlHGrid **grid);
 void tl_hgrid_destroy(TlHGrid **grid);
@@ -76,7 +79,10 @@ TlStatus tl_hgrid_build(TlHGrid *grid, const TlDomain *domain, size_t n, const T
 /* All pairs with |branch| <= r_i + r_j + grid->skin (branch by
  * tl_domain_branch), i < j, each once; appended to *pairs (a growable
  * array of *capacity entries), *count set.  `skip` (may be NULL) excludes a
- * pair when both particles have skip[i] && skip[j] (frozen base). */
+ * pair when both particles have skip[i] && skip[j] (frozen base).  Large
+ * grids are scanned by the OpenMP threads in slabs of cells, each into its
+ * own buffer kept in the grid, then concatenated in slab order; so two calls
+ * on the same grid must not run at once. */
 TlStatus tl_hgrid_pairs(const TlHGrid *grid, const TlVec3 *x, const double *radius,
                         const uint8_t *skip, TlPair **pairs, size_t *capacity, size_t *count);
 /* The same set by comparing every pair (test oracle only). */
