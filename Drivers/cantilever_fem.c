@@ -19,7 +19,8 @@
  * every n Newmark steps (the stepper with the solid's state, the table, the
  * snapshot writer and the driver's running diagnostics); -restart <file>,
  * with the same scene options, continues from it bit for bit (the static
- * deflection is not recomputed); -stop_step n ends the run after step n. */
+ * deflection is not recomputed; restart in the same -output_dir to keep one
+ * snapshot series); -stop_step n ends the run after step n. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

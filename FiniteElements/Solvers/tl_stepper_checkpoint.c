@@ -28,7 +28,9 @@ static TlStatus stepper_save(const void *object, TlCheckpointWriter *w, const ch
   TL_CHECK(tl_checkpoint_write_double(w, group, "energy_budget", st->energy_budget));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "steps", st->stats.steps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "rejected", st->stats.rejected));
-  int factored = st->newton && tl_newton_has_factors(st->newton);
+  /* Factors matter only when kept across steps (otherwise every solve
+   * starts with a fresh factorisation). */
+  int factored = st->newton && st->opt.keep_factors && tl_newton_has_factors(st->newton);
   TL_CHECK(tl_checkpoint_write_int64(w, group, "factored", factored));
   if (factored) TL_CHECK(tl_checkpoint_write_doubles(w, group, "jacobian", (size_t)st->J->nnz, st->J->values));
   const TlCheckpointOps *sys_ops = st->sys->ops->checkpoint;
