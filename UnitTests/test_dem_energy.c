@@ -3,7 +3,7 @@
  * opening and closing) keeps KE + elastic energy over 10^5 Velocity-Verlet
  * steps at dt = 0.0025 dt_c (dt_c the critical step of tl_dem.h; about
  * 1/2500 of a binary collision, some 20 collision times in all).  Measured
- * here: relative drift -1.2e-7 (linear) and -9.2e-8 (Hertz), largest
+ * here: relative drift -1.7e-7 (linear) and -9.2e-8 (Hertz), largest
  * excursion 2.0e-7 and 1.3e-7.  The error is Velocity-Verlet's O(dt²)
  * shadow-energy error plus a random walk over contact openings: at 0.005 dt_c
  * the drift is 1.3e-6 / 3.9e-7, at 0.05 dt_c 3e-5.  Momentum is conserved to
