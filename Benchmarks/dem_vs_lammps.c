@@ -41,6 +41,7 @@ static void repo_root(char *out, size_t cap)
 
 /* Builds the Talus scene from a LAMMPS data file. */
 static double g_skin = 0.1, g_mu = 0.5;
+static long g_sort = 10;
 
 static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
 {
@@ -76,6 +77,7 @@ static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
   tl_dem_track_energy(dem, 0);
   tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
   TL_CHECK(tl_dem_set_skin(dem, g_skin));
+  tl_dem_set_sort_interval(dem, (int)g_sort);
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
   *out = dem;
@@ -125,6 +127,7 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   tl_dem_track_energy(dem, 0);
   tl_dem_track_orientation(dem, 0); /* LAMMPS nve/sphere does not integrate orientations either */
   TL_CHECK(tl_dem_set_skin(dem, g_skin));
+  tl_dem_set_sort_interval(dem, (int)g_sort);
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
   if (data->has_velocities && P->w) {
@@ -198,6 +201,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_options_get_string(o, "-scene", "both", "chute, hertz or both", &scene));
   TL_CHECK(tl_options_get_real(o, "-mu", 0.5, 0.0, 10.0, "",
                                "friction coefficient (0: frictionless, no history, no rotation; Talus only)", &g_mu));
+  TL_CHECK(tl_options_get_int(o, "-sort", 10, 0, 1000000, "renumber particles in grid order every this many list rebuilds (0: never)", &g_sort));
   TL_CHECK(tl_options_get_real(o, "-skin", 0.1, 0.0, 1.0, "mean diameters",
                                "Verlet skin of Talus (LAMMPS runs with 0.1 diameters)", &g_skin));
   TlStatus s = tl_options_finish(o, stdout);
