@@ -41,6 +41,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include "tl_checkpoint.h"
 #include "tl_contact_law.h"
 #include "tl_domain.h"
 #include "tl_error.h"
@@ -160,5 +161,20 @@ void tl_dem_stats(const TlDem *dem, TlDemStats *s);
 typedef void (*TlContactVisitor)(void *ctx, size_t i, size_t j, TlVec3 force_on_i, TlVec3 branch,
                                  TlVec3 contact_point);
 TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
+
+/* ---- checkpoint and restart (tl_checkpoint.h; object: the TlDem) ----
+ * Saves everything a later step reads: the particle arrays (with rotation
+ * state, forces and torques of the last evaluation, species, motion kinds,
+ * ids and the next id), the contact list as it stands (pair order, law,
+ * touching flag, last force, every history double) and the bonded contacts,
+ * the build positions and counters of the neighbour list (the list is not
+ * rebuilt on load: a rebuild at another step would reorder pairs and change
+ * round-off), the domain (h, h⁻¹, ḣ, L), time, step and energy accumulators,
+ * the prescribed-motion indices and attach positions, and each wall through
+ * its checkpoint hooks plus its accounting fields.  Load into a world built
+ * the same way and set up (tl_dem_setup); the scene's laws, species, walls
+ * and prescribed groups must match in number and kind.  The grid is rebuilt
+ * on load from the saved build positions (walls query it between rebuilds). */
+extern const TlCheckpointOps tl_dem_checkpoint_ops;
 
 #endif
