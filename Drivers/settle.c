@@ -14,7 +14,14 @@
  * coordination), particles_*.h5 + particles.xmf (ParaView).  At the end the
  * vertical force on the walls is compared with the weight of the packing
  * (a settled packing carries its weight on the walls).  Last line:
- * summary: n=... kinetic_final=... weight_balance=... wall=... */
+ * summary: n=... kinetic_final=... weight_balance=... wall=...
+ *
+ * Restart: -checkpoint_every n writes <output_dir>/checkpoint.h5 every n
+ * steps (the whole DEM world, the energy table, the snapshot series and the
+ * driver's counters); -restart <file> rebuilds the scene from the same
+ * options, loads the file and continues bit for bit (restart in the same
+ * -output_dir to keep one table and one snapshot series); -stop_step n ends
+ * the run early after step n (to make a checkpoint to restart from). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -29,9 +36,9 @@
 typedef struct {
   long n;
   double d_min, d_max, density, E, e, mu, box, height, t_end, dt_fraction;
-  long snapshots, samples, floor_cells;
+  long snapshots, samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
-  const char *out;
+  const char *out, *restart;
 } Settings;
 
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
@@ -60,8 +67,41 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_int(*o, "-threads", 0, 0, 1024, "OpenMP threads (0: default)", &th));
   s->threads = (int)th;
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/settle", "output folder", &s->out));
+  TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
+                              "write <output_dir>/checkpoint.h5 every n steps (0: never)", &s->checkpoint_every));
+  TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
+  TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000, "stop after this step (0: run to -t_end)",
+                              &s->stop_step));
   return tl_options_finish(*o, stdout);
 }
+
+/* The driver's own counters, checkpointed with the run. */
+typedef struct {
+  int64_t next_step; /* the loop step the run continues with */
+  double e0;         /* total energy at the start */
+} Progress;
+
+static TlStatus progress_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Progress *p = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "next_step", p->next_step));
+  TL_CHECK(tl_checkpoint_write_double(w, group, "initial_energy", p->e0));
+  return TL_OK;
+}
+
+static TlStatus progress_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Progress *p = object;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "next_step", &p->next_step));
+  TL_CHECK(tl_checkpoint_read_double(r, group, "initial_energy", &p->e0));
+  return TL_OK;
+}
+
+static const TlCheckpointOps progress_checkpoint_ops = {
+    .header = {"checkpoint", "settle_progress_v1", "loop step and initial energy of the settle driver"},
+    .save = progress_save,
+    .load = progress_load,
+};
 
 static TlStatus run(int argc, char **argv)
 {
@@ -156,11 +196,27 @@ static TlStatus run(int argc, char **argv)
   double weight = 0.0;
   for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
   TlDemEnergy en;
-  double e0 = 0.0, wall_fz = 0.0;
-  for (long k = 0; k <= steps; ++k) {
+  double wall_fz = 0.0;
+  Progress pr = {0, 0.0};
+  TlCheckpoint *cp = NULL;
+  char cp_path[4200];
+  snprintf(cp_path, sizeof cp_path, "%s/checkpoint.h5", s.out);
+  TL_CHECK(tl_checkpoint_create(&cp));
+  TL_CHECK(tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem));
+  TL_CHECK(tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts));
+  TL_CHECK(tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer));
+  TL_CHECK(tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr));
+  if (s.restart && s.restart[0]) {
+    TL_CHECK(tl_checkpoint_load(cp, s.restart, NULL, NULL));
+    printf("restarted from %s at step %lld, t = %.9g s\n", s.restart, (long long)pr.next_step, tl_dem_time(dem));
+    weight = 0.0;
+    for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
+  }
+  long last = s.stop_step > 0 && s.stop_step < steps ? s.stop_step : steps;
+  for (long k = (long)pr.next_step; k <= steps; ++k) {
     if (k % every == 0 || k == steps) {
       TL_CHECK(tl_dem_energy(dem, &en));
-      if (k == 0) e0 = en.total;
+      if (k == 0) pr.e0 = en.total;
       double z;
       TL_CHECK(tl_dem_coordination(dem, &z, NULL));
       wall_fz = 0.0;
@@ -173,11 +229,15 @@ static TlStatus run(int argc, char **argv)
       TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
       TL_CHECK(tl_particle_writer_write(writer, k, tl_dem_time(dem), &view));
     }
-    if (k == steps) break;
+    if (k == steps || k == last) break;
     TL_CHECK(tl_dem_step(dem, 1));
+    pr.next_step = k + 1;
+    if (s.checkpoint_every > 0 && pr.next_step % s.checkpoint_every == 0)
+      TL_CHECK(tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), pr.next_step));
     if (k % 200 == 0) tl_progress_update(&prog, (double)k);
   }
   tl_progress_finish(&prog);
+  tl_checkpoint_destroy(&cp);
   TL_CHECK(tl_timeseries_close(&ts));
   tl_particle_writer_destroy(&writer);
   /* results */
@@ -192,7 +252,7 @@ static TlStatus run(int argc, char **argv)
   }
   /* the walls push up on the particles: their reactions are -force */
   double balance = -wall_fz / weight;
-  double energy_error = (en.total - e0) / fmax(fabs(e0), 1e-300);
+  double energy_error = (en.total - pr.e0) / fmax(fabs(pr.e0), 1e-300);
   printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
          en.kinetic_translational + en.kinetic_rotational, en.elastic, en.dissipated, z, znr);
   printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
@@ -200,7 +260,7 @@ static TlStatus run(int argc, char **argv)
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", (long)P->n);
-  tl_summary_int(&sum, "steps", steps);
+  tl_summary_int(&sum, "steps", last);
   tl_summary_real(&sum, "kinetic_final", en.kinetic_translational + en.kinetic_rotational);
   tl_summary_real(&sum, "coordination", z);
   tl_summary_real(&sum, "weight_balance", balance);
