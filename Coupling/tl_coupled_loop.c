@@ -1,0 +1,189 @@
+/* The coupled DEM–FEM loop: lock-step or sub-cycled, two-way or one-way. */
+#include "tl_coupled_loop.h"
+
+#include <math.h>
+#include <string.h>
+#include "tl_memory.h"
+
+struct TlCoupledLoop {
+  TlDem *dem;
+  TlSolid *solid;
+  TlStepper *stepper;
+  TlMechSystem *sys;
+  int n_couplings;
+  TlSCoupling **couplings;
+  TlCoupledLoopOptions o;
+  size_t n_nodes;
+  double *u_nodes, *v_nodes, *u_prev, *v_prev, *u_mid, *v_mid; /* 3 n_nodes */
+  double *F_nodes, *F_acc;                                      /* 3 n_nodes */
+  double *F_dof, *u_old;                                        /* ndof */
+  TlVec3 wall_force, wall_acc;
+  double t;
+  double work_on_solid;
+};
+
+void tl_coupled_loop_options_default(TlCoupledLoopOptions *o)
+{
+  o->substeps = 1;
+  o->one_way = 0;
+}
+
+static TlStatus hook(void *ctx, double t, double dt, const double *u, const double *v, double *f_hook)
+{
+  (void)t, (void)dt, (void)u, (void)v;
+  TlCoupledLoop *L = ctx;
+  for (TlSparseIndex i = 0; i < L->sys->ndof; i++) f_hook[i] += L->F_dof[i];
+  return TL_OK;
+}
+
+/* Coupling forces of the current DEM contacts, scaled, into F_acc. */
+static TlStatus gather(TlCoupledLoop *L, double scale)
+{
+  for (int c = 0; c < L->n_couplings; c++) {
+    TlVec3 w;
+    TL_CHECK(tl_scoupling_add_nodal_forces(L->couplings[c], scale, L->F_acc, &w));
+    L->wall_acc = tl_v3_axpy(L->wall_acc, scale, w);
+  }
+  return TL_OK;
+}
+
+static TlStatus move_walls(TlCoupledLoop *L, const double *u, const double *v)
+{
+  for (int c = 0; c < L->n_couplings; c++) TL_CHECK(tl_scoupling_set_kinematics(L->couplings[c], u, v));
+  return TL_OK;
+}
+
+TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, int n_couplings,
+                                TlSCoupling *const *couplings, const TlCoupledLoopOptions *options,
+                                TlCoupledLoop **out)
+{
+  *out = NULL;
+  if (!dem || !solid || !stepper || n_couplings < 1 || !couplings)
+    TL_ERROR(TL_ERR_ARG, "coupled loop needs a world, a solid, a stepper and at least one coupling (got %d)", n_couplings);
+  TlCoupledLoopOptions o;
+  tl_coupled_loop_options_default(&o);
+  if (options) o = *options;
+  if (o.substeps < 1 || o.substeps > 100000) TL_ERROR(TL_ERR_ARG, "sub-steps %d outside [1, 100000]", o.substeps);
+  const TlMesh *mesh = tl_solid_mesh(solid);
+  if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "coupled loop needs a 3-D solid (dimension %d)", mesh->dim);
+  TlCoupledLoop *L;
+  TL_CHECK(TL_NEW(L));
+  TlStatus s = TL_OK;
+  L->dem = dem;
+  L->solid = solid;
+  L->stepper = stepper;
+  L->sys = tl_solid_system(solid);
+  L->o = o;
+  L->n_couplings = n_couplings;
+  L->n_nodes = mesh->n_nodes;
+  size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
+  if ((s = tl_calloc(&L->couplings, (size_t)n_couplings, sizeof *L->couplings)) != TL_OK) goto fail;
+  for (int c = 0; c < n_couplings; c++) L->couplings[c] = couplings[c];
+  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->u_prev, &L->v_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_acc};
+  for (size_t k = 0; k < sizeof node_arrays / sizeof *node_arrays; k++)
+    if ((s = tl_calloc(node_arrays[k], nn, sizeof(double))) != TL_OK) goto fail;
+  if ((s = tl_calloc(&L->F_dof, nd ? nd : 1, sizeof(double))) != TL_OK) goto fail;
+  if ((s = tl_calloc(&L->u_old, nd ? nd : 1, sizeof(double))) != TL_OK) goto fail;
+  L->t = tl_dem_time(dem);
+  tl_solid_dofs_to_nodes(solid, stepper->u, L->u_nodes);
+  tl_solid_dofs_to_nodes(solid, stepper->v, L->v_nodes);
+  tl_dem_track_energy(dem, 1);
+  if ((s = move_walls(L, L->u_nodes, L->v_nodes)) != TL_OK) goto fail;
+  if ((s = tl_dem_compute_forces(dem)) != TL_OK) goto fail;
+  if ((s = gather(L, 1.0)) != TL_OK) goto fail;
+  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
+  L->wall_force = L->wall_acc;
+  tl_mech_system_set_step_hook(L->sys, hook, L);
+  *out = L;
+  return TL_OK;
+fail:
+  tl_coupled_loop_destroy(&L);
+  return tl_error_trace(s, __FILE__, __LINE__);
+}
+
+void tl_coupled_loop_destroy(TlCoupledLoop **pL)
+{
+  TlCoupledLoop *L = *pL;
+  if (!L) return;
+  if (L->sys && L->sys->step_hook_ctx == L) tl_mech_system_set_step_hook(L->sys, NULL, NULL);
+  tl_free(&L->couplings);
+  tl_free(&L->u_nodes);
+  tl_free(&L->v_nodes);
+  tl_free(&L->u_prev);
+  tl_free(&L->v_prev);
+  tl_free(&L->u_mid);
+  tl_free(&L->v_mid);
+  tl_free(&L->F_nodes);
+  tl_free(&L->F_acc);
+  tl_free(&L->F_dof);
+  tl_free(&L->u_old);
+  tl_free(pL);
+}
+
+TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
+{
+  const int k = L->o.substeps;
+  const double dt = tl_dem_timestep(L->dem);
+  const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
+  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
+  memcpy(L->v_prev, L->v_nodes, nn * sizeof(double));
+  if (!L->o.one_way) {
+    /* 1. The solid under the coupling forces of the last k DEM steps. */
+    tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
+    memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
+    TL_CHECK(tl_stepper_step(L->stepper, k * dt));
+    double w = 0.0;
+    for (size_t i = 0; i < nd; i++) w += L->F_dof[i] * (L->stepper->u[i] - L->u_old[i]);
+    L->work_on_solid += w;
+    tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
+    tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
+  }
+  /* 2. k DEM steps with the walls interpolated in time. */
+  memset(L->F_acc, 0, nn * sizeof(double));
+  L->wall_acc = tl_v3(0, 0, 0);
+  for (int j = 1; j <= k; j++) {
+    if (!L->o.one_way) {
+      const double s = (double)j / (double)k;
+      if (j == k) {
+        TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
+      } else {
+        for (size_t i = 0; i < nn; i++) {
+          L->u_mid[i] = L->u_prev[i] + s * (L->u_nodes[i] - L->u_prev[i]);
+          L->v_mid[i] = L->v_prev[i] + s * (L->v_nodes[i] - L->v_prev[i]);
+        }
+        TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+      }
+    }
+    TL_CHECK(tl_dem_step(L->dem, 1));
+    TL_CHECK(gather(L, 1.0 / (double)k));
+  }
+  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
+  L->wall_force = L->wall_acc;
+  L->t += k * dt;
+  return TL_OK;
+}
+
+TlStatus tl_coupled_loop_energy(TlCoupledLoop *L, TlCoupledEnergy *e)
+{
+  memset(e, 0, sizeof *e);
+  TlDemEnergy d;
+  TL_CHECK(tl_dem_energy(L->dem, &d));
+  e->dem_kinetic = d.kinetic_translational + d.kinetic_rotational;
+  e->dem_elastic = d.elastic;
+  e->dem_gravitational = d.gravitational;
+  TlEnergies f;
+  TL_CHECK(tl_stepper_energies(L->stepper, &f));
+  e->fem_kinetic = f.kinetic;
+  e->fem_strain = f.strain;
+  e->work_on_solid = L->work_on_solid;
+  for (int c = 0; c < L->n_couplings; c++) e->work_on_particles += tl_scoupling_wall(L->couplings[c])->work;
+  e->total = e->dem_kinetic + e->dem_elastic + e->dem_gravitational + e->fem_kinetic + e->fem_strain;
+  if (!isfinite(e->total)) TL_ERROR(TL_ERR_NUMERIC, "coupled total energy is not finite at t = %g", L->t);
+  return TL_OK;
+}
+
+double tl_coupled_loop_time(const TlCoupledLoop *L) { return L->t; }
+const double *tl_coupled_loop_u_nodes(const TlCoupledLoop *L) { return L->u_nodes; }
+const double *tl_coupled_loop_v_nodes(const TlCoupledLoop *L) { return L->v_nodes; }
+const double *tl_coupled_loop_forces(const TlCoupledLoop *L) { return L->F_nodes; }
+TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *L) { return L->wall_force; }

@@ -1,0 +1,337 @@
+/* Surface coupling: walls from FE faces and CG nodal forces (seeds/001 §5.1, §5.3.1). */
+#include "tl_scoupling.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "tl_memory.h"
+
+struct TlSCoupling {
+  TlSolid *solid;
+  const TlMesh *mesh;
+  double width;
+  size_t n_faces;
+  TlFaceRef *faces;
+  int nf;            /* nodes per face: 3 or 4 */
+  size_t n_local;    /* distinct FE nodes of the faces */
+  size_t *node;      /* local -> global node */
+  int *face_local;   /* n_faces x nf local node numbers */
+  TlVec3 *X0, *xs;   /* reference and current positions of the local nodes */
+  size_t n_vertices; /* wall vertices: local nodes, then one centre per quadrilateral */
+  double *vx, *vv;   /* 3 x n_vertices scratch for the wall */
+  TlWall *wall;
+  int wall_given;    /* the world owns the wall */
+  TlCGKernel *kernel;
+  TlCGSurface *cg;
+  /* SCoupling elements and the element of each face */
+  size_t n_elements, n_active;
+  TlFaceRef *elements, *active;
+  size_t *face_element;
+  unsigned char *touched;
+  /* per-contact scratch */
+  size_t capacity, n_contacts;
+  size_t *c_face;
+  TlVec3 *c_point, *c_force;
+  TlVec3 *nodal;
+};
+
+void tl_scoupling_options_default(TlSCouplingOptions *o)
+{
+  o->width = 0.0;
+  o->kernel = "lucy";
+  o->subdivisions = 0;
+}
+
+static int same_face(TlFaceRef a, TlFaceRef b)
+{
+  return a.block == b.block && a.element == b.element && a.face == b.face;
+}
+
+static TlStatus build_topology(TlSCoupling *sc)
+{
+  const TlMesh *m = sc->mesh;
+  size_t *map = NULL;
+  TL_CHECK(tl_calloc(&map, m->n_nodes, sizeof *map));
+  for (size_t i = 0; i < m->n_nodes; i++) map[i] = SIZE_MAX;
+  TlStatus s = TL_OK;
+  size_t fn[27];
+  double fx[81];
+  if ((s = tl_calloc(&sc->face_local, sc->n_faces * (size_t)sc->nf, sizeof *sc->face_local)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->node, sc->n_faces * (size_t)sc->nf, sizeof *sc->node)) != TL_OK) goto done;
+  sc->n_local = 0;
+  for (size_t f = 0; f < sc->n_faces; f++) {
+    tl_mesh_face_nodes(m, sc->faces[f], fn, fx);
+    for (int a = 0; a < sc->nf; a++) {
+      if (map[fn[a]] == SIZE_MAX) {
+        map[fn[a]] = sc->n_local;
+        sc->node[sc->n_local++] = fn[a];
+      }
+      sc->face_local[f * (size_t)sc->nf + (size_t)a] = (int)map[fn[a]];
+    }
+  }
+  /* SCoupling elements: distinct (block, element) owners of the faces. */
+  if ((s = tl_calloc(&sc->elements, sc->n_faces, sizeof *sc->elements)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->active, sc->n_faces, sizeof *sc->active)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->face_element, sc->n_faces, sizeof *sc->face_element)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->touched, sc->n_faces, 1)) != TL_OK) goto done;
+  for (size_t f = 0; f < sc->n_faces; f++) {
+    size_t k = 0;
+    for (; k < sc->n_elements; k++)
+      if (sc->elements[k].block == sc->faces[f].block && sc->elements[k].element == sc->faces[f].element) break;
+    if (k == sc->n_elements) {
+      sc->elements[k] = sc->faces[f];
+      sc->elements[k].face = -1;
+      sc->n_elements++;
+    }
+    sc->face_element[f] = k;
+  }
+done:
+  tl_free(&map);
+  return s;
+}
+
+TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *faces,
+                             const TlSCouplingOptions *options, TlSCoupling **out)
+{
+  *out = NULL;
+  if (!solid || !faces || n_faces == 0) TL_ERROR(TL_ERR_ARG, "surface coupling needs a solid and faces (got %zu faces)", n_faces);
+  TlSCouplingOptions o;
+  tl_scoupling_options_default(&o);
+  if (options) o = *options;
+  if (!(o.width >= 0.0) || !isfinite(o.width)) TL_ERROR(TL_ERR_ARG, "CG width c = %g must be finite and >= 0", o.width);
+  if (o.subdivisions < 0 || o.subdivisions > 64) TL_ERROR(TL_ERR_ARG, "CG subdivisions %d outside [0, 64]", o.subdivisions);
+  const TlMesh *mesh = tl_solid_mesh(solid);
+  if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "surface coupling needs a 3-D mesh (dimension %d)", mesh->dim);
+  int nf = 0;
+  for (size_t f = 0; f < n_faces; f++) {
+    if (faces[f].block < 0 || faces[f].block >= mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "face %zu names block %d, outside [0, %d)", f, faces[f].block, mesh->n_blocks);
+    const TlElementType *t = mesh->blocks[faces[f].block].type;
+    if (faces[f].face < 0 || faces[f].face >= t->n_faces || faces[f].element >= mesh->blocks[faces[f].block].n_elements)
+      TL_ERROR(TL_ERR_ARG, "face %zu (element %zu, face %d) out of range", f, faces[f].element, faces[f].face);
+    if (t->face_n_nodes != 3 && t->face_n_nodes != 4)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "face %zu of block '%s' has %d nodes: surface coupling takes linear triangles (3) and bilinear quadrilaterals (4) only",
+               f, mesh->blocks[faces[f].block].name, t->face_n_nodes);
+    if (nf && t->face_n_nodes != nf) TL_ERROR(TL_ERR_UNSUPPORTED, "face %zu has %d nodes, the others %d: one face type per coupled boundary", f, t->face_n_nodes, nf);
+    nf = t->face_n_nodes;
+  }
+  TlSCoupling *sc;
+  TL_CHECK(TL_NEW(sc));
+  TlStatus s = TL_OK;
+  sc->solid = solid;
+  sc->mesh = mesh;
+  sc->width = o.width;
+  sc->n_faces = n_faces;
+  sc->nf = nf;
+  if ((s = tl_calloc(&sc->faces, n_faces, sizeof *sc->faces)) != TL_OK) goto fail;
+  memcpy(sc->faces, faces, n_faces * sizeof *faces);
+  if ((s = build_topology(sc)) != TL_OK) goto fail;
+  if ((s = tl_calloc(&sc->X0, sc->n_local, sizeof *sc->X0)) != TL_OK) goto fail;
+  if ((s = tl_calloc(&sc->xs, sc->n_local, sizeof *sc->xs)) != TL_OK) goto fail;
+  if ((s = tl_calloc(&sc->nodal, sc->n_local, sizeof *sc->nodal)) != TL_OK) goto fail;
+  for (size_t i = 0; i < sc->n_local; i++) {
+    const double *X = mesh->x + 3 * sc->node[i];
+    sc->X0[i] = sc->xs[i] = tl_v3(X[0], X[1], X[2]);
+  }
+  /* Wall: quadrilaterals as four triangles around their centre. */
+  size_t n_tri = nf == 4 ? 4 * n_faces : n_faces;
+  sc->n_vertices = sc->n_local + (nf == 4 ? n_faces : 0);
+  int *tri = NULL;
+  if ((s = tl_calloc(&sc->vx, 3 * sc->n_vertices, sizeof *sc->vx)) != TL_OK) goto fail;
+  if ((s = tl_calloc(&sc->vv, 3 * sc->n_vertices, sizeof *sc->vv)) != TL_OK) goto fail;
+  if ((s = tl_calloc(&tri, 3 * n_tri, sizeof *tri)) != TL_OK) goto fail;
+  for (size_t f = 0; f < n_faces; f++) {
+    const int *q = sc->face_local + f * (size_t)nf;
+    if (nf == 3) {
+      for (int a = 0; a < 3; a++) tri[3 * f + (size_t)a] = q[a];
+    } else {
+      int centre = (int)(sc->n_local + f);
+      for (int a = 0; a < 4; a++) {
+        int *t = tri + 3 * (4 * f + (size_t)a);
+        t[0] = q[a];
+        t[1] = q[(a + 1) % 4];
+        t[2] = centre;
+      }
+    }
+  }
+  if ((s = tl_scoupling_set_kinematics(sc, NULL, NULL)) != TL_OK) { tl_free(&tri); goto fail; }
+  TlTriSurface *surf = NULL;
+  s = tl_trisurface_create(sc->n_vertices, sc->vx, n_tri, tri, &surf);
+  tl_free(&tri);
+  if (s != TL_OK) goto fail;
+  if ((s = tl_wall_trisurface_create(surf, &sc->wall)) != TL_OK) goto fail;
+  snprintf(sc->wall->name, sizeof sc->wall->name, "scoupling");
+  /* CG surface over the FE faces (Eq. 15) or the Dirac limit (Eq. 16). */
+  if (o.width > 0.0) {
+    if ((s = tl_cg_kernel_create(o.kernel ? o.kernel : "lucy", o.width, 3, &sc->kernel)) != TL_OK) goto fail;
+  } else {
+    if ((s = tl_cg_kernel_create("dirac", 0.0, 3, &sc->kernel)) != TL_OK) goto fail;
+  }
+  int sub = o.subdivisions;
+  if (sub == 0) {
+    /* Quadrature spacing (face size / (3 sub)) well below the width. */
+    double h = 0.0;
+    for (size_t f = 0; f < n_faces; f++)
+      for (int a = 0; a < nf; a++) {
+        TlVec3 d = tl_v3_sub(sc->X0[sc->face_local[f * (size_t)nf + (size_t)a]],
+                             sc->X0[sc->face_local[f * (size_t)nf + (size_t)((a + 1) % nf)]]);
+        h = fmax(h, tl_v3_norm(d));
+      }
+    sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
+    if (sub < 1) sub = 1;
+    if (sub > 16) sub = 16;
+  }
+  if (nf == 4)
+    s = tl_cg_surface_create_quads(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
+  else
+    s = tl_cg_surface_create_triangles(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
+  if (s != TL_OK) goto fail;
+  *out = sc;
+  return TL_OK;
+fail:
+  tl_scoupling_destroy(&sc);
+  return tl_error_trace(s, __FILE__, __LINE__);
+}
+
+TlStatus tl_scoupling_create_boundary(TlSolid *solid, int n_excluded, const char *const *excluded,
+                                      const TlSCouplingOptions *options, TlSCoupling **sc)
+{
+  const TlMesh *m = tl_solid_mesh(solid);
+  TlFaceRef *faces = NULL;
+  TL_CHECK(tl_calloc(&faces, m->n_boundary ? m->n_boundary : 1, sizeof *faces));
+  size_t n = 0;
+  TlStatus s = TL_OK;
+  for (size_t f = 0; f < m->n_boundary; f++) {
+    int skip = 0;
+    for (int k = 0; k < n_excluded && !skip; k++) {
+      const TlFaceSet *set;
+      if ((s = tl_mesh_find_face_set(m, excluded[k], &set)) != TL_OK) goto done;
+      for (size_t j = 0; j < set->n && !skip; j++) skip = same_face(set->faces[j], m->boundary[f]);
+    }
+    if (!skip) faces[n++] = m->boundary[f];
+  }
+  s = tl_scoupling_create(solid, n, faces, options, sc);
+done:
+  tl_free(&faces);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  return TL_OK;
+}
+
+void tl_scoupling_destroy(TlSCoupling **psc)
+{
+  TlSCoupling *sc = *psc;
+  if (!sc) return;
+  if (!sc->wall_given) tl_wall_destroy(&sc->wall);
+  tl_cg_surface_destroy(&sc->cg);
+  tl_cg_kernel_destroy(&sc->kernel);
+  tl_free(&sc->faces);
+  tl_free(&sc->node);
+  tl_free(&sc->face_local);
+  tl_free(&sc->X0);
+  tl_free(&sc->xs);
+  tl_free(&sc->vx);
+  tl_free(&sc->vv);
+  tl_free(&sc->elements);
+  tl_free(&sc->active);
+  tl_free(&sc->face_element);
+  tl_free(&sc->touched);
+  tl_free(&sc->c_face);
+  tl_free(&sc->c_point);
+  tl_free(&sc->c_force);
+  tl_free(&sc->nodal);
+  tl_free(psc);
+}
+
+TlStatus tl_scoupling_add_to_dem(TlSCoupling *sc, TlDem *dem, int law)
+{
+  if (sc->wall_given) TL_ERROR(TL_ERR_STATE, "the coupling's wall was already given to a world");
+  sc->wall_given = 1;
+  TL_CHECK(tl_dem_add_wall(dem, sc->wall, law));
+  return TL_OK;
+}
+
+TlWall *tl_scoupling_wall(TlSCoupling *sc) { return sc->wall; }
+
+TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const double *v)
+{
+  for (size_t i = 0; i < sc->n_local; i++) {
+    const size_t n = sc->node[i];
+    TlVec3 x = sc->X0[i];
+    if (u) x = tl_v3_add(x, tl_v3(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
+    if (!(isfinite(x.x) && isfinite(x.y) && isfinite(x.z)))
+      TL_ERROR(TL_ERR_NUMERIC, "node %zu of the coupled surface has a non-finite position", n);
+    sc->xs[i] = x;
+    sc->vx[3 * i] = x.x, sc->vx[3 * i + 1] = x.y, sc->vx[3 * i + 2] = x.z;
+    for (int c = 0; c < 3; c++) sc->vv[3 * i + (size_t)c] = v ? v[3 * n + (size_t)c] : 0.0;
+  }
+  if (sc->nf == 4) {
+    /* Centres: the bilinear interpolation at (0, 0), the mean of the corners. */
+    for (size_t f = 0; f < sc->n_faces; f++) {
+      const int *q = sc->face_local + 4 * f;
+      const size_t cv = 3 * (sc->n_local + f);
+      for (int c = 0; c < 3; c++) {
+        double xs = 0.0, vs = 0.0;
+        for (int a = 0; a < 4; a++) {
+          xs += sc->vx[3 * (size_t)q[a] + (size_t)c];
+          vs += sc->vv[3 * (size_t)q[a] + (size_t)c];
+        }
+        sc->vx[cv + (size_t)c] = 0.25 * xs;
+        sc->vv[cv + (size_t)c] = 0.25 * vs;
+      }
+    }
+  }
+  if (sc->wall) TL_CHECK(tl_trisurface_set_vertices(tl_wall_trisurface_surface(sc->wall), sc->vx, sc->vv));
+  if (sc->cg) TL_CHECK(tl_cg_surface_update(sc->cg, NULL));
+  return TL_OK;
+}
+
+TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_nodes, TlVec3 *total_wall)
+{
+  const TlTriContactSet *set = tl_wall_trisurface_contacts(sc->wall);
+  size_t n = set ? set->count : 0;
+  if (n > sc->capacity) {
+    size_t cap = 2 * n;
+    TL_CHECK(tl_realloc(&sc->c_face, cap, sizeof *sc->c_face));
+    TL_CHECK(tl_realloc(&sc->c_point, cap, sizeof *sc->c_point));
+    TL_CHECK(tl_realloc(&sc->c_force, cap, sizeof *sc->c_force));
+    sc->capacity = cap;
+  }
+  /* Step 1 of §5.3.1: the SCoupling elements touched now. */
+  memset(sc->touched, 0, sc->n_elements);
+  sc->n_active = 0;
+  size_t m = 0;
+  TlVec3 total = tl_v3(0, 0, 0);
+  for (size_t k = 0; k < n; k++) {
+    const TlTriContactRecord *r = &set->c[k];
+    if (!r->active) continue;
+    size_t face = sc->nf == 4 ? (size_t)r->triangle / 4 : (size_t)r->triangle;
+    sc->c_face[m] = face;
+    sc->c_point[m] = r->point;
+    sc->c_force[m] = r->force;
+    total = tl_v3_add(total, r->force);
+    size_t e = sc->face_element[face];
+    if (!sc->touched[e]) {
+      sc->touched[e] = 1;
+      sc->active[sc->n_active++] = sc->elements[e];
+    }
+    m++;
+  }
+  sc->n_contacts = m;
+  if (total_wall) *total_wall = total;
+  if (m == 0) return TL_OK;
+  memset(sc->nodal, 0, sc->n_local * sizeof *sc->nodal);
+  TL_CHECK(tl_cg_surface_nodal_forces(sc->cg, sc->kernel, m, sc->c_face, sc->c_point, sc->c_force, sc->nodal));
+  for (size_t i = 0; i < sc->n_local; i++) {
+    double *f = f_nodes + 3 * sc->node[i];
+    f[0] += scale * sc->nodal[i].x;
+    f[1] += scale * sc->nodal[i].y;
+    f[2] += scale * sc->nodal[i].z;
+  }
+  return TL_OK;
+}
+
+size_t tl_scoupling_n_elements(const TlSCoupling *sc) { return sc->n_elements; }
+size_t tl_scoupling_n_active_elements(const TlSCoupling *sc) { return sc->n_active; }
+const TlFaceRef *tl_scoupling_elements(const TlSCoupling *sc) { return sc->elements; }
+const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc) { return sc->active; }
+size_t tl_scoupling_n_contacts(const TlSCoupling *sc) { return sc->n_contacts; }
+double tl_scoupling_width(const TlSCoupling *sc) { return sc->width; }
