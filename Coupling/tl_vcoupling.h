@@ -1,0 +1,123 @@
+/* Volume coupling (Arlequin) of particles and a solid overlapping in a zone,
+ * with CG-enriched homogenisation (seeds/001 §5.2, Eqs. 17-32, Appendix B).
+ *
+ * The coupling wraps one element block of a mesh through its element type's
+ * ops (shape functions, quadrature, inverse map), so any solid element type
+ * works.  Per step:
+ *
+ *   1. tl_vcoupling_update(): the current geometry of the coupling elements
+ *      (bounding boxes extended by the CG width c), and the homogenisation
+ *      operator Pi of Eq. 27 for the particles near each element:
+ *        c = 0: Eq. 19, Pi_ia ~ m_a N_i(xi_a) through the inverse map;
+ *        c > 0: Eq. 18, Pi_ia ~ m_a sum_q w_q W(x_q - x_a) N_i(x_q) by
+ *               quadrature on the element, no inverse map.
+ *      Rows are normalised (sum_a Pi_ia = 1) over the whole support of node
+ *      i (all coupling elements that hold it).  Nodes no particle reaches
+ *      are left out of the constraint.
+ *   2. tl_vcoupling_forces(): u_i^DE = sum_a Pi_ia du_a, the nodal
+ *      mismatch r_j = u_j^DE - u_j^FE (Eq. 29), the nodal force of the
+ *      body force b^C = eps r (Eq. 31) on the solid, F_i = eps sum_j M_ij r_j
+ *      with M_ij = int_{Omega^C} N_i N_j dV, and the particle forces
+ *      f_a^C = -sum_i Pi_ia F_i (Eq. 32), so sum_a f_a^C = -sum_i F_i
+ *      (Eq. 41) up to round-off.
+ *
+ * Weights (Eqs. 22-26): w = 1 on the particle side, 0 on the solid side, a
+ * half-cycle cosine across the zone [lo, hi] along one axis.  Nodal values
+ * w_i are set once; inside the coupling elements w is interpolated by the
+ * shape functions, so the weight field moves with the solid.  The particle
+ * equations are weighted by w (at centres, w_a, and contact points, w_ab),
+ * the solid's by 1 - w.
+ *
+ * No allocation after the first steps: every buffer grows to its working
+ * size and is reused. */
+#ifndef TL_VCOUPLING_H
+#define TL_VCOUPLING_H
+
+#include <stddef.h>
+#include "tl_error.h"
+#include "tl_mesh.h"
+
+/* The coupling zone: w = 1 for x[axis] <= lo, 0 for x[axis] >= hi. */
+typedef struct {
+  int axis;
+  double lo, hi;
+} TlVCouplingZone;
+
+typedef struct {
+  TlVCouplingZone zone;
+  double c;           /* CG width (m); 0 selects the classical Eq. 19 */
+  const char *kernel; /* CG kernel name for c > 0 ("lucy", "gaussian", "heaviside") */
+  double epsilon;     /* penalty (Pa/m^2) */
+  int quad_order;     /* Gauss points per direction for Eq. 18 (1..5) */
+} TlVCouplingParams;
+
+typedef struct {
+  size_t n_active;      /* coupled nodes (reached by particles) */
+  size_t n_entries;     /* nonzeros of Pi */
+  double residual_max;  /* max_j |u_j^DE - u_j^FE| over coupled nodes (m) */
+  double residual_rms;
+  double force_fem[3];  /* sum of the nodal coupling forces on the solid */
+  double force_dem[3];  /* sum of the particle coupling forces */
+  double eq41;          /* |force_fem + force_dem| / sum of |nodal forces| (0 if no force) */
+  double work_fem;      /* sum_i F_i . du_i (coupling work on the solid in the step) */
+  double work_dem;      /* sum_a f_a . du_a */
+} TlVCouplingDiag;
+
+typedef struct TlVCoupling TlVCoupling;
+
+/* The half-cycle cosine profile of the zone at point x (1 on the lo side). */
+double tl_vcoupling_zone_weight(const TlVCouplingZone *zone, const double x[3]);
+
+/* Coupling on block `block` of a finalized 3-D mesh: the coupling elements
+ * are those reaching into the open zone (lo, hi).  Errors name a bad axis,
+ * an empty or inverted zone, a negative or non-finite c or epsilon, an
+ * unknown kernel, a zone holding no element. */
+TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingParams *params,
+                             TlVCoupling **vc);
+void tl_vcoupling_destroy(TlVCoupling **vc);
+
+/* Changes the CG width (0: classical); takes effect at the next update. */
+TlStatus tl_vcoupling_set_width(TlVCoupling *vc, double c);
+
+/* Current geometry (u_nodes: total nodal displacements, 3 per mesh node, or
+ * NULL for the reference configuration) and Pi for np particles at xp
+ * (3 per particle) with masses mp. */
+TlStatus tl_vcoupling_update(TlVCoupling *vc, const double *u_nodes, size_t np, const double *xp,
+                             const double *mp);
+
+/* Weights w(x) at n points (particle centres or contact points) in the
+ * geometry of the last update: interpolated from the nodal weights inside a
+ * coupling element, the zone profile elsewhere. */
+TlStatus tl_vcoupling_point_weights(TlVCoupling *vc, size_t n, const double *x, double *w);
+
+/* Coupling forces for the last step's particle displacements du_p (3 per
+ * particle, e.g. v dt) and nodal displacement increments du_n (3 per mesh
+ * node): adds the nodal forces to f_nodes and the particle forces to
+ * f_particles (either may be NULL); diag (may be NULL) gets the residual,
+ * the force sums and Eq. 41. */
+TlStatus tl_vcoupling_forces(TlVCoupling *vc, const double *du_p, const double *du_n, double *f_nodes,
+                             double *f_particles, TlVCouplingDiag *diag);
+
+/* The homogenised particle field at the coupled nodes, u_i = sum_a Pi_ia
+ * q_a (q: 3 per particle): written into out (3 per mesh node) at the nodes
+ * reached by particles, which are flagged 1 in reached (one per mesh node,
+ * may be NULL); other entries are left untouched. */
+TlStatus tl_vcoupling_homogenise(const TlVCoupling *vc, const double *q, double *out, char *reached);
+
+/* The nodal weights w_i (one per mesh node; 0 at nodes outside the zone on
+ * the solid side). */
+const double *tl_vcoupling_node_weights(const TlVCoupling *vc);
+
+/* The weight 1 - w of the solid at a local point xi of element e of the
+ * block (for weighting the solid's residual at its quadrature points). */
+double tl_vcoupling_solid_weight(const TlVCoupling *vc, size_t e, const double xi[3]);
+
+/* Pi in triplet form (node = global mesh node, particle index, value), as
+ * built by the last update; rows sum to one. */
+void tl_vcoupling_operator(const TlVCoupling *vc, size_t *n, const size_t **node, const size_t **particle,
+                           const double **value);
+
+/* Coupling elements (indices into the block). */
+void tl_vcoupling_elements(const TlVCoupling *vc, size_t *n, const size_t **elements);
+
+#endif
