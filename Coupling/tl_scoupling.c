@@ -23,6 +23,7 @@ struct TlSCoupling {
   int wall_given;    /* the world owns the wall */
   TlCGKernel *kernel;
   TlCGSurface *cg;
+  int cg_stale;      /* the nodes moved since the last quadrature update */
   /* SCoupling elements and the element of each face */
   size_t n_elements, n_active;
   TlFaceRef *elements, *active;
@@ -280,7 +281,9 @@ TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const dou
     }
   }
   if (sc->wall) TL_CHECK(tl_trisurface_set_vertices(tl_wall_trisurface_surface(sc->wall), sc->vx, sc->vv));
-  if (sc->cg) TL_CHECK(tl_cg_surface_update(sc->cg, NULL));
+  /* The quadrature is recomputed only when forces are spread (and never
+   * for the Dirac limit, which reads the node positions directly). */
+  sc->cg_stale = 1;
   return TL_OK;
 }
 
@@ -318,6 +321,8 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   sc->n_contacts = m;
   if (total_wall) *total_wall = total;
   if (m == 0) return TL_OK;
+  if (sc->cg_stale && sc->width > 0.0) TL_CHECK(tl_cg_surface_update(sc->cg, NULL));
+  sc->cg_stale = 0;
   memset(sc->nodal, 0, sc->n_local * sizeof *sc->nodal);
   TL_CHECK(tl_cg_surface_nodal_forces(sc->cg, sc->kernel, m, sc->c_face, sc->c_point, sc->c_force, sc->nodal));
   for (size_t i = 0; i < sc->n_local; i++) {

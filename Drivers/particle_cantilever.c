@@ -1,0 +1,340 @@
+/* S1 of REFERENCE.md (seeds/001 §6.1): two frictionless particles sliding
+ * along an elastic cantilever, surface-coupled with CG width c.
+ *
+ * Beam: 2 x 30 x 2 hex8, 0.8 x 12 x 0.8 m (y along the beam, clamped at
+ * y = 0, top face z = 0.4 m), E = 100 MPa, nu = 0, rho = 1309 kg/m^3, no
+ * gravity on the beam.  Particles: d = 0.2 m, rho = 2e4 kg/m^3, linear
+ * spring k_n = E d, no damping, no friction, gravity on the particles only,
+ * at (+-0.2, 0.2) over the top face with overlap m g / k_n, released with
+ * v_y = 0.1 m/s.  dt = 0.01 pi sqrt(2 m / k_n) for both models.
+ *
+ * Output (under -output_dir): trajectory.csv (positions, the analytic path
+ * and the error), energy.csv (every energy term and the total),
+ * reference_path.csv (the analytic path), beam_*.h5 + beam.xmf and
+ * particles_*.h5 + particles.xmf.  Plots: tools/plot_particle_cantilever.py.
+ *
+ * Analytic path: quasi-static point load F = 2 m g at the particles' y on the
+ * cantilever, z(y) = z0 - F y^3 / (3 E I), I = b h^3 / 12, x = +-0.2 m.
+ * err(t) = sqrt(mean over the particles of (x - x0)^2 + (z - z_ref(y))^2);
+ * err_avg is its time average until the particles leave the beam (both
+ * beyond y = L, t_off).  E_total = particles' kinetic + contact elastic +
+ * gravitational (relative to the start) + beam kinetic + strain. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "talus.h"
+#include "tl_cantilever.h"
+#include "tl_coupled_loop.h"
+#include "tl_io.h"
+#include "tl_scoupling.h"
+
+typedef struct {
+  TlCantileverParams beam;
+  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt;
+  long substeps, reuse, cg_subdivisions;
+  int stepper, one_way, keep_factors;
+  const char *kernel;
+  char *output_dir;
+  TlOptions *options;
+} Config;
+
+static const char *const steppers[] = {"newmark", "central_difference", NULL};
+static const char *const kernels[] = {"lucy", "gaussian", "heaviside", NULL};
+
+static TlStatus configure(int argc, char **argv, Config *c)
+{
+  TlOptions *o = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK(tl_options_create(argc, argv,
+                             "S1 of seeds/001 §6.1: two frictionless particles sliding along an elastic "
+                             "cantilever, surface-coupled through coarse-grained contact forces.",
+                             &o));
+  tl_cantilever_params_default(&c->beam);
+  c->beam.load = 0.0;
+  long nx, ny, nz;
+  int kernel = 0;
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-nx", 2, 1, 1000, "beam cells across x", &nx), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-ny", 30, 1, 100000, "beam cells along y", &ny), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-nz", 2, 1, 1000, "beam cells across z", &nz), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-6, 1e6, "m", "beam width b (x)", &c->beam.b), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-height", 0.8, 1e-6, 1e6, "m", "beam height h (z)", &c->beam.h), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 12.0, 1e-6, 1e6, "m", "beam length L (y)", &c->beam.L), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 1e8, 1e-3, 1e15, "Pa", "beam Young's modulus", &c->beam.E), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-nu", 0.0, -0.99, 0.49, "", "beam Poisson's ratio", &c->beam.nu), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "beam density", &c->beam.rho), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.2, 1e-6, 1e3, "m", "particle diameter", &c->d), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho_g", 2e4, 1e-6, 1e8, "kg/m^3", "particle density", &c->rho_g), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-kn", 0.0, 0.0, 1e15, "N/m", "particle-wall normal stiffness (0: E d)", &c->kn), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-g", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-vy", 0.1, -1e3, 1e3, "m/s", "initial particle velocity along y", &c->vy), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-x0", 0.2, 0.0, 1e3, "m", "particles at x = +-x0", &c->x0), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-y0", 0.2, 0.0, 1e6, "m", "particles' initial y", &c->y0), done);
+  /* -cg_width needs d first */
+  TlScale scale = {"d", c->d, "particle diameter"};
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "0", 0.0, 1e6, "m", &scale, 1,
+                                         "CG width c (0: Dirac, Eq. 16; '10d' = 10 particle diameters)", &c->cg_width), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_kernel", "lucy", kernels, "CG kernel for c > 0", &kernel), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-cg_subdivisions", 0, 0, 64, "CG quadrature sub-cells per face direction (0: from c)",
+                                      &c->cg_subdivisions), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_factor", 0.01, 1e-6, 10.0, "",
+                                       "dt = factor * pi * sqrt(2 m / k_n) (0.01 t_c: dt = 9.09e-5 s)", &c->dt_factor), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "newmark", steppers, "FEM time stepper", &c->stepper), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-substeps", 1, 1, 100000, "DEM steps per FEM step (1: lock-step)", &c->substeps), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-one_way", 0, "rigid beam (one-way coupling)", &c->one_way), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1000, 1, 100000, "Newmark: refactorise every n Newton iterations", &c->reuse), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-keep_factors", 1, "Newmark: keep the factors across steps", &c->keep_factors), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.0, 0.0, 1e6, "s", "end time (0: when the particles leave the beam)", &c->t_end), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_max", 80.0, 0.0, 1e6, "s", "end time if the particles never leave", &c->t_max), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-output_dt", 0.01, 0.0, 1e6, "s", "table rows every (0: every step)", &c->output_dt), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-snapshot_dt", 1.0, 0.0, 1e6, "s", "HDF5/XDMF snapshots every (0: none)", &c->snapshot_dt), done);
+  TL_CHECK_GOTO(s, tl_output_dir(o, &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  c->kernel = kernels[kernel];
+  c->beam.nx = (size_t)nx;
+  c->beam.ny = (size_t)ny;
+  c->beam.nz = (size_t)nz;
+  if (c->kn == 0.0) c->kn = c->beam.E * c->d;
+  c->options = o;
+  return TL_OK;
+done:
+  tl_options_destroy(&o);
+  return s;
+}
+
+typedef struct {
+  TlMeshWriter *mesh;
+  TlParticleWriter *part;
+  TlVec3 *ref, *disp;
+  int *conn;
+  TlMeshBlock block;
+  TlMeshView view;
+} Snapshots;
+
+static TlStatus snapshots_open(const Config *c, const TlMesh *m, Snapshots *sn)
+{
+  memset(sn, 0, sizeof *sn);
+  if (c->snapshot_dt <= 0.0) return TL_OK;
+  const TlElementBlock *b = &m->blocks[0];
+  TL_CHECK(tl_calloc(&sn->ref, m->n_nodes, sizeof *sn->ref));
+  TL_CHECK(tl_calloc(&sn->disp, m->n_nodes, sizeof *sn->disp));
+  TL_CHECK(tl_calloc(&sn->conn, 8 * b->n_elements, sizeof *sn->conn));
+  for (size_t i = 0; i < m->n_nodes; ++i) sn->ref[i] = (TlVec3){m->x[3 * i], m->x[3 * i + 1], m->x[3 * i + 2]};
+  for (size_t k = 0; k < 8 * b->n_elements; ++k) sn->conn[k] = (int)b->conn[k];
+  sn->block = (TlMeshBlock){.name = "beam", .type = TL_CELL_HEX8, .n_cells = b->n_elements, .connectivity = sn->conn};
+  sn->view = (TlMeshView){.n_nodes = m->n_nodes, .reference = sn->ref, .displacement = sn->disp, .n_blocks = 1,
+                          .blocks = &sn->block};
+  TL_CHECK(tl_mesh_writer_create(c->output_dir, "beam", &sn->mesh));
+  TL_CHECK(tl_particle_writer_create(c->output_dir, "particles", &sn->part));
+  return TL_OK;
+}
+
+static TlStatus snapshots_write(Snapshots *sn, long step, double t, const double *u_nodes, TlParticles *P)
+{
+  if (!sn->mesh) return TL_OK;
+  for (size_t i = 0; i < sn->view.n_nodes; ++i)
+    sn->disp[i] = (TlVec3){u_nodes[3 * i], u_nodes[3 * i + 1], u_nodes[3 * i + 2]};
+  TL_CHECK(tl_mesh_writer_write(sn->mesh, step, t, &sn->view));
+  TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
+  TL_CHECK(tl_particle_writer_write(sn->part, step, t, &pv));
+  return TL_OK;
+}
+
+static void snapshots_close(Snapshots *sn)
+{
+  tl_mesh_writer_destroy(&sn->mesh);
+  tl_particle_writer_destroy(&sn->part);
+  tl_free(&sn->ref);
+  tl_free(&sn->disp);
+  tl_free(&sn->conn);
+}
+
+static TlStatus open_table(const Config *c, const char *name, size_t n, const TlColumn *cols, TlTimeSeries **ts)
+{
+  char *base = NULL;
+  TL_CHECK(tl_path_join(c->output_dir, name, &base));
+  TlStatus s = tl_timeseries_create(base, TL_TIMESERIES_CSV, n, cols, ts);
+  tl_free(&base);
+  return s;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  Config c;
+  memset(&c, 0, sizeof c);
+  TL_CHECK(tl_initialize());
+  TL_CHECK(configure(argc, argv, &c));
+  const double wall0 = tl_wtime();
+  TlStatus s = TL_OK;
+  TlCantilever *beam = NULL;
+  TlSCoupling *sc = NULL;
+  TlDem *dem = NULL;
+  TlStepper *st = NULL;
+  TlCoupledLoop *loop = NULL;
+  TlTimeSeries *traj = NULL, *energy = NULL, *path = NULL;
+  Snapshots sn;
+  memset(&sn, 0, sizeof sn);
+  TL_CHECK_GOTO(s, tl_cantilever_create(&c.beam, &beam), done);
+  beam->load_scale = 0.0;
+  /* Coupled boundary: every free face (all but the clamped end). */
+  TlSCouplingOptions so;
+  tl_scoupling_options_default(&so);
+  so.width = c.cg_width;
+  so.kernel = c.kernel;
+  so.subdivisions = (int)c.cg_subdivisions;
+  const char *clamped[] = {"ymin"};
+  TL_CHECK_GOTO(s, tl_scoupling_create_boundary(beam->solid, 1, clamped, &so, &sc), done);
+  /* The particles. */
+  const double r = 0.5 * c.d, m = c.rho_g * 4.0 / 3.0 * M_PI * r * r * r;
+  const double overlap = m * c.g / c.kn, z0 = 0.5 * c.beam.h + r - overlap;
+  const double dt = c.dt_factor * M_PI * sqrt(2.0 * m / c.kn);
+  TL_CHECK_GOTO(s, tl_dem_create(&dem), done);
+  int sp;
+  TL_CHECK_GOTO(s, tl_particles_add_species(tl_dem_particles(dem), "grain", c.rho_g, r, r, &sp), done);
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = c.kn;
+  TlContactLaw *law = NULL;
+  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&cp, &law), done);
+  TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
+  size_t idx;
+  int64_t id[2];
+  for (int k = 0; k < 2; k++) {
+    TL_CHECK_GOTO(s, tl_dem_add_particle(dem, tl_v3(k ? -c.x0 : c.x0, c.y0, z0), tl_v3(0, c.vy, 0), r, sp, &idx), done);
+    id[k] = tl_dem_particles(dem)->id[idx];
+  }
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -c.g));
+  TL_CHECK_GOTO(s, tl_scoupling_add_to_dem(sc, dem, 0), done);
+  TL_CHECK_GOTO(s, tl_dem_set_timestep(dem, dt, 0), done);
+  TL_CHECK_GOTO(s, tl_dem_setup(dem), done);
+  TlStepperOptions sto;
+  tl_stepper_options_default(&sto);
+  sto.reuse = c.reuse;
+  sto.keep_factors = c.keep_factors;
+  sto.max_iterations = c.reuse > 1 ? 200 : 30;
+  TL_CHECK_GOTO(s, tl_stepper_create(steppers[c.stepper], tl_solid_system(beam->solid), &sto, &st), done);
+  TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
+  if (c.stepper == 1 && !c.one_way) {
+    double dt_crit;
+    TL_CHECK_GOTO(s, tl_stepper_critical_dt(st, &dt_crit), done);
+    if (c.substeps * dt > dt_crit)
+      TL_CHECK_GOTO(s, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
+                                    "FEM step %ld x %g s = %g s is beyond the explicit critical step %g s: lower -substeps or use -fem newmark",
+                                    c.substeps, dt, c.substeps * dt, dt_crit), done);
+  }
+  TlCoupledLoopOptions lo;
+  tl_coupled_loop_options_default(&lo);
+  lo.substeps = (int)c.substeps;
+  lo.one_way = c.one_way;
+  TL_CHECK_GOTO(s, tl_coupled_loop_create(dem, beam->solid, st, 1, &sc, &lo, &loop), done);
+  /* Tables and the analytic path. */
+  const double I = c.beam.b * pow(c.beam.h, 3) / 12.0, F = 2.0 * m * c.g;
+  const TlColumn pcols[] = {{"y", "m"}, {"z_ref", "m"}, {"x_ref", "m"}};
+  TL_CHECK_GOTO(s, open_table(&c, "reference_path", 3, pcols, &path), done);
+  for (int k = 0; k <= 600; k++) {
+    double y = c.beam.L * k / 600.0, row[3] = {y, z0 - F * y * y * y / (3.0 * c.beam.E * I), c.x0};
+    TL_CHECK_GOTO(s, tl_timeseries_append(path, row), done);
+  }
+  TL_CHECK_GOTO(s, tl_timeseries_close(&path), done);
+  const TlColumn tcols[] = {{"t", "s"}, {"x1", "m"}, {"y1", "m"}, {"z1", "m"}, {"x2", "m"}, {"y2", "m"}, {"z2", "m"},
+                            {"z_ref1", "m"}, {"z_ref2", "m"}, {"err", "m"}, {"contacts", ""}, {"scoupling_elements", ""}};
+  TL_CHECK_GOTO(s, open_table(&c, "trajectory", 12, tcols, &traj), done);
+  const TlColumn ecols[] = {{"t", "s"}, {"dem_kinetic", "J"}, {"dem_elastic", "J"}, {"gravitational", "J"},
+                            {"fem_kinetic", "J"}, {"fem_strain", "J"}, {"work_on_solid", "J"}, {"work_on_particles", "J"},
+                            {"total", "J"}};
+  TL_CHECK_GOTO(s, open_table(&c, "energy", 9, ecols, &energy), done);
+  TL_CHECK_GOTO(s, snapshots_open(&c, tl_solid_mesh(beam->solid), &sn), done);
+  TlCoupledEnergy e0, e;
+  TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e0), done);
+  const double Dt = c.substeps * dt;
+  const double t_stop = c.t_end > 0.0 ? c.t_end : c.t_max;
+  const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
+  const long out_every = c.output_dt > 0.0 ? (long)fmax(1.0, floor(c.output_dt / Dt + 0.5)) : 1;
+  const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
+  double err_int = 0.0, err_time = 0.0, sym_dev = 0.0, E_max = -INFINITY, t_off = NAN;
+  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step, %zu SCoupling elements\n", c.cg_width,
+         c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "", c.substeps,
+         tl_scoupling_n_elements(sc));
+  TlProgress bar;
+  tl_progress_init(&bar, "coupled steps", (double)n_macro);
+  long step = 0;
+  for (;; step++) {
+    const double t = tl_coupled_loop_time(loop);
+    TlParticles *P = tl_dem_particles(dem);
+    TlVec3 xp[2];
+    for (int k = 0; k < 2; k++) {
+      TL_CHECK_GOTO(s, tl_particles_find(P, id[k], &idx), done);
+      xp[k] = P->x[idx];
+    }
+    double zr[2], e2 = 0.0;
+    for (int k = 0; k < 2; k++) {
+      double y = fmin(fmax(xp[k].y, 0.0), c.beam.L);
+      zr[k] = z0 - F * y * y * y / (3.0 * c.beam.E * I);
+      double dx = xp[k].x - (k ? -c.x0 : c.x0), dz = xp[k].z - zr[k];
+      e2 += 0.5 * (dx * dx + dz * dz);
+    }
+    const double err = sqrt(e2);
+    const int on_beam = !(xp[0].y > c.beam.L && xp[1].y > c.beam.L);
+    if (!on_beam && isnan(t_off)) t_off = t;
+    if (on_beam) {
+      sym_dev = fmax(sym_dev, fabs(xp[0].x + xp[1].x));
+      if (step > 0) err_int += err * Dt, err_time += Dt;
+    }
+    const int last = step >= n_macro || (c.t_end <= 0.0 && !on_beam);
+    if (step % out_every == 0 || last) {
+      TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e), done);
+      const double grav = e.dem_gravitational - e0.dem_gravitational;
+      const double total = e.dem_kinetic + e.dem_elastic + grav + e.fem_kinetic + e.fem_strain;
+      if (on_beam) E_max = fmax(E_max, total);
+      double erow[9] = {t, e.dem_kinetic, e.dem_elastic, grav, e.fem_kinetic, e.fem_strain, e.work_on_solid,
+                        e.work_on_particles, total};
+      TL_CHECK_GOTO(s, tl_timeseries_append(energy, erow), done);
+      double trow[12] = {t, xp[0].x, xp[0].y, xp[0].z, xp[1].x, xp[1].y, xp[1].z, zr[0], zr[1], err,
+                         (double)tl_scoupling_n_contacts(sc), (double)tl_scoupling_n_active_elements(sc)};
+      TL_CHECK_GOTO(s, tl_timeseries_append(traj, trow), done);
+      tl_progress_update(&bar, (double)step);
+    }
+    if (snap_every > 0 && (step % snap_every == 0 || last))
+      TL_CHECK_GOTO(s, snapshots_write(&sn, step, t, tl_coupled_loop_u_nodes(loop), P), done);
+    if (last) break;
+    TL_CHECK_GOTO(s, tl_coupled_loop_step(loop), done);
+  }
+  tl_progress_finish(&bar);
+  const double err_avg = err_time > 0.0 ? err_int / err_time : NAN;
+  const double wall = tl_wtime() - wall0;
+  printf("%ld coupled steps to t = %.4g s; particles leave the beam at t = %.4g s; err_avg = %.4g m, "
+         "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
+         step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
+         e0.dem_kinetic + e0.dem_elastic + e0.fem_kinetic + e0.fem_strain);
+  printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
+         c.output_dir, sn.mesh ? ", beam.xmf, particles.xmf" : "", c.output_dir);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_real(&sum, "c", c.cg_width);
+  tl_summary_real(&sum, "err_avg", err_avg);
+  tl_summary_real(&sum, "sym_dev", sym_dev);
+  tl_summary_real(&sum, "E_max", E_max);
+  tl_summary_real(&sum, "t_off", t_off);
+  tl_summary_real(&sum, "wall", wall);
+  tl_summary_print(&sum, stdout);
+done:
+  if (traj) {
+    TlStatus s2 = tl_timeseries_close(&traj);
+    if (s == TL_OK) s = s2;
+  }
+  if (energy) {
+    TlStatus s2 = tl_timeseries_close(&energy);
+    if (s == TL_OK) s = s2;
+  }
+  tl_timeseries_destroy(&path);
+  snapshots_close(&sn);
+  tl_coupled_loop_destroy(&loop);
+  tl_stepper_destroy(&st);
+  tl_dem_destroy(&dem);
+  tl_scoupling_destroy(&sc);
+  tl_cantilever_destroy(&beam);
+  tl_free(&c.output_dir);
+  tl_options_destroy(&c.options);
+  return s;
+}
+
+int main(int argc, char **argv) { return tl_driver_exit(run(argc, argv)); }
