@@ -12,9 +12,9 @@
  * With -average_snapshots N the fields are averaged over N states
  * -average_interval DEM steps apart (the velocity as <j>/<rho>).
  *
- * Contacts and their forces come from the DEM world at each state;
- * floor contacts are those of the linear law against the plane z = 0 (a
- * static packing: contact point below the centre, force k_n * overlap).
+ * Contacts and their forces come from the DEM world at each state, the
+ * floor's contacts included (tl_dem_visit_wall_contacts: the forces the DEM
+ * computed, with damping and any friction, at their contact points).
  *
  * Output under -output_dir: fields.xmf + fields_*.h5 (the grid as hexahedra
  * with node fields; open fields.xmf in ParaView), profile.csv (averages over
@@ -158,6 +158,33 @@ typedef struct {
   TlStatus status;
 } ContactSink;
 
+/* Wall contacts: contact point, force on the particle, particle centre. */
+typedef struct {
+  TlVec3 *p, *f, *c;
+  size_t n, cap;
+  TlStatus status;
+} WallSink;
+
+static void collect_wall_contact(void *ctx, size_t wall, size_t i, TlVec3 force, TlVec3 point, TlVec3 center)
+{
+  WallSink *k = ctx;
+  (void)wall;
+  (void)i;
+  if (k->status != TL_OK) return;
+  if (k->n == k->cap) {
+    size_t c1 = k->cap, c2 = k->cap, c3 = k->cap;
+    k->status = tl_array_reserve(&k->p, &c1, k->n + 1, sizeof(TlVec3));
+    if (k->status == TL_OK) k->status = tl_array_reserve(&k->f, &c2, k->n + 1, sizeof(TlVec3));
+    if (k->status == TL_OK) k->status = tl_array_reserve(&k->c, &c3, k->n + 1, sizeof(TlVec3));
+    if (k->status != TL_OK) return;
+    k->cap = c1;
+  }
+  k->p[k->n] = point;
+  k->f[k->n] = force;
+  k->c[k->n] = center;
+  k->n++;
+}
+
 static void collect_contact(void *ctx, size_t i, size_t j, TlVec3 force_on_i, TlVec3 branch, TlVec3 point)
 {
   ContactSink *k = ctx;
@@ -249,7 +276,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   TlCGFields *f = NULL, *snapshot = NULL;
   TlMat3 *stress = NULL;
   ContactSink sink = {NULL, NULL, NULL, 0, 0, TL_OK};
-  TlVec3 *wp = NULL, *wf = NULL, *wc = NULL;
+  WallSink wsink = {NULL, NULL, NULL, 0, 0, TL_OK};
   double *prof = NULL;
   TlTimeSeries *ts = NULL;
 
@@ -339,9 +366,6 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     tl_info("settled for %ld steps: kinetic energy per particle %.3g m g d", steps, ekin_per / (m_mean * c.gravity * c.d));
   }
   TL_CHECK_GOTO(s, tl_dem_compute_forces(dem), done);
-  TL_CHECK_GOTO(s, tl_calloc(&wp, P->n, sizeof *wp), done);
-  TL_CHECK_GOTO(s, tl_calloc(&wf, P->n, sizeof *wf), done);
-  TL_CHECK_GOTO(s, tl_calloc(&wc, P->n, sizeof *wc), done);
   double zmax = c.floor_z, total_mass = 0;
   for (size_t i = 0; i < P->n; ++i) {
     zmax = fmax(zmax, P->x[i].z + P->radius[i]);
@@ -384,15 +408,12 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     TL_CHECK_GOTO(s, tl_dem_visit_contacts(dem, collect_contact, &sink), done);
     TL_CHECK_GOTO(s, sink.status, done);
     for (size_t k = 0; k < sink.n; ++k) sink.x[k] = P->x[(size_t)sink.x[k].x];
-    /* floor contacts of the linear law: force k_n * overlap along +z on the particle */
-    nw = 0;
-    for (size_t i = 0; i < P->n; ++i) {
-      double overlap = P->radius[i] - (P->x[i].z - c.floor_z);
-      if (overlap <= 0) continue;
-      wp[nw] = tl_v3(P->x[i].x, P->x[i].y, c.floor_z);
-      wf[nw] = tl_v3(0, 0, c.k_n * overlap);
-      wc[nw++] = P->x[i];
-    }
+    /* floor contacts with the forces the DEM computed */
+    wsink.n = 0;
+    TL_CHECK_GOTO(s, tl_dem_visit_wall_contacts(dem, collect_wall_contact, &wsink), done);
+    TL_CHECK_GOTO(s, wsink.status, done);
+    nw = wsink.n;
+    TlVec3 *wp = wsink.p, *wf = wsink.f, *wc = wsink.c;
     TlCGParticleArrays pa = {P->n, P->x, P->mass, P->v};
     TlCGContactArrays ca = {sink.n, sink.x, sink.b, sink.f};
     TlCGWallContactArrays wa = {nw, wp, wf, wc};
@@ -505,9 +526,9 @@ done:
   tl_free(&sink.x);
   tl_free(&sink.b);
   tl_free(&sink.f);
-  tl_free(&wp);
-  tl_free(&wf);
-  tl_free(&wc);
+  tl_free(&wsink.p);
+  tl_free(&wsink.f);
+  tl_free(&wsink.c);
   tl_particle_snapshot_free(&snap);
   tl_dem_destroy(&dem);
   return s;

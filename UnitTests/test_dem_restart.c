@@ -7,7 +7,11 @@
  * (b) frictional spheres on a triangulated floor (edge corrections on),
  * (c) a frictional packing in a periodic cell under compression and shear.
  * The neighbour list is rebuilt, and particles renumbered, several times in
- * each half, so a restart between rebuilds is exercised. */
+ * each half, so a restart between rebuilds is exercised.
+ *
+ * The same scenes also check tl_dem_visit_wall_contacts (what the coarse-
+ * graining reads): the visited forces sum to minus the wall's force, their
+ * count is the wall's, and contact points lie on the floor. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -256,6 +260,45 @@ static void test_mismatch(void)
   tl_dem_destroy(&dem);
 }
 
+typedef struct {
+  TlVec3 sum;
+  size_t n;
+  double worst_z, worst_lever;
+  const TlParticles *P;
+} WallVisit;
+
+static void visit_wall(void *ctx, size_t wall, size_t i, TlVec3 f, TlVec3 point, TlVec3 center)
+{
+  WallVisit *v = ctx;
+  (void)wall;
+  v->sum = tl_v3_add(v->sum, f);
+  v->n++;
+  v->worst_z = fmax(v->worst_z, fabs(point.z));
+  /* the contact point is within a radius of the centre used */
+  v->worst_lever = fmax(v->worst_lever, tl_v3_norm(tl_v3_sub(point, center)) / v->P->radius[i]);
+}
+
+static void test_wall_visitor(int scene)
+{
+  TlDem *dem = NULL;
+  TL_TEST_STATUS(build(scene, &dem), TL_OK);
+  if (!dem) return;
+  TL_TEST_STATUS(tl_dem_step(dem, 3000), TL_OK);
+  WallVisit v = {tl_v3(0, 0, 0), 0, 0.0, 0.0, tl_dem_particles(dem)};
+  TL_TEST_STATUS(tl_dem_visit_wall_contacts(dem, visit_wall, &v), TL_OK);
+  const TlWall *W = tl_dem_wall(dem, 0);
+  double scale = tl_v3_norm(W->force);
+  printf("%s wall visitor: %zu contacts (wall %zu), force sum (%.6g, %.6g, %.6g) N vs wall (%.6g, %.6g, %.6g) N\n",
+         scene_name[scene], v.n, W->n_contacts, v.sum.x, v.sum.y, v.sum.z, W->force.x, W->force.y, W->force.z);
+  TL_TEST_ASSERT(v.n >= 5 && v.n == W->n_contacts, "%s: %zu wall contacts visited, the wall counts %zu", scene_name[scene],
+                 v.n, W->n_contacts);
+  TL_TEST_ASSERT(tl_v3_norm(tl_v3_add(v.sum, W->force)) <= 1e-12 * scale && scale > 0.0,
+                 "%s: visited wall forces do not sum to minus the wall force", scene_name[scene]);
+  TL_TEST_ASSERT(v.worst_z <= 1e-15, "%s: a contact point lies %g off the floor", scene_name[scene], v.worst_z);
+  TL_TEST_ASSERT(v.worst_lever <= 1.0, "%s: a contact point is %g radii from its centre", scene_name[scene], v.worst_lever);
+  tl_dem_destroy(&dem);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -263,5 +306,7 @@ int main(void)
   test_scene(SCENE_TRISURFACE, 1200);
   test_scene(SCENE_CELL, 1200);
   test_mismatch();
+  test_wall_visitor(SCENE_HERTZ_PLANE);
+  test_wall_visitor(SCENE_TRISURFACE);
   return tl_test_report();
 }

@@ -9,6 +9,7 @@
 #include "tl_contact_list.h"
 #include "tl_log.h"
 #include "tl_memory.h"
+#include "tl_wall_trisurface.h"
 
 enum { TL_DEM_MAX_LAWS = 16, CHUNK = 64 };
 
@@ -1357,6 +1358,35 @@ TlStatus tl_dem_visit_contacts(TlDem *d, TlContactVisitor visit, void *ctx)
       TlVec3 nrm = dist > 0.0 ? tl_v3_scale(b, 1.0 / dist) : tl_v3(1, 0, 0);
       TlVec3 cp = tl_v3_add(P->x[i], tl_v3_scale(nrm, P->radius[i] - 0.5 * ov));
       visit(ctx, i, j, L->force[c], b, cp);
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_dem_visit_wall_contacts(TlDem *d, TlWallContactVisitor visit, void *ctx)
+{
+  const TlParticles *P = d->P;
+  for (size_t k = 0; k < d->n_walls; ++k) {
+    const TlWall *W = d->walls[k];
+    if (tl_wall_is_trisurface(W)) {
+      const TlTriContactSet *c = tl_wall_trisurface_contacts(W);
+      for (size_t q = 0; c && q < c->count; ++q) {
+        const TlTriContactRecord *r = &c->c[q];
+        if (!r->active) continue;
+        visit(ctx, k, (size_t)r->particle, r->force, r->point, r->center);
+      }
+    } else if (strcmp(W->ops->header.name, "plane") == 0) {
+      TlVec3 point, normal;
+      tl_wall_plane_get(W, &point, &normal);
+      for (size_t i = 0; i < P->n; ++i) {
+        TlVec3 f;
+        if (!tl_wall_plane_contact_force(W, i, &f)) continue;
+        double s = tl_v3_dot(tl_v3_sub(P->x[i], point), normal);
+        visit(ctx, k, i, f, tl_v3_axpy(P->x[i], -s, normal), P->x[i]);
+      }
+    } else {
+      TL_ERROR(TL_ERR_ARG, "wall %zu '%s' is of type '%s', whose contacts cannot be visited (plane and trisurface can)", k,
+               W->name, W->ops->header.name);
     }
   }
   return TL_OK;

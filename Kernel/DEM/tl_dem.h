@@ -161,6 +161,19 @@ void tl_dem_stats(const TlDem *dem, TlDemStats *s);
 typedef void (*TlContactVisitor)(void *ctx, size_t i, size_t j, TlVec3 force_on_i, TlVec3 branch,
                                  TlVec3 contact_point);
 TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
+/* Visits every wall contact of the last force evaluation with the force the
+ * DEM computed: wall index, particle i, force on the particle, contact point
+ * on the wall surface, and the particle centre the contact was computed with
+ * (the nearest periodic image for walls that see images).  Plane walls and
+ * triangulated surfaces (after the edge corrections) are visited; another
+ * wall type is refused with its name. */
+typedef void (*TlWallContactVisitor)(void *ctx, size_t wall, size_t i, TlVec3 force_on_particle, TlVec3 contact_point,
+                                     TlVec3 particle_center);
+TlStatus tl_dem_visit_wall_contacts(TlDem *dem, TlWallContactVisitor visit, void *ctx);
+/* The plane's contact of particle i at the last evaluation: 1 and the force
+ * on the particle if touching, else 0.  (Defined with the plane wall in
+ * tl_wall_plane.c; its natural home is tl_wall.h.) */
+int tl_wall_plane_contact_force(const TlWall *w, size_t i, TlVec3 *force_on_particle);
 
 /* ---- checkpoint and restart (tl_checkpoint.h; object: the TlDem) ----
  * Saves everything a later step reads: the particle arrays (with rotation

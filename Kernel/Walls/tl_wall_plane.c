@@ -271,6 +271,14 @@ static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
   return TL_OK;
 }
 
+int tl_wall_plane_contact_force(const TlWall *w, size_t i, TlVec3 *force)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  if (i >= p->n || !p->touching[i]) return 0;
+  *force = p->force_prev[i];
+  return 1;
+}
+
 static void plane_destroy(TlWall *w)
 {
   TlWallPlane *p = (TlWallPlane *)w;
