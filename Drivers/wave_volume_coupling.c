@@ -1,0 +1,194 @@
+/* V1 (seeds/001 §6.2): a wave passing from bonded particles into a hex8
+ * bar through a volume-coupled overlap, against the full-DEM reference run
+ * in the same program. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_atomic_file.h"
+#include "tl_output_dir.h"
+#include "tl_vcoupling_wave.h"
+
+typedef struct {
+  const TlWaveRecord *c, *ref;
+  int n_snap;
+} Files;
+
+static TlStatus write_energies(FILE *f, void *ctx)
+{
+  const Files *F = ctx;
+  fprintf(f, "t,mass_dem,mass_fem,mom_dem,mom_fem,mom_total,kin_dem,pot_dem,kin_fem,pot_fem,pot_coupling,"
+             "total,ref_total,ref_mom,eq41,residual,coupling_work\n");
+  for (size_t k = 0; k < F->c->n; ++k) {
+    const TlWaveState *s = &F->c->state[k];
+    const TlWaveState *r = k < F->ref->n ? &F->ref->state[k] : s;
+    fprintf(f, "%.9g,%.12g,%.12g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3g,%.4g,%.9g\n", s->t,
+            s->mass_dem, s->mass_fem, s->mom_dem, s->mom_fem, s->mom_dem + s->mom_fem, s->kin_dem, s->pot_dem,
+            s->kin_fem, s->pot_fem, s->pot_coupling, s->total, r->total, r->mom_dem, s->eq41, s->residual,
+            s->coupling_work);
+  }
+  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the energy table failed") : TL_OK;
+}
+
+static TlStatus write_profiles(FILE *f, void *ctx)
+{
+  const Files *F = ctx;
+  fprintf(f, "t,y,vy,vy_ref\n");
+  for (int s = 0; s < F->n_snap; ++s)
+    for (size_t j = 0; j < F->c->ny; ++j)
+      fprintf(f, "%.6g,%.6g,%.9g,%.9g\n", F->c->snap_t[s], F->c->y[j], F->c->profile[s * F->c->ny + j],
+              F->ref->profile[s * F->ref->ny + j]);
+  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the profiles failed") : TL_OK;
+}
+
+static TlStatus write_file(const char *dir, const char *name, TlAtomicWriteFn fn, void *ctx)
+{
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  TL_CHECK(tl_atomic_write(path, fn, ctx));
+  return TL_OK;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  TlOptions *o = NULL;
+  TL_CHECK(tl_initialize());
+  TL_CHECK(tl_options_create(argc, argv,
+                             "V1 of seeds/001 §6.2: a wave from bonded particles into a hex8 bar through a "
+                             "volume-coupled overlap (Arlequin, CG-enriched homogenisation), compared with the "
+                             "full-DEM reference run in the same program.",
+                             &o));
+  static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
+  static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};
+  static const char *const variants[] = {"paper", "spring", NULL};
+  static const char *const kernels[] = {"lucy", "gaussian", "heaviside", NULL};
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  TlWaveRunOptions ro = {.t_end = 0.09, .every = 20, .n_snap = 0, .progress = 1};
+  int icase = 0, iexc = 0, ivar = 0, iker = 0, n_snap = 0, reference = 1;
+  long cycles = 1, every = 0, quad = 4;
+  double v0 = 0.0;
+  char *dir = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element: nP = n^3 (Table 6)", &icase), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-excitation", "pulse", excitations,
+                                         "Table 4: pulse (§6.2.2), cosine (§6.2.3), cycles (§6.2.4)", &iexc), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-omega", 1950.0, 1e-3, 1e9, "rad/s", "excitation angular frequency", &p.omega), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-cycles", 1, 1, 1000, "cycles M_c of the excitation (-excitation cycles)", &cycles), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-v0", 0.0, 0.0, 1e3, "m/s", "amplitude (0: Table 4, 0.1 pulse, 0.05 otherwise)", &v0), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dx", 0.4, 1e-3, 1e3, "m", "element size Delta X", &p.dx), done);
+  TlScale scales[] = {{"h", p.dx, "element size Delta X"}};
+  TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "0", 0.0, 1e3, "m", scales, 1,
+                                         "CG width c (Table 5; 0: classical Eq. 19), e.g. 1.5h", &p.c), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-kernel", "lucy", kernels, "CG kernel for c > 0", &iker), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-epsilon", 0.0, 0.0, 1e30, "Pa/m^2", "penalty (0: Table 6, 1e4 Pa/mm^2 for 1P scaled by 1/d^2 = 1.6e9 Pa / d^2)", &p.epsilon), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-variant", "paper", variants,
+                                         "paper: penalty on the step displacement (Eq. 29); spring: on the total displacement", &ivar), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length", &p.length), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-3, 1e6, "m", "section side", &p.width), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dem_end", 12.0, 1e-3, 1e6, "m", "particles on [0, dem_end]", &p.dem_end), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-fem_start", 8.0, 0.0, 1e6, "m", "elements on [fem_start, length]", &p.fem_start), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_over_tc", 0.01, 1e-6, 0.3, "", "time step / contact time (Table 3)", &p.dt_over_tc), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time (before the reflection returns to the zone)", &ro.t_end), done);
+  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-snapshots", "0.03,0.05", "s", "times of the velocity profiles (Fig. 19)",
+                                            ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-reference", 1, "run the full-DEM reference for the errors", &reference), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
+  TL_CHECK_GOTO(s, tl_output_dir(o, &dir), done);
+  TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+
+  p.n = icase + 1;
+  p.excitation = (TlWaveExcitation)iexc;
+  p.cycles = (int)cycles;
+  p.v0 = v0 > 0 ? v0 : (iexc == 0 ? 0.1 : 0.05);
+  p.kernel = kernels[iker];
+  p.variant = (TlWaveVariant)ivar;
+  p.quad_order = (int)quad;
+  ro.n_snap = n_snap;
+  double wall0 = tl_wtime();
+  TlWaveRecord rc = {0}, rr = {0};
+  {
+    TlWave *probe = NULL;
+    TL_CHECK_GOTO(s, tl_wave_create(&p, &probe), done);
+    double dt = tl_wave_dt(probe);
+    tl_wave_destroy(&probe);
+    ro.every = every > 0 ? every : (long)fmax(1.0, floor(ro.t_end / dt / 1000.0));
+  }
+  TlWaveParams pr = p;
+  pr.full_dem = 1;
+  if (reference) TL_CHECK_GOTO(s, tl_wave_run(&pr, &ro, &rr), out);
+  double wall_ref = rr.wall;
+  s = tl_wave_run(&p, &ro, &rc);
+  if (s != TL_OK) {
+    tl_error_trace(s, __FILE__, __LINE__);
+    goto out;
+  }
+  /* figures */
+  double Mexact = p.rho * p.length * p.width * p.width, mass_err = 0.0, eq41 = 0.0, resid = 0.0;
+  double t_refl = 0.9 * p.length / sqrt(p.E / p.rho) /* before the front meets the fixed end */, pmax = 0.0, drift = 0.0;
+  for (size_t k = 0; k < rc.n; ++k) {
+    const TlWaveState *st = &rc.state[k];
+    mass_err = fmax(mass_err, fabs(st->mass_dem + st->mass_fem - Mexact) / Mexact);
+    eq41 = fmax(eq41, st->eq41);
+    resid = fmax(resid, st->residual);
+  }
+  double mass_err0 = fabs(rc.state[0].mass_dem + rc.state[0].mass_fem - Mexact) / Mexact;
+  double E_ref = NAN, dissipated = NAN, perr = NAN;
+  if (reference) {
+    for (size_t k = 0; k < rr.n; ++k) pmax = fmax(pmax, fabs(rr.state[k].mom_dem));
+    for (size_t k = 0; k < rc.n && k < rr.n; ++k)
+      if (rc.state[k].t < t_refl)
+        drift = fmax(drift, fabs(rc.state[k].mom_dem + rc.state[k].mom_fem - rr.state[k].mom_dem) / pmax);
+    E_ref = rr.state[rr.n - 1].total;
+    dissipated = 1.0 - rc.state[rc.n - 1].total / E_ref;
+    double num = 0.0, den = 0.0;
+    for (int q = 0; q < n_snap; ++q)
+      for (size_t j = 0; j < rc.ny; ++j) {
+        double a = rc.profile[q * rc.ny + j], b = rr.profile[q * rr.ny + j];
+        num += (a - b) * (a - b);
+        den += b * b;
+      }
+    perr = den > 0 ? sqrt(num / den) : NAN;
+    Files F = {&rc, &rr, n_snap};
+    TL_CHECK_GOTO(s, write_file(dir, "energies.csv", write_energies, &F), out);
+    TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
+  } else {
+    Files F = {&rc, &rc, n_snap};
+    TL_CHECK_GOTO(s, write_file(dir, "energies.csv", write_energies, &F), out);
+    TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
+  }
+  printf("%s %s, c = %g m (%.3g dX), eps = %s, %zu particles, dt = %.4g s, %ld steps: energy %.6g J -> %.6g J "
+         "(reference %.6g J); coupled run %.2f s, reference %.2f s; output in %s\n",
+         cases[icase], excitations[iexc], p.c, p.c / p.dx, p.epsilon > 0 ? "given" : "Table 6", rc.n_particles, rc.dt,
+         rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall, wall_ref, dir);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_string(&sum, "case", cases[icase]);
+  tl_summary_string(&sum, "excitation", excitations[iexc]);
+  tl_summary_string(&sum, "variant", variants[ivar]);
+  tl_summary_real(&sum, "c", p.c);
+  tl_summary_real(&sum, "dissipated", dissipated);
+  tl_summary_real(&sum, "mass_err", mass_err);
+  tl_summary_real(&sum, "mass_err0", mass_err0);
+  tl_summary_real(&sum, "momentum_drift", drift);
+  tl_summary_real(&sum, "eq41", eq41);
+  tl_summary_real(&sum, "profile_err", perr);
+  tl_summary_real(&sum, "residual", resid);
+  tl_summary_real(&sum, "wall_coupled", rc.wall);
+  tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+  tl_summary_print(&sum, stdout);
+out:
+  tl_wave_record_free(&rc);
+  tl_wave_record_free(&rr);
+done:
+  tl_free(&dir);
+  tl_options_destroy(&o);
+  return s;
+}
+
+int main(int argc, char **argv) { return tl_driver_exit(run(argc, argv)); }
