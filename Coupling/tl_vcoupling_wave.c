@@ -444,7 +444,7 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   TL_CHECK(tl_wave_create(p, &w));
   TlStatus s = TL_OK;
   long steps = (long)ceil(o->t_end / w->dt - 1e-9);
-  size_t cap = (size_t)(steps / o->every) + 2;
+  size_t cap = (size_t)(steps / o->every) + 3;
   r->ny = tl_wave_profile_size(w);
   r->dt = w->dt;
   r->n_particles = w->np;
@@ -457,7 +457,7 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   if (o->progress) tl_progress_init(&bar, p->full_dem ? "full DEM" : "coupled", (double)steps);
   for (long k = 1; k <= steps; ++k) {
     TL_CHECK_GOTO(s, tl_wave_step(w), out);
-    if (k % o->every == 0 && r->n < cap) tl_wave_state(w, &r->state[r->n++]);
+    if ((k % o->every == 0 || k == steps) && r->n < cap) tl_wave_state(w, &r->state[r->n++]);
     while (next < o->n_snap && w->t >= o->snap[next] - 1e-12) {
       tl_wave_profile(w, r->y, r->profile + (size_t)next * r->ny);
       r->snap_t[next++] = w->t;

@@ -3,6 +3,7 @@
  * in the same program. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "talus.h"
@@ -48,6 +49,81 @@ static TlStatus write_file(const char *dir, const char *name, TlAtomicWriteFn fn
   snprintf(path, sizeof path, "%s/%s", dir, name);
   TL_CHECK(tl_atomic_write(path, fn, ctx));
   return TL_OK;
+}
+
+/* Compares two CSV tables of numbers with one header line: same shape,
+ * every value within rtol of the baseline, relative to the largest
+ * magnitude of its column.  A missing or empty baseline is an error. */
+enum { CMP_COLS = 32 };
+static TlStatus read_table(const char *path, double **v, size_t *rows, int *cols)
+{
+  FILE *f = fopen(path, "r");
+  if (!f) TL_ERROR(TL_ERR_IO, "baseline '%s' cannot be opened", path);
+  char line[8192];
+  size_t cap = 0;
+  *rows = 0;
+  *cols = 0;
+  *v = NULL;
+  TlStatus s = TL_OK;
+  if (!fgets(line, sizeof line, f)) {
+    fclose(f);
+    TL_ERROR(TL_ERR_FORMAT, "'%s' is empty", path);
+  }
+  while (fgets(line, sizeof line, f)) {
+    double row[CMP_COLS];
+    int n = 0;
+    char *q = line;
+    while (*q && *q != '\n' && n < CMP_COLS) {
+      char *end;
+      row[n++] = strtod(q, &end);
+      if (end == q) break;
+      q = *end == ',' ? end + 1 : end;
+    }
+    if (*cols == 0) *cols = n;
+    if (n != *cols) {
+      s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "'%s' row %zu has %d values, expected %d", path, *rows + 2, n, *cols);
+      break;
+    }
+    if ((s = tl_array_reserve(v, &cap, (*rows + 1) * (size_t)n, sizeof **v)) != TL_OK) break;
+    memcpy(*v + *rows * (size_t)n, row, (size_t)n * sizeof *row);
+    ++*rows;
+  }
+  fclose(f);
+  if (s == TL_OK && *rows == 0) s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "'%s' holds no data rows", path);
+  return s;
+}
+
+static TlStatus compare_tables(const char *path, const char *baseline, double rtol, double *worst)
+{
+  double *a = NULL, *b = NULL;
+  size_t ra, rb;
+  int ca, cb;
+  TlStatus s = read_table(baseline, &b, &rb, &cb);
+  if (s == TL_OK) s = read_table(path, &a, &ra, &ca);
+  if (s == TL_OK && (ra != rb || ca != cb))
+    s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "'%s' is %zu x %d, baseline '%s' %zu x %d", path, ra, ca,
+                     baseline, rb, cb);
+  *worst = 0.0;
+  /* the Eq. 41 column is pure round-off: checked by -check, not compared */
+  const int eq41_col = 14;
+  for (int c = 0; s == TL_OK && c < cb; ++c) {
+    if (c == eq41_col) continue;
+    double scale = 0.0;
+    for (size_t r = 0; r < rb; ++r) scale = fmax(scale, fabs(b[r * cb + c]));
+    for (size_t r = 0; r < rb; ++r) {
+      double d = fabs(a[r * cb + c] - b[r * cb + c]) / (scale > 0 ? scale : 1.0);
+      if (!(d <= *worst)) *worst = d;
+      if (!(d <= rtol)) {
+        s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                         "'%s' row %zu column %d: %.9g against the baseline's %.9g (relative %.3g > %g)", path, r + 2,
+                         c + 1, a[r * cb + c], b[r * cb + c], d, rtol);
+        break;
+      }
+    }
+  }
+  tl_free(&a);
+  tl_free(&b);
+  return s;
 }
 
 static TlStatus run(int argc, char **argv)
@@ -99,6 +175,12 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-reference", 1, "run the full-DEM reference for the errors", &reference), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
+  const char *baseline = NULL;
+  double baseline_tol = 1e-6;
+  int check = 0;
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-baseline", "", "compare energies.csv with this table (self-test)", &baseline), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-baseline_tol", 1e-6, 0.0, 1.0, "", "relative tolerance against -baseline", &baseline_tol), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "fail unless mass at t = 0 is exact, Eq. 41 holds to 1e-12 and the momentum drift stays below 1e-3", &check), done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
 
@@ -166,6 +248,23 @@ static TlStatus run(int argc, char **argv)
          "(reference %.6g J); coupled run %.2f s, reference %.2f s; output in %s\n",
          cases[icase], excitations[iexc], p.c, p.c / p.dx, p.epsilon > 0 ? "given" : "Table 6", rc.n_particles, rc.dt,
          rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall, wall_ref, dir);
+  double baseline_diff = NAN;
+  if (check) {
+    if (!(mass_err0 < 1e-12) || !(eq41 < 1e-12) || !(drift < 1e-3)) {
+      s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                       "check failed: mass error at t = 0 %g (limit 1e-12), Eq. 41 %g (limit 1e-12), momentum drift %g "
+                       "(limit 1e-3)", mass_err0, eq41, drift);
+      goto out;
+    }
+  }
+  if (baseline[0]) {
+    char path[4096];
+    double worst;
+    snprintf(path, sizeof path, "%s/energies.csv", dir);
+    TL_CHECK_GOTO(s, compare_tables(path, baseline, baseline_tol, &worst), out);
+    printf("energies.csv matches %s (largest relative difference %.3g, tolerance %g)\n", baseline, worst, baseline_tol);
+    baseline_diff = worst;
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_string(&sum, "case", cases[icase]);
@@ -180,6 +279,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "profile_err", perr);
   tl_summary_real(&sum, "residual", resid);
   tl_summary_real(&sum, "wall_coupled", rc.wall);
+  if (baseline[0]) tl_summary_real(&sum, "baseline_diff", baseline_diff);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   tl_summary_print(&sum, stdout);
 out:
