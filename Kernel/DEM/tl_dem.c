@@ -893,7 +893,9 @@ static TlStatus compute_forces(TlDem *d)
     size_t need = (size_t)nt * n;
     if (need > d->t_cap) {
       TL_CHECK(tl_realloc(&d->tf, need, sizeof *d->tf));
-      TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
+      /* per-thread torques only when something rotates (the rotation
+       * state is fixed at setup) */
+      if (rot) TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
       d->t_cap = need;
     }
     TlVec3 *tf = d->tf, *tt = d->tt;
