@@ -1,0 +1,125 @@
+/* The full-DEM reference of V1 (seeds/001 §6.2): the bonded simple-cubic
+ * bar over its whole length, the same particles, excitation and fixed right
+ * end as wave_volume_coupling. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "talus.h"
+#include "tl_atomic_file.h"
+#include "tl_output_dir.h"
+#include "tl_vcoupling_wave.h"
+
+static TlStatus write_energies(FILE *f, void *ctx)
+{
+  const TlWaveRecord *r = ctx;
+  fprintf(f, "t,mass,momentum,kinetic,potential,total\n");
+  for (size_t k = 0; k < r->n; ++k) {
+    const TlWaveState *s = &r->state[k];
+    fprintf(f, "%.9g,%.12g,%.9g,%.9g,%.9g,%.9g\n", s->t, s->mass_dem, s->mom_dem, s->kin_dem, s->pot_dem, s->total);
+  }
+  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the energy table failed") : TL_OK;
+}
+
+typedef struct {
+  const TlWaveRecord *r;
+  int n_snap;
+} Prof;
+
+static TlStatus write_profiles(FILE *f, void *ctx)
+{
+  const Prof *P = ctx;
+  fprintf(f, "t,y,vy\n");
+  for (int s = 0; s < P->n_snap; ++s)
+    for (size_t j = 0; j < P->r->ny; ++j)
+      fprintf(f, "%.6g,%.6g,%.9g\n", P->r->snap_t[s], P->r->y[j], P->r->profile[s * P->r->ny + j]);
+  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the profiles failed") : TL_OK;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  TlOptions *o = NULL;
+  TL_CHECK(tl_initialize());
+  TL_CHECK(tl_options_create(argc, argv,
+                             "The full-DEM reference of V1 (seeds/001 §6.2): bonded simple-cubic particles over "
+                             "the whole bar, right end fixed, left layer excited as in Table 4.",
+                             &o));
+  static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
+  static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  p.full_dem = 1;
+  TlWaveRunOptions ro = {.t_end = 0.09, .every = 20, .n_snap = 0, .progress = 1};
+  int icase = 0, iexc = 0, n_snap = 0;
+  long cycles = 1, every = 0;
+  double v0 = 0.0;
+  char *dir = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element edge n: nP = n^3 (Table 6)", &icase), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-excitation", "pulse", excitations, "Table 4 excitation", &iexc), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-omega", 1950.0, 1e-3, 1e9, "rad/s", "excitation angular frequency", &p.omega), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-cycles", 1, 1, 1000, "cycles M_c (-excitation cycles)", &cycles), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-v0", 0.0, 0.0, 1e3, "m/s", "amplitude (0: Table 4, 0.1 pulse, 0.05 otherwise)", &v0), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dx", 0.4, 1e-3, 1e3, "m", "element size of the coupled model (d = dx / n)", &p.dx), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (k_n = E d)", &p.E), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "continuum density (particles 6 rho / pi)", &p.rho), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length", &p.length), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-3, 1e6, "m", "section side", &p.width), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_over_tc", 0.01, 1e-6, 0.3, "", "time step / contact time", &p.dt_over_tc), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time", &ro.t_end), done);
+  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-snapshots", "0.03,0.05", "s", "times of the velocity profiles",
+                                            ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
+  TL_CHECK_GOTO(s, tl_output_dir(o, &dir), done);
+  TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  p.n = icase + 1;
+  p.excitation = (TlWaveExcitation)iexc;
+  p.cycles = (int)cycles;
+  p.v0 = v0 > 0 ? v0 : (iexc == 0 ? 0.1 : 0.05);
+  ro.n_snap = n_snap;
+  double wall0 = tl_wtime();
+  TlWaveRecord r = {0};
+  {
+    TlWave *probe = NULL;
+    TL_CHECK_GOTO(s, tl_wave_create(&p, &probe), done);
+    double dt = tl_wave_dt(probe);
+    tl_wave_destroy(&probe);
+    ro.every = every > 0 ? every : (long)fmax(1.0, floor(ro.t_end / dt / 1000.0));
+  }
+  TL_CHECK_GOTO(s, tl_wave_run(&p, &ro, &r), out);
+  char path[4096];
+  snprintf(path, sizeof path, "%s/energies.csv", dir);
+  TL_CHECK_GOTO(s, tl_atomic_write(path, write_energies, &r), out);
+  Prof P = {&r, n_snap};
+  snprintf(path, sizeof path, "%s/profiles.csv", dir);
+  TL_CHECK_GOTO(s, tl_atomic_write(path, write_profiles, &P), out);
+  /* energy is conserved once the excitation stops (t0 for the driven cases) */
+  double t0 = p.excitation == TL_WAVE_PULSE ? 0.0 : 2.0 * 3.14159265358979323846 * p.cycles / p.omega;
+  double e_ref = NAN, e_dev = 0.0;
+  for (size_t k = 0; k < r.n; ++k) {
+    if (r.state[k].t < t0 + r.dt) continue;
+    if (isnan(e_ref)) e_ref = r.state[k].total;
+    e_dev = fmax(e_dev, fabs(r.state[k].total - e_ref) / e_ref);
+  }
+  printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
+         "after the excitation); output in %s\n",
+         cases[icase], excitations[iexc], r.n_particles, r.dt, r.steps, e_ref, e_dev, dir);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_string(&sum, "case", cases[icase]);
+  tl_summary_string(&sum, "excitation", excitations[iexc]);
+  tl_summary_int(&sum, "particles", (long)r.n_particles);
+  tl_summary_real(&sum, "energy", e_ref);
+  tl_summary_real(&sum, "energy_dev", e_dev);
+  tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+  tl_summary_print(&sum, stdout);
+out:
+  tl_wave_record_free(&r);
+done:
+  tl_free(&dir);
+  tl_options_destroy(&o);
+  return s;
+}
+
+int main(int argc, char **argv) { return tl_driver_exit(run(argc, argv)); }
