@@ -14,8 +14,8 @@ struct TlCoupledLoop {
   TlSCoupling **couplings;
   TlCoupledLoopOptions o;
   size_t n_nodes;
-  double *u_nodes, *v_nodes, *u_prev, *v_prev, *u_mid, *v_mid; /* 3 n_nodes */
-  double *F_nodes, *F_acc;                                      /* 3 n_nodes */
+  double *u_nodes, *v_nodes, *a_nodes, *u_prev, *u_mid, *v_mid; /* 3 n_nodes */
+  double *F_nodes, *F_prev, *F_acc;                             /* 3 n_nodes */
   double *F_dof, *u_old;                                        /* ndof */
   TlVec3 wall_force, wall_acc;
   double t;
@@ -79,7 +79,7 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
   if ((s = tl_calloc(&L->couplings, (size_t)n_couplings, sizeof *L->couplings)) != TL_OK) goto fail;
   for (int c = 0; c < n_couplings; c++) L->couplings[c] = couplings[c];
-  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->u_prev, &L->v_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_acc};
+  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->a_nodes, &L->u_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_prev, &L->F_acc};
   for (size_t k = 0; k < sizeof node_arrays / sizeof *node_arrays; k++)
     if ((s = tl_calloc(node_arrays[k], nn, sizeof(double))) != TL_OK) goto fail;
   if ((s = tl_calloc(&L->F_dof, nd ? nd : 1, sizeof(double))) != TL_OK) goto fail;
@@ -87,6 +87,7 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   L->t = tl_dem_time(dem);
   tl_solid_dofs_to_nodes(solid, stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(solid, stepper->v, L->v_nodes);
+  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
   tl_dem_track_energy(dem, 1);
   if ((s = move_walls(L, L->u_nodes, L->v_nodes)) != TL_OK) goto fail;
   if ((s = tl_dem_compute_forces(dem)) != TL_OK) goto fail;
@@ -109,11 +110,12 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
   tl_free(&L->couplings);
   tl_free(&L->u_nodes);
   tl_free(&L->v_nodes);
+  tl_free(&L->a_nodes);
   tl_free(&L->u_prev);
-  tl_free(&L->v_prev);
   tl_free(&L->u_mid);
   tl_free(&L->v_mid);
   tl_free(&L->F_nodes);
+  tl_free(&L->F_prev);
   tl_free(&L->F_acc);
   tl_free(&L->F_dof);
   tl_free(&L->u_old);
@@ -125,40 +127,43 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem);
   const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
-  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
-  memcpy(L->v_prev, L->v_nodes, nn * sizeof(double));
-  if (!L->o.one_way) {
-    /* 1. The solid under the coupling forces of the last k DEM steps. */
-    tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
-    memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
-    TL_CHECK(tl_stepper_step(L->stepper, k * dt));
-    double w = 0.0;
-    for (size_t i = 0; i < nd; i++) w += L->F_dof[i] * (L->stepper->u[i] - L->u_old[i]);
-    L->work_on_solid += w;
-    tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
-    tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
-  }
-  /* 2. k DEM steps with the walls interpolated in time. */
+  /* 1. k DEM steps with the walls on the solid's Taylor predictor
+   *    u_n + s v_n + s^2/2 a_n, v_n + s a_n (s = j dt): second order, and for
+   *    the explicit stepper with k = 1 the very position it will reach. */
+  if (!L->o.one_way) tl_solid_dofs_to_nodes(L->solid, L->stepper->a, L->a_nodes);
   memset(L->F_acc, 0, nn * sizeof(double));
   L->wall_acc = tl_v3(0, 0, 0);
   for (int j = 1; j <= k; j++) {
     if (!L->o.one_way) {
-      const double s = (double)j / (double)k;
-      if (j == k) {
-        TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
-      } else {
-        for (size_t i = 0; i < nn; i++) {
-          L->u_mid[i] = L->u_prev[i] + s * (L->u_nodes[i] - L->u_prev[i]);
-          L->v_mid[i] = L->v_prev[i] + s * (L->v_nodes[i] - L->v_prev[i]);
-        }
-        TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+      const double s = j * dt;
+      for (size_t i = 0; i < nn; i++) {
+        L->u_mid[i] = L->u_nodes[i] + s * (L->v_nodes[i] + 0.5 * s * L->a_nodes[i]);
+        L->v_mid[i] = L->v_nodes[i] + s * L->a_nodes[i];
       }
+      TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
     }
     TL_CHECK(tl_dem_step(L->dem, 1));
     TL_CHECK(gather(L, 1.0 / (double)k));
   }
+  /* 2. The solid to t_n + k dt under the forces of step 1 (their average over
+   *    the k DEM steps), which the steppers take as the load at t_{n+1}. */
+  memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
   memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
   L->wall_force = L->wall_acc;
+  if (!L->o.one_way) {
+    tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
+    memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
+    TL_CHECK(tl_stepper_step(L->stepper, k * dt));
+    tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
+    tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
+    /* Work of the coupling forces, trapezoidal over the step. */
+    double w = 0.0;
+    for (size_t i = 0; i < nn; i++) w += 0.5 * (L->F_prev[i] + L->F_nodes[i]) * (L->u_nodes[i] - L->u_prev[i]);
+    L->work_on_solid += w;
+    /* The walls follow the solid's actual state. */
+    TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
+  }
+  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
   L->t += k * dt;
   return TL_OK;
 }

@@ -2,22 +2,24 @@
  *
  * One macro step of size Dt = k dt (k DEM steps of dt per FEM step; k = 1
  * is the paper's lock-step):
- *   1. the solid advances t_n -> t_n + Dt under the coupling forces F (held
- *      constant over the step, entered through the system's step hook):
- *      the average of the nodal coupling forces over the previous k DEM
- *      steps (for k = 1: the forces of the last DEM force evaluation);
- *   2. the DEM world takes k steps; before the j-th, the walls are moved to
- *      u_n + (j/k)(u_{n+1} - u_n), with velocities interpolated likewise
- *      (linear in time between the FE states); after each, the coupling
- *      forces (Eq. 15 or 16) are accumulated into the next F.
+ *   1. the DEM world takes k steps; before the j-th, the walls are moved to
+ *      the solid's Taylor predictor u_n + s v_n + s^2/2 a_n (velocities
+ *      v_n + s a_n), s = j dt, and after it the coupling forces (Eq. 15 or
+ *      16) are accumulated: F = their average over the k steps;
+ *   2. the solid advances t_n -> t_n + Dt with F as the coupling load at
+ *      t_{n+1} (through the system's step hook), and the walls are moved to
+ *      the state it reached.
+ * For the explicit stepper with k = 1 the predictor is the position the
+ * solid reaches, so F is the force at t_{n+1} exactly where central
+ * difference needs it (no lag: a lag of one step feeds energy into the
+ * coupled system).  For Newmark the predictor is second-order accurate.
  * One-way coupling keeps the solid rigid at its initial state (no FE step;
  * the particles see fixed walls).
  *
  * Energy bookkeeping (every call of tl_coupled_loop_energy): the DEM
  * world's kinetic, elastic (contacts, walls included) and gravitational
  * energies, the solid's kinetic and strain energies, the work the coupling
- * forces did on the solid (sum of F . (u_{n+1} - u_n), exact for a force
- * constant over the step) and the work the moving walls did on the particles
+ * forces did on the solid (trapezoidal rule over each step) and the work the moving walls did on the particles
  * (from the walls' accounts).  With both sub-models undamped and no other
  * loads, total = DEM (kinetic + elastic + gravitational) + FE (kinetic +
  * strain) is conserved by the exact coupled problem; its drift is the
