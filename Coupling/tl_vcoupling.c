@@ -31,8 +31,10 @@ struct TlVCoupling {
   size_t n_elem;
   size_t *elem;       /* coupling elements (block indices) */
   long *elem_slot;    /* block element -> coupling slot or -1 */
-  size_t n_cnode;
-  size_t *cnode;      /* coupled global nodes */
+  size_t n_cnode;     /* rows of Pi: coupled nodes, or element-node slots */
+  size_t *cnode;      /* global node of each row */
+  int per_element;    /* rows per element (element-local Eq. 18) */
+  double *hcount;     /* n_nodes: rows per node (homogenise) */
   long *node_local;   /* global -> local or -1 */
   size_t *conn;       /* n_elem x nn local node numbers */
   double *Me;         /* n_elem x nn x nn: int N_a N_b dV (reference) */
@@ -231,7 +233,9 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
     goto fail;
   }
   TL_CHECK_GOTO(s, tl_calloc(&vc->conn, vc->n_elem * nn, sizeof *vc->conn), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&vc->cnode, mesh->n_nodes, sizeof *vc->cnode), fail);
+  size_t rows_max = mesh->n_nodes > vc->n_elem * nn ? mesh->n_nodes : vc->n_elem * nn;
+  TL_CHECK_GOTO(s, tl_calloc(&vc->cnode, rows_max, sizeof *vc->cnode), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&vc->hcount, mesh->n_nodes, sizeof *vc->hcount), fail);
   for (size_t s_ = 0; s_ < vc->n_elem; ++s_)
     for (int k = 0; k < nn; ++k) {
       size_t g = B->conn[vc->elem[s_] * nn + k];
@@ -241,6 +245,16 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
       }
       vc->conn[s_ * nn + k] = (size_t)vc->node_local[g];
     }
+  vc->per_element = p->per_element != 0;
+  if (vc->per_element) {
+    /* one row per element and node: Eq. 18 normalised over Omega_e alone */
+    vc->n_cnode = vc->n_elem * nn;
+    for (size_t s_ = 0; s_ < vc->n_elem; ++s_)
+      for (int k = 0; k < nn; ++k) {
+        vc->cnode[s_ * nn + k] = B->conn[vc->elem[s_] * nn + k];
+        vc->conn[s_ * nn + k] = s_ * nn + k;
+      }
+  }
 
   /* reference mass-type matrix M_ab = int N_a N_b dV and element size */
   TlQuadrature mrule;
@@ -299,6 +313,7 @@ void tl_vcoupling_destroy(TlVCoupling **pvc)
   tl_free(&vc->elem);
   tl_free(&vc->elem_slot);
   tl_free(&vc->cnode);
+  tl_free(&vc->hcount);
   tl_free(&vc->node_local);
   tl_free(&vc->conn);
   tl_free(&vc->Me);
@@ -562,15 +577,21 @@ TlStatus tl_vcoupling_forces(TlVCoupling *vc, const double *du_p, const double *
 TlStatus tl_vcoupling_homogenise(const TlVCoupling *vc, const double *q, double *out, char *reached)
 {
   if (!vc->updated) TL_ERROR(TL_ERR_STATE, "tl_vcoupling_update must run before homogenising");
+  /* element-local rows: the mean of the node's rows */
+  for (size_t i = 0; i < vc->n_cnode; ++i) vc->hcount[vc->cnode[i]] = 0.0;
   for (size_t i = 0; i < vc->n_cnode; ++i) {
     size_t g = vc->cnode[i];
-    if (reached) reached[g] = vc->active[i];
-    if (vc->active[i])
+    if (reached) reached[g] = 0;
+    if (vc->active[i]) {
+      vc->hcount[g] += 1.0;
       for (int d = 0; d < 3; ++d) out[3 * g + d] = 0.0;
+    }
   }
+  for (size_t i = 0; i < vc->n_cnode; ++i)
+    if (reached && vc->active[i]) reached[vc->cnode[i]] = 1;
   for (size_t j = 0; j < vc->n_pi; ++j) {
     size_t g = vc->cnode[vc->pi_node[j]], a = vc->pi_part[j];
-    for (int d = 0; d < 3; ++d) out[3 * g + d] += vc->pi_val[j] * q[3 * a + d];
+    for (int d = 0; d < 3; ++d) out[3 * g + d] += vc->pi_val[j] * q[3 * a + d] / vc->hcount[g];
   }
   return TL_OK;
 }

@@ -49,6 +49,10 @@ typedef struct {
   const char *kernel; /* CG kernel name for c > 0 ("lucy", "gaussian", "heaviside") */
   double epsilon;     /* penalty (Pa/m^2) */
   int quad_order;     /* Gauss points per direction for Eq. 18 (1..5) */
+  int per_element;    /* 0: rows of Pi normalised over the whole support of
+                         node i (a node has one u_i^DE); 1: per element, as
+                         Eq. 18 is written (sum over Omega_e alone, each
+                         element its own u_i^DE, forces assembled) */
 } TlVCouplingParams;
 
 typedef struct {

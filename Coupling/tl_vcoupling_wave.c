@@ -28,7 +28,7 @@ struct TlWave {
   char *fixed;
   TlVCoupling *vc;
   double eq41, residual, work, spring;
-  double vmax_allowed;
+  double vmax_allowed, eps;
 };
 
 void tl_wave_params_default(TlWaveParams *p)
@@ -170,7 +170,8 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     TL_CHECK_GOTO(s, tl_calloc(&w->Ke, w->mesh->blocks[0].n_elements * 576, sizeof(double)), fail);
     for (size_t i = 0; i < w->nn; ++i) w->fixed[i] = fabs(w->mesh->x[3 * i + 1] - p->length) < 1e-9 * p->length;
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
-    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order};
+    w->eps = eps;
+    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order, p->per_element};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass), fail);
@@ -337,9 +338,11 @@ TlStatus tl_wave_step(TlWave *w)
   if (!(vmax <= w->vmax_allowed))
     TL_ERROR(TL_ERR_UNSTABLE,
              "the wave run diverged at t = %g s (step %ld): largest speed %g m/s, over 100 times the amplitude "
-             "%g m/s; CG width c = %g m (%.3g element sizes), penalty from -epsilon; seeds/001 §6.2.2 finds "
-             "widths beyond about 2.5 element sizes unstable",
-             w->t, w->step, vmax, w->p.v0, w->p.c, w->p.c / w->p.dx);
+             "%g m/s, with CG width c = %g m (%.3g element sizes) and penalty eps = %g Pa/m^2 (eps d^2 = %g Pa). "
+             "The explicit penalty acts as a damper eps M dt on the step displacement; too large an eps, or a "
+             "width homogenising over too many elements (seeds/001 §6.2.2: beyond about 2.5 element sizes), "
+             "leaves the stable range",
+             w->t, w->step, vmax, w->p.v0, w->p.c, w->p.c / w->p.dx, w->eps, w->eps * w->d * w->d);
   return TL_OK;
 }
 

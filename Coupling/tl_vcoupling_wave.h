@@ -48,6 +48,7 @@ typedef struct {
                           scaled with 1/d^2, i.e. 1.6e9 Pa / d^2 (the text's
                           4e8 Pa / d^2 is not consistent with Table 6) */
   int quad_order;
+  int per_element;     /* Pi rows per element (Eq. 18 over Omega_e) instead of per node */
   int full_dem;        /* 1: particles over the whole bar, no solid */
   TlWaveVariant variant;
 } TlWaveParams;

@@ -161,6 +161,10 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-epsilon", 0.0, 0.0, 1e30, "Pa/m^2", "penalty (0: Table 6, 1e4 Pa/mm^2 for 1P scaled by 1/d^2 = 1.6e9 Pa / d^2)", &p.epsilon), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-variant", "paper", variants,
                                          "paper: penalty on the step displacement (Eq. 29); spring: on the total displacement", &ivar), done);
+  static const char *const scopes[] = {"node", "element", NULL};
+  int iscope = 0;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-pi_scope", "element", scopes,
+                                         "element: Eq. 18 as written, normalised over each Omega_e, forces assembled; node: over each node's whole support", &iscope), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
@@ -191,6 +195,7 @@ static TlStatus run(int argc, char **argv)
   p.kernel = kernels[iker];
   p.variant = (TlWaveVariant)ivar;
   p.quad_order = (int)quad;
+  p.per_element = iscope;
   ro.n_snap = n_snap;
   double wall0 = tl_wtime();
   TlWaveRecord rc = {0}, rr = {0};

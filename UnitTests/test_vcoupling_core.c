@@ -68,7 +68,7 @@ static void test_weights(const TlMesh *mesh)
   }
   TL_TEST_ASSERT(monotone, "zone weight must fall monotonically from 1 to 0 within [0, 1]");
 
-  TlVCouplingParams p = {z, 0.0, "lucy", 1e10, 4};
+  TlVCouplingParams p = {z, 0.0, "lucy", 1e10, 4, 0};
   TlVCoupling *vc = NULL;
   TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_OK);
   if (!vc) return;
@@ -113,7 +113,7 @@ static void test_weights(const TlMesh *mesh)
  * neighbourhood is symmetric. */
 static void test_operator(const TlMesh *mesh, double c, int n)
 {
-  TlVCouplingParams p = {{1, 8.0, 12.0}, c, "lucy", 1e10, 4};
+  TlVCouplingParams p = {{1, 8.0, 12.0}, c, "lucy", 1e10, 4, 0};
   TlVCoupling *vc = NULL;
   TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_OK);
   if (!vc) return;
@@ -189,9 +189,9 @@ static void test_operator(const TlMesh *mesh, double c, int n)
 /* Eq. 41: random motions, unequal masses, jittered particles; the forces
  * on the solid and the particles balance to round-off, and the penalty's
  * work in the step is -eps r.M r <= 0. */
-static void test_balance(const TlMesh *mesh, double c, const char *kernel)
+static void test_balance(const TlMesh *mesh, double c, const char *kernel, int per_element)
 {
-  TlVCouplingParams p = {{1, 8.0, 12.0}, c, kernel, 4e8 / 0.04, 4};
+  TlVCouplingParams p = {{1, 8.0, 12.0}, c, kernel, 4e8 / 0.04, 4, per_element};
   TlVCoupling *vc = NULL;
   TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_OK);
   if (!vc) return;
@@ -235,10 +235,50 @@ static void test_balance(const TlMesh *mesh, double c, const char *kernel)
   tl_vcoupling_destroy(&vc);
 }
 
+/* Element-local rows (Eq. 18 over Omega_e alone): every element's rows sum
+ * to one, so each node's entries sum to the number of its coupling elements
+ * that particles reach; a rigid translation still gives no force. */
+static void test_rows_per_element(const TlMesh *mesh)
+{
+  for (int k = 0; k < 2; ++k) {
+    double c = k ? 0.6 : 0.0;
+    TlVCouplingParams p = {{1, 8.0, 12.0}, c, "lucy", 1e10, 4, 1};
+    TlVCoupling *vc = NULL;
+    TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_OK);
+    if (!vc) return;
+    size_t np = make_lattice(2, 1);
+    TL_TEST_STATUS(tl_vcoupling_update(vc, NULL, np, xp, mp), TL_OK);
+    size_t ne, nel;
+    const size_t *node, *part, *el;
+    const double *val;
+    tl_vcoupling_operator(vc, &ne, &node, &part, &val);
+    tl_vcoupling_elements(vc, &nel, &el);
+    static double rows[400], count[400];
+    memset(rows, 0, sizeof rows);
+    memset(count, 0, sizeof count);
+    for (size_t j = 0; j < ne; ++j) rows[node[j]] += val[j];
+    for (size_t e = 0; e < nel; ++e)
+      for (int a = 0; a < 8; ++a) count[mesh->blocks[0].conn[8 * el[e] + a]] += 1.0;
+    int ok = 1;
+    for (size_t i = 0; i < mesh->n_nodes; ++i)
+      if (fabs(rows[i] - count[i]) > 1e-13) ok = 0;
+    TL_TEST_ASSERT(ok, "c = %g: element rows must each sum to one", c);
+    for (size_t a = 0; a < np; ++a)
+      for (int d = 0; d < 3; ++d) dup[3 * a + d] = 0.01 * (d + 1);
+    static double dun[3 * 400];
+    for (size_t i = 0; i < mesh->n_nodes; ++i)
+      for (int d = 0; d < 3; ++d) dun[3 * i + d] = 0.01 * (d + 1);
+    TlVCouplingDiag dg;
+    TL_TEST_STATUS(tl_vcoupling_forces(vc, dup, dun, NULL, NULL, &dg), TL_OK);
+    TL_TEST_ASSERT(dg.residual_max < 1e-16, "c = %g: rigid translation leaves residual %g", c, dg.residual_max);
+    tl_vcoupling_destroy(&vc);
+  }
+}
+
 static void test_bad_input(const TlMesh *mesh)
 {
   TlVCoupling *vc = NULL;
-  TlVCouplingParams p = {{1, 8.0, 12.0}, -0.1, "lucy", 1e10, 4};
+  TlVCouplingParams p = {{1, 8.0, 12.0}, -0.1, "lucy", 1e10, 4, 0};
   TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_ERR_ARG);
   p.c = 0.0;
   p.zone.axis = 3;
@@ -286,9 +326,12 @@ int main(void)
     test_operator(mesh, 0.2, k);
     test_operator(mesh, 0.6, k);
   }
-  test_balance(mesh, 0.0, "lucy");
-  test_balance(mesh, 0.4, "lucy");
-  test_balance(mesh, 0.6, "gaussian");
+  for (int pe = 0; pe <= 1; ++pe) {
+    test_balance(mesh, 0.0, "lucy", pe);
+    test_balance(mesh, 0.4, "lucy", pe);
+    test_balance(mesh, 0.6, "gaussian", pe);
+  }
+  test_rows_per_element(mesh);
   test_bad_input(mesh);
   tl_mesh_destroy(&mesh);
   return tl_test_report();
