@@ -1,0 +1,124 @@
+#!/usr/bin/python3
+"""Plots of a wave_volume_coupling run (seeds/001 Figs. 19-21).
+
+  plot_wave.py results/wave_volume_coupling
+      energies.png  weighted energies of the sub-models and their total
+                    against the full-DEM reference (Fig. 20 d-f)
+      momentum.png  weighted y momentum of each sub-model and the total
+                    against the reference (Fig. 20 b-c)
+      profiles.png  v_y along the bar at the snapshot times, coupled and
+                    full DEM (Fig. 19)
+  plot_wave.py --sweep table.md -o dissipation.png
+      dissipated fraction against the CG width from the Markdown table of
+      tools/sweep_wave.sh, one line per case/excitation/variant (Fig. 21)
+
+PNGs are written to a temporary name and renamed.
+"""
+import argparse
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if len(rows) < 2:
+        sys.exit(f"{path}: no data rows")
+    head = [h.strip() for h in rows[0]]
+    cols = {h: [] for h in head}
+    for r in rows[1:]:
+        for h, v in zip(head, r):
+            cols[h].append(float(v))
+    return cols
+
+
+def save(fig, path):
+    tmp = os.path.join(os.path.dirname(path) or ".", "." + os.path.basename(path) + ".tmp.png")
+    fig.savefig(tmp, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    os.replace(tmp, path)
+    print(path)
+
+
+def plot_run(folder):
+    e = read_csv(os.path.join(folder, "energies.csv"))
+    t = e["t"]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for key, label in [("kin_dem", "DEM kinetic (w)"), ("pot_dem", "DEM potential (w)"),
+                       ("kin_fem", "FEM kinetic (1-w)"), ("pot_fem", "FEM potential (1-w)"),
+                       ("pot_coupling", "coupling spring"), ("total", "total"), ("ref_total", "full DEM")]:
+        if key in e and max(abs(v) for v in e[key]) > 0:
+            ax.plot(t, e[key], "--" if key == "ref_total" else "-", label=label)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("energy [J]")
+    ax.legend(fontsize=8)
+    save(fig, os.path.join(folder, "energies.png"))
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for key, label in [("mom_dem", "DEM (w)"), ("mom_fem", "FEM (1-w)"), ("mom_total", "total"),
+                       ("ref_mom", "full DEM")]:
+        ax.plot(t, e[key], "--" if key == "ref_mom" else "-", label=label)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("y momentum [kg m/s]")
+    ax.legend(fontsize=8)
+    save(fig, os.path.join(folder, "momentum.png"))
+
+    p = read_csv(os.path.join(folder, "profiles.csv"))
+    fig, ax = plt.subplots(figsize=(8, 4))
+    times = sorted(set(p["t"]))
+    for k, ts in enumerate(times):
+        idx = [i for i, v in enumerate(p["t"]) if v == ts]
+        y = [p["y"][i] for i in idx]
+        ax.plot(y, [p["vy"][i] for i in idx], "-", color=f"C{k}", label=f"coupled t = {ts:.3g} s")
+        ax.plot(y, [p["vy_ref"][i] for i in idx], "o", ms=3, color=f"C{k}", label=f"full DEM t = {ts:.3g} s")
+    ax.axvspan(8.0, 12.0, color="0.9", zorder=0)
+    ax.set_xlabel("y [m]")
+    ax.set_ylabel("v_y [m/s]")
+    ax.legend(fontsize=8)
+    save(fig, os.path.join(folder, "profiles.png"))
+
+
+def plot_sweep(table, out):
+    lines = {}
+    with open(table) as f:
+        for line in f:
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if len(cells) < 6 or cells[0] in ("case", "---") or cells[4].startswith("failed"):
+                continue
+            case, exc, var, c = cells[0], cells[1], cells[2], cells[3]
+            cval = float(c[:-1]) if c.endswith("h") else float(c) / 0.4
+            lines.setdefault(f"{case} {exc} {var}", []).append((cval, 100.0 * float(cells[4])))
+    if not lines:
+        sys.exit(f"{table}: no rows")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for label, pts in sorted(lines.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
+    ax.set_xlabel("CG width c / ΔX")
+    ax.set_ylabel("dissipated energy [%]")
+    ax.legend(fontsize=8)
+    save(fig, out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("folder", nargs="?", help="output folder of wave_volume_coupling")
+    ap.add_argument("--sweep", help="Markdown table of tools/sweep_wave.sh")
+    ap.add_argument("-o", default="dissipation.png", help="PNG of --sweep")
+    a = ap.parse_args()
+    if a.sweep:
+        plot_sweep(a.sweep, a.o)
+    if a.folder:
+        plot_run(a.folder)
+    if not a.sweep and not a.folder:
+        ap.error("give an output folder or --sweep")
+
+
+if __name__ == "__main__":
+    main()
