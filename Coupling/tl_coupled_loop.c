@@ -192,3 +192,53 @@ const double *tl_coupled_loop_u_nodes(const TlCoupledLoop *L) { return L->u_node
 const double *tl_coupled_loop_v_nodes(const TlCoupledLoop *L) { return L->v_nodes; }
 const double *tl_coupled_loop_forces(const TlCoupledLoop *L) { return L->F_nodes; }
 TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *L) { return L->wall_force; }
+
+/* ---- checkpoint: the coupling forces of the last step, their previous
+ * value (the trapezoidal work), the work so far, the time and the wall
+ * total; the solid's state comes from the stepper's section and the walls'
+ * from the world's, both restored before this one. */
+static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlCoupledLoop *L = object;
+  const size_t nn = 3 * L->n_nodes;
+  double misc[5] = {L->t, L->work_on_solid, L->wall_force.x, L->wall_force.y, L->wall_force.z};
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "forces", nn, L->F_nodes));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "previous_forces", nn, L->F_prev));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "time_work_wall_force", 5, misc));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
+  return TL_OK;
+}
+
+static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlCoupledLoop *L = object;
+  const size_t nn = 3 * L->n_nodes;
+  size_t n = 0;
+  int64_t k = 0, one_way = 0;
+  TL_CHECK(tl_checkpoint_length(r, group, "forces", &n));
+  if (n != nn) TL_ERROR(TL_ERR_ARG, "checkpoint holds coupling forces for %zu node components, this solid has %zu", n, nn);
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "substeps", &k));
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "one_way", &one_way));
+  if (k != L->o.substeps || one_way != L->o.one_way)
+    TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld DEM steps per FEM step and one_way = %lld, this run has %d and %d",
+             (long long)k, (long long)one_way, L->o.substeps, L->o.one_way);
+  double misc[5];
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "forces", nn, L->F_nodes));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "previous_forces", nn, L->F_prev));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "time_work_wall_force", 5, misc));
+  L->t = misc[0];
+  L->work_on_solid = misc[1];
+  L->wall_force = tl_v3(misc[2], misc[3], misc[4]);
+  tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
+  tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
+  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
+  TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
+  return TL_OK;
+}
+
+const TlCheckpointOps tl_coupled_loop_checkpoint_ops = {
+    .header = {"checkpoint", "coupled_loop_v1", "surface-coupling loop: coupling forces, work, time"},
+    .save = loop_save,
+    .load = loop_load,
+};

@@ -27,6 +27,7 @@
 #ifndef TL_COUPLED_LOOP_H
 #define TL_COUPLED_LOOP_H
 
+#include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_scoupling.h"
 #include "tl_solid.h"
@@ -67,5 +68,11 @@ const double *tl_coupled_loop_v_nodes(const TlCoupledLoop *loop);
  * step, and the particle–wall force total they balance. */
 const double *tl_coupled_loop_forces(const TlCoupledLoop *loop);
 TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *loop);
+
+/* Checkpoint section of the loop (object: the TlCoupledLoop).  Add it after
+ * the stepper's (tl_stepper_checkpoint_ops) and the world's
+ * (tl_dem_checkpoint_ops) sections: loading restores the coupling forces
+ * and moves the walls to the restored solid, so a run continues bit for bit. */
+extern const TlCheckpointOps tl_coupled_loop_checkpoint_ops;
 
 #endif
