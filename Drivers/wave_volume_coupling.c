@@ -163,8 +163,8 @@ static TlStatus run(int argc, char **argv)
                                          "paper: penalty on the step displacement (Eq. 29); spring: on the total displacement", &ivar), done);
   static const char *const scopes[] = {"node", "element", NULL};
   int iscope = 0;
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-pi_scope", "element", scopes,
-                                         "element: Eq. 18 as written, normalised over each Omega_e, forces assembled; node: over each node's whole support", &iscope), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-pi_scope", ivar ? "node" : "element", scopes,
+                                         "element: Eq. 18 as written, normalised over each Omega_e, forces assembled; node: over each node's whole support (default element for -variant paper, node for spring)", &iscope), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
