@@ -1,0 +1,131 @@
+/* The V1 wave scene: weighted mass of the coupled bar, momentum balance and
+ * energy book-keeping of the coupled step, the spring variant conserving
+ * energy, a divergent penalty stopped with a diagnosis, bad parameters. */
+#include <math.h>
+
+#include "talus.h"
+#include "tl_test.h"
+#include "tl_vcoupling_wave.h"
+
+static void test_mass_and_balance(int per_element)
+{
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  p.per_element = per_element;
+  TlWave *w = NULL;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
+  TlWaveState s0, s;
+  tl_wave_state(w, &s0);
+  double M = p.rho * p.length * p.width * p.width;
+  /* particles weighted by w, solid by 1 - w: the bar's mass, Eqs. 25-26 */
+  TL_TEST_CLOSE((s0.mass_dem + s0.mass_fem) / M, 1.0, 1e-13);
+  TL_TEST_ASSERT(s0.mass_dem > 0.5 * M * 8.0 / 20.0 && s0.mass_fem > 0.5 * M * 8.0 / 20.0,
+                 "both sub-models carry mass: %g %g", s0.mass_dem, s0.mass_fem);
+  /* the left layer of 2 x 2 particles of mass rho d^3 moves at -v0 */
+  TL_TEST_CLOSE(s0.mom_dem / (-p.v0 * 4.0 * p.rho * pow(p.dx, 3)), 1.0, 1e-13);
+  /* 1400 steps (0.045 s): the pulse is in the overlap; total momentum is
+   * conserved (no reaction yet at the fixed end), Eq. 41 to round-off */
+  TlStatus st = TL_OK;
+  double eq41 = 0.0;
+  for (int k = 0; k < 1400 && st == TL_OK; ++k) {
+    st = tl_wave_step(w);
+    if (k % 100 == 99) {
+      tl_wave_state(w, &s);
+      eq41 = fmax(eq41, s.eq41);
+    }
+  }
+  TL_TEST_STATUS(st, TL_OK);
+  tl_wave_state(w, &s);
+  TL_TEST_ASSERT(fabs(s.mom_fem) > 0.1 * fabs(s0.mom_dem), "the wave has reached the solid: %g", s.mom_fem);
+  double drift = fabs(s.mom_dem + s.mom_fem - s0.mom_dem) / fabs(s0.mom_dem);
+  TL_TEST_ASSERT(drift < 1e-3, "per_element %d: total momentum drifts by %g", per_element, drift);
+  TL_TEST_ASSERT(eq41 < 1e-12, "Eq. 41 violated by %g", eq41);
+  /* the paper's penalty only removes energy: what is lost equals the
+   * penalty's work within the integration error */
+  double lost = s0.total - s.total;
+  TL_TEST_ASSERT(lost > 0.0 && s.coupling_work < 0.0, "lost %g, penalty work %g", lost, s.coupling_work);
+  TL_TEST_ASSERT(fabs(lost + s.coupling_work) < 0.05 * lost, "energy lost %g against penalty work %g", lost,
+                 -s.coupling_work);
+  tl_wave_destroy(&w);
+}
+
+static void test_spring_conserves(void)
+{
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  p.variant = TL_WAVE_SPRING;
+  TlWave *w = NULL;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
+  TlWaveState s0, s;
+  tl_wave_state(w, &s0);
+  TlStatus st = TL_OK;
+  double dev = 0.0;
+  for (int k = 0; k < 1800 && st == TL_OK; ++k) {
+    st = tl_wave_step(w);
+    if (k % 50 == 49) {
+      tl_wave_state(w, &s);
+      dev = fmax(dev, fabs(s.total - s0.total) / s0.total);
+    }
+  }
+  TL_TEST_STATUS(st, TL_OK);
+  tl_wave_state(w, &s);
+  TL_TEST_ASSERT(s.kin_fem + s.pot_fem > 0.3 * s0.total, "energy reached the solid: %g of %g", s.kin_fem + s.pot_fem,
+                 s0.total);
+  TL_TEST_ASSERT(dev < 2e-3, "spring variant: total energy deviates by %g", dev);
+  tl_wave_destroy(&w);
+}
+
+static void test_divergence_stops(void)
+{
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  p.epsilon = 4e10;
+  TlWave *w = NULL;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
+  TlStatus st = TL_OK;
+  int k = 0;
+  for (; k < 500 && st == TL_OK; ++k) st = tl_wave_step(w);
+  TL_TEST_STATUS(st, TL_ERR_UNSTABLE);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "penalty eps = 4e+10") != NULL, "diagnosis names the penalty: %s",
+                 tl_error_message());
+  TlWaveState s;
+  tl_wave_state(w, &s);
+  TL_TEST_ASSERT(isfinite(s.total), "state still finite when stopped (%g)", s.total);
+  tl_wave_destroy(&w);
+}
+
+static void test_bad_params(void)
+{
+  TlWaveParams p;
+  TlWave *w = NULL;
+  tl_wave_params_default(&p);
+  p.n = 0;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  tl_wave_params_default(&p);
+  p.fem_start = 13.0;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  tl_wave_params_default(&p);
+  p.dt_over_tc = 0.5;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  tl_wave_params_default(&p);
+  p.c = -1.0;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  TL_TEST_ASSERT(w == NULL, "failed create leaves NULL");
+}
+
+int main(void)
+{
+  if (tl_initialize() != TL_OK) {
+    fprintf(stderr, "%s\n", tl_error_message());
+    return 1;
+  }
+  test_mass_and_balance(1);
+  test_mass_and_balance(0);
+  test_spring_conserves();
+  test_divergence_stops();
+  test_bad_params();
+  return tl_test_report();
+}
