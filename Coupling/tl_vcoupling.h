@@ -11,9 +11,11 @@
  *        c = 0: Eq. 19, Pi_ia ~ m_a N_i(xi_a) through the inverse map;
  *        c > 0: Eq. 18, Pi_ia ~ m_a sum_q w_q W(x_q - x_a) N_i(x_q) by
  *               quadrature on the element, no inverse map.
- *      Rows are normalised (sum_a Pi_ia = 1) over the whole support of node
- *      i (all coupling elements that hold it).  Nodes no particle reaches
- *      are left out of the constraint.
+ *      Rows are normalised (sum_a Pi_ia = 1) either per element, as Eq. 18
+ *      is written (each element its own u_i^DE, forces assembled), or over
+ *      the whole support of node i (one u_i^DE per node); see
+ *      TlVCouplingParams.per_element.  Rows no particle reaches are left out
+ *      of the constraint.
  *   2. tl_vcoupling_forces(): u_i^DE = sum_a Pi_ia du_a, the nodal
  *      mismatch r_j = u_j^DE - u_j^FE (Eq. 29), the nodal force of the
  *      body force b^C = eps r (Eq. 31) on the solid, F_i = eps sum_j M_ij r_j
