@@ -170,10 +170,6 @@ TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
 typedef void (*TlWallContactVisitor)(void *ctx, size_t wall, size_t i, TlVec3 force_on_particle, TlVec3 contact_point,
                                      TlVec3 particle_center);
 TlStatus tl_dem_visit_wall_contacts(TlDem *dem, TlWallContactVisitor visit, void *ctx);
-/* The plane's contact of particle i at the last evaluation: 1 and the force
- * on the particle if touching, else 0.  (Defined with the plane wall in
- * tl_wall_plane.c; its natural home is tl_wall.h.) */
-int tl_wall_plane_contact_force(const TlWall *w, size_t i, TlVec3 *force_on_particle);
 
 /* ---- checkpoint and restart (tl_checkpoint.h; object: the TlDem) ----
  * Saves everything a later step reads: the particle arrays (with rotation

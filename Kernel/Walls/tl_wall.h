@@ -101,6 +101,9 @@ TlStatus tl_wall_plane_create(TlVec3 point, TlVec3 normal, TlWall **w);
 TlStatus tl_wall_plane_set_velocity(TlWall *w, TlVec3 velocity);
 /* Current point and unit normal. */
 void tl_wall_plane_get(const TlWall *w, TlVec3 *point, TlVec3 *normal);
+/* The plane's contact of particle i at the last evaluation: 1 and the force
+ * on the particle if touching, else 0. */
+int tl_wall_plane_contact_force(const TlWall *w, size_t i, TlVec3 *force_on_particle);
 TlStatus tl_wall_register_plane(void);
 
 #endif
