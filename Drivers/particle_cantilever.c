@@ -31,7 +31,8 @@
 typedef struct {
   TlCantileverParams beam;
   double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt;
-  long substeps, reuse, cg_subdivisions;
+  long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
+  const char *restart;
   int stepper, one_way, keep_factors;
   const char *kernel;
   char *output_dir;
@@ -87,6 +88,11 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_max", 80.0, 0.0, 1e6, "s", "end time if the particles never leave", &c->t_max), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-output_dt", 0.01, 0.0, 1e6, "s", "table rows every (0: every step)", &c->output_dt), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-snapshot_dt", 1.0, 0.0, 1e6, "s", "HDF5/XDMF snapshots every (0: none)", &c->snapshot_dt), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "checkpoint every n coupled steps to <output_dir>/checkpoint.h5 (0: none)", &c->checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue from this checkpoint file", &c->restart), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000, "stop after this coupled step (0: run to the end)",
+                                      &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
   c->kernel = kernels[kernel];
@@ -148,6 +154,40 @@ static void snapshots_close(Snapshots *sn)
   tl_free(&sn->conn);
 }
 
+/* Running diagnostics, checkpointed with the run. */
+typedef struct {
+  int64_t step;
+  double err_int, err_time, sym_dev, E_max, t_off;
+  double e0[6]; /* initial energies: kinetic, elastic, gravitational, beam kinetic, strain, total */
+} Diagnostics;
+
+static TlStatus diag_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Diagnostics *d = object;
+  double v[5] = {d->err_int, d->err_time, d->sym_dev, d->E_max, d->t_off};
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "step", d->step));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "running", 5, v));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "initial_energies", 6, d->e0));
+  return TL_OK;
+}
+
+static TlStatus diag_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Diagnostics *d = object;
+  double v[5];
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "step", &d->step));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "running", 5, v));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "initial_energies", 6, d->e0));
+  d->err_int = v[0], d->err_time = v[1], d->sym_dev = v[2], d->E_max = v[3], d->t_off = v[4];
+  return TL_OK;
+}
+
+static const TlCheckpointOps diag_checkpoint_ops = {
+    .header = {"checkpoint", "particle_cantilever_v1", "running diagnostics of the S1 run"},
+    .save = diag_save,
+    .load = diag_load,
+};
+
 static TlStatus open_table(const Config *c, const char *name, size_t n, const TlColumn *cols, TlTimeSeries **ts)
 {
   char *base = NULL;
@@ -171,6 +211,8 @@ static TlStatus run(int argc, char **argv)
   TlStepper *st = NULL;
   TlCoupledLoop *loop = NULL;
   TlTimeSeries *traj = NULL, *energy = NULL, *path = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
   Snapshots sn;
   memset(&sn, 0, sizeof sn);
   TL_CHECK_GOTO(s, tl_cantilever_create(&c.beam, &beam), done);
@@ -190,11 +232,11 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_dem_create(&dem), done);
   int sp;
   TL_CHECK_GOTO(s, tl_particles_add_species(tl_dem_particles(dem), "grain", c.rho_g, r, r, &sp), done);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = c.kn;
+  TlContactParameters contact;
+  tl_contact_parameters_default(&contact);
+  contact.k_n = c.kn;
   TlContactLaw *law = NULL;
-  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&cp, &law), done);
+  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&contact, &law), done);
   TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
   size_t idx;
   int64_t id[2];
@@ -243,21 +285,52 @@ static TlStatus run(int argc, char **argv)
                             {"total", "J"}};
   TL_CHECK_GOTO(s, open_table(&c, "energy", 9, ecols, &energy), done);
   TL_CHECK_GOTO(s, snapshots_open(&c, tl_solid_mesh(beam->solid), &sn), done);
-  TlCoupledEnergy e0, e;
-  TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e0), done);
+  TlCoupledEnergy e;
+  Diagnostics d;
+  memset(&d, 0, sizeof d);
+  d.E_max = -INFINITY;
+  d.t_off = NAN;
+  TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e), done);
+  d.e0[0] = e.dem_kinetic, d.e0[1] = e.dem_elastic, d.e0[2] = e.dem_gravitational;
+  d.e0[3] = e.fem_kinetic, d.e0[4] = e.fem_strain, d.e0[5] = e.dem_kinetic + e.dem_elastic + e.fem_kinetic + e.fem_strain;
+  /* Checkpoint: the beam's stepper, the world, the loop, the tables, the
+   * snapshot series and the running diagnostics. */
+  TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, st), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "coupling", &tl_coupled_loop_checkpoint_ops, loop), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "trajectory", &tl_timeseries_checkpoint_ops, traj), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "energy", &tl_timeseries_checkpoint_ops, energy), done);
+  if (sn.mesh) {
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "beam_snapshots", &tl_mesh_writer_checkpoint_ops, sn.mesh), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "particle_snapshots", &tl_particle_writer_checkpoint_ops, sn.part), done);
+  }
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &diag_checkpoint_ops, &d), done);
+  TL_CHECK_GOTO(s, tl_path_join(c.output_dir, "checkpoint.h5", &cp_path), done);
+  int resumed = 0;
+  if (c.restart && c.restart[0]) {
+    TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c.restart, NULL, NULL), done);
+    printf("restarted from %s at step %lld, t = %.9g s\n", c.restart, (long long)d.step, tl_coupled_loop_time(loop));
+    resumed = 1;
+  }
   const double Dt = c.substeps * dt;
   const double t_stop = c.t_end > 0.0 ? c.t_end : c.t_max;
   const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
   const long out_every = c.output_dt > 0.0 ? (long)fmax(1.0, floor(c.output_dt / Dt + 0.5)) : 1;
   const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
-  double err_int = 0.0, err_time = 0.0, sym_dev = 0.0, E_max = -INFINITY, t_off = NAN;
   printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step, %zu SCoupling elements\n", c.cg_width,
          c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "", c.substeps,
          tl_scoupling_n_elements(sc));
   TlProgress bar;
   tl_progress_init(&bar, "coupled steps", (double)n_macro);
-  long step = 0;
+  long step = (long)d.step;
   for (;; step++) {
+    if (resumed) {
+      /* The state of step d.step was recorded before the checkpoint. */
+      resumed = 0;
+      TL_CHECK_GOTO(s, tl_coupled_loop_step(loop), done);
+      continue;
+    }
     const double t = tl_coupled_loop_time(loop);
     TlParticles *P = tl_dem_particles(dem);
     TlVec3 xp[2];
@@ -274,17 +347,17 @@ static TlStatus run(int argc, char **argv)
     }
     const double err = sqrt(e2);
     const int on_beam = !(xp[0].y > c.beam.L && xp[1].y > c.beam.L);
-    if (!on_beam && isnan(t_off)) t_off = t;
+    if (!on_beam && isnan(d.t_off)) d.t_off = t;
     if (on_beam) {
-      sym_dev = fmax(sym_dev, fabs(xp[0].x + xp[1].x));
-      if (step > 0) err_int += err * Dt, err_time += Dt;
+      d.sym_dev = fmax(d.sym_dev, fabs(xp[0].x + xp[1].x));
+      if (step > 0) d.err_int += err * Dt, d.err_time += Dt;
     }
     const int last = step >= n_macro || (c.t_end <= 0.0 && !on_beam);
     if (step % out_every == 0 || last) {
       TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e), done);
-      const double grav = e.dem_gravitational - e0.dem_gravitational;
+      const double grav = e.dem_gravitational - d.e0[2];
       const double total = e.dem_kinetic + e.dem_elastic + grav + e.fem_kinetic + e.fem_strain;
-      if (on_beam) E_max = fmax(E_max, total);
+      if (on_beam) d.E_max = fmax(d.E_max, total);
       double erow[9] = {t, e.dem_kinetic, e.dem_elastic, grav, e.fem_kinetic, e.fem_strain, e.work_on_solid,
                         e.work_on_particles, total};
       TL_CHECK_GOTO(s, tl_timeseries_append(energy, erow), done);
@@ -296,15 +369,20 @@ static TlStatus run(int argc, char **argv)
     if (snap_every > 0 && (step % snap_every == 0 || last))
       TL_CHECK_GOTO(s, snapshots_write(&sn, step, t, tl_coupled_loop_u_nodes(loop), P), done);
     if (last) break;
+    d.step = step;
+    if (c.checkpoint_every > 0 && step > 0 && step % c.checkpoint_every == 0)
+      TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, t, d.step), done);
+    if (c.stop_step > 0 && step >= c.stop_step) break;
     TL_CHECK_GOTO(s, tl_coupled_loop_step(loop), done);
   }
   tl_progress_finish(&bar);
+  const double err_int = d.err_int, err_time = d.err_time, sym_dev = d.sym_dev, E_max = d.E_max, t_off = d.t_off;
   const double err_avg = err_time > 0.0 ? err_int / err_time : NAN;
   const double wall = tl_wtime() - wall0;
   printf("%ld coupled steps to t = %.4g s; particles leave the beam at t = %.4g s; err_avg = %.4g m, "
          "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
          step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
-         e0.dem_kinetic + e0.dem_elastic + e0.fem_kinetic + e0.fem_strain);
+         d.e0[5]);
   printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
          c.output_dir, sn.mesh ? ", beam.xmf, particles.xmf" : "", c.output_dir);
   TlSummary sum;
@@ -326,6 +404,8 @@ done:
     if (s == TL_OK) s = s2;
   }
   tl_timeseries_destroy(&path);
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   snapshots_close(&sn);
   tl_coupled_loop_destroy(&loop);
   tl_stepper_destroy(&st);

@@ -1,0 +1,22 @@
+# S1 restart: a run in one go and a run stopped at STOP with a checkpoint,
+# then restarted from it in the same folder, must write identical
+# trajectory and energy tables (bit for bit: 17 significant digits).
+separate_arguments(args UNIX_COMMAND "${ARGS}")
+file(REMOVE_RECURSE ${OUT}/whole ${OUT}/split)
+foreach(run IN ITEMS "whole;" "split;-checkpoint_every;${STOP};-stop_step;${STOP}" "split;-restart;${OUT}/split/checkpoint.h5")
+  list(GET run 0 dir)
+  list(REMOVE_AT run 0)
+  execute_process(COMMAND ${DRIVER} ${args} -output_dir ${OUT}/${dir} ${run} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "particle_cantilever ${run} failed (exit ${rc}):\n${out}\n${err}")
+  endif()
+endforeach()
+foreach(table IN ITEMS trajectory.csv energy.csv)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUT}/whole/${table} ${OUT}/split/${table} RESULT_VARIABLE same)
+  if(NOT same EQUAL 0)
+    message(FATAL_ERROR "${table} of the restarted run differs from the run in one go")
+  endif()
+  file(STRINGS ${OUT}/whole/${table} rows)
+  list(LENGTH rows n)
+  message("${table}: ${n} lines, identical")
+endforeach()
