@@ -2,9 +2,11 @@
 # last row of trajectory.csv with BASELINE (lines "key value rel_tol abs_tol":
 # passes when |x - value| <= abs_tol + rel_tol |value|), and applies the
 # physics checks: x-symmetry kept (sym_dev <= SYM_MAX, when given) and
-# energy bounded (E_max <= E_BOUND).  With -DWRITE_BASELINE=1 it writes
+# energy bounded (E_max <= E_BOUND), and when given err_avg <= ERR_MAX and
+# T_OFF_MIN <= t_off <= T_OFF_MAX.  With -DWRITE_BASELINE=1 it writes
 # BASELINE from this run instead (tolerances from TOLERANCES, "key rel abs").
-# A missing or empty baseline fails loudly.
+# A missing or empty baseline fails loudly; BASELINE=NONE (paper-scale runs
+# only) skips the regression part.
 separate_arguments(args UNIX_COMMAND "${ARGS}")
 execute_process(COMMAND ${DRIVER} ${args} -output_dir ${OUT} -snapshot_dt 0
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -49,13 +51,17 @@ if(WRITE_BASELINE)
   return()
 endif()
 
-if(NOT EXISTS ${BASELINE})
+if(BASELINE STREQUAL "NONE")
+  # Paper-scale runs: physics checks only (below).
+  set(lines)
+elseif(NOT EXISTS ${BASELINE})
   message(FATAL_ERROR "regression baseline ${BASELINE} is missing")
-endif()
-file(STRINGS ${BASELINE} lines REGEX "^[^#]")
-list(LENGTH lines n)
-if(n EQUAL 0)
-  message(FATAL_ERROR "regression baseline ${BASELINE} is empty")
+else()
+  file(STRINGS ${BASELINE} lines REGEX "^[^#]")
+  list(LENGTH lines n)
+  if(n EQUAL 0)
+    message(FATAL_ERROR "regression baseline ${BASELINE} is empty")
+  endif()
 endif()
 set(failed 0)
 foreach(line IN LISTS lines)
@@ -91,6 +97,20 @@ execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_E_max} <= ${E_BOUND}) }" RE
 if(NOT ok EQUAL 0)
   message(SEND_ERROR "energy not bounded: largest total energy ${val_E_max} J > ${E_BOUND} J")
   set(failed 1)
+endif()
+if(DEFINED ERR_MAX)
+  execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_err_avg} <= ${ERR_MAX}) }" RESULT_VARIABLE ok)
+  if(NOT ok EQUAL 0)
+    message(SEND_ERROR "err_avg = ${val_err_avg} m > ${ERR_MAX} m")
+    set(failed 1)
+  endif()
+endif()
+if(DEFINED T_OFF_MIN)
+  execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_t_off} >= ${T_OFF_MIN} && ${val_t_off} <= ${T_OFF_MAX}) }" RESULT_VARIABLE ok)
+  if(NOT ok EQUAL 0)
+    message(SEND_ERROR "particles leave the beam at t_off = ${val_t_off} s, outside [${T_OFF_MIN}, ${T_OFF_MAX}] s")
+    set(failed 1)
+  endif()
 endif()
 if(failed)
   message(FATAL_ERROR "particle_cantilever self-test failed")
