@@ -37,24 +37,18 @@ TlStatus tl_cell_type_from_name(const char *name, TlCellType *type)
 
 /* ---------------------------------------------------------------- writer */
 struct TlMeshWriter {
-  char *dir, *name, *xmf_path;
-  char last_path[4096], mesh_path[4096], mesh_file[1100];
-  size_t count, mesh_count;
+  TlSeriesOutput out; /* folder, name, .xmf series, step count, last file, XML buffer */
+  char mesh_path[4096], mesh_file[1100];
+  size_t mesh_count;
   uint64_t mesh_hash;
   int have_mesh;
-  TlXdmfSeries *series;
-  TlText grid;
 };
 
 void tl_mesh_writer_destroy(TlMeshWriter **writer)
 {
   if (!writer || !*writer) return;
   TlMeshWriter *w = *writer;
-  tl_xdmf_series_destroy(&w->series);
-  tl_text_free(&w->grid);
-  tl_free(&w->dir);
-  tl_free(&w->name);
-  tl_free(&w->xmf_path);
+  tl_series_output_close(&w->out);
   tl_free(writer);
 }
 
@@ -64,7 +58,7 @@ TlStatus tl_mesh_writer_create(const char *dir, const char *name, TlMeshWriter *
   TlMeshWriter *w;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_xdmf_series_open(dir, name, "mesh", &w->dir, &w->name, &w->xmf_path, &w->series), fail);
+  TL_CHECK_GOTO(s, tl_series_output_open(&w->out, dir, name, "mesh"), fail);
   *writer = w;
   return TL_OK;
 fail:
@@ -72,8 +66,8 @@ fail:
   return s;
 }
 
-size_t tl_mesh_writer_count(const TlMeshWriter *w) { return w->count; }
-const char *tl_mesh_writer_last_path(const TlMeshWriter *w) { return w->last_path; }
+size_t tl_mesh_writer_count(const TlMeshWriter *w) { return w->out.count; }
+const char *tl_mesh_writer_last_path(const TlMeshWriter *w) { return w->out.last_path; }
 const char *tl_mesh_writer_mesh_path(const TlMeshWriter *w) { return w->mesh_path; }
 
 static uint64_t tl_fnv1a(uint64_t h, const void *data, size_t n)
@@ -118,35 +112,35 @@ static TlStatus tl_fields_check(const char *owner, size_t n_fields, const TlFiel
 
 static TlStatus tl_mw_check(const TlMeshWriter *w, const TlMeshView *v)
 {
-  if (!v) TL_ERROR(TL_ERR_ARG, "mesh output '%s': no view given", w->name);
+  if (!v) TL_ERROR(TL_ERR_ARG, "mesh output '%s': no view given", w->out.name);
   if (v->n_nodes > 0 && !v->reference)
-    TL_ERROR(TL_ERR_ARG, "mesh output '%s': reference coordinates are required", w->name);
+    TL_ERROR(TL_ERR_ARG, "mesh output '%s': reference coordinates are required", w->out.name);
   if (v->n_nodes > (size_t)0x7fffffff)
-    TL_ERROR(TL_ERR_ARG, "mesh output '%s': %zu nodes exceed the int32 connectivity limit 2^31-1", w->name, v->n_nodes);
-  if (v->n_blocks == 0 || !v->blocks) TL_ERROR(TL_ERR_ARG, "mesh output '%s': no element block given", w->name);
+    TL_ERROR(TL_ERR_ARG, "mesh output '%s': %zu nodes exceed the int32 connectivity limit 2^31-1", w->out.name, v->n_nodes);
+  if (v->n_blocks == 0 || !v->blocks) TL_ERROR(TL_ERR_ARG, "mesh output '%s': no element block given", w->out.name);
   char owner[600];
-  snprintf(owner, sizeof owner, "mesh output '%s' nodes", w->name);
+  snprintf(owner, sizeof owner, "mesh output '%s' nodes", w->out.name);
   TL_CHECK(tl_fields_check(owner, v->n_node_fields, v->node_fields, v->n_nodes));
   for (size_t b = 0; b < v->n_blocks; ++b) {
     const TlMeshBlock *bl = &v->blocks[b];
     TlField as_name = {bl->name, 1, NULL};
-    snprintf(owner, sizeof owner, "mesh output '%s' block %zu", w->name, b);
+    snprintf(owner, sizeof owner, "mesh output '%s' block %zu", w->out.name, b);
     TL_CHECK(tl_field_check(&as_name, owner));
     for (size_t k = 0; k < b; ++k)
       if (strcmp(bl->name, v->blocks[k].name) == 0)
-        TL_ERROR(TL_ERR_ARG, "mesh output '%s': block name '%s' used twice", w->name, bl->name);
+        TL_ERROR(TL_ERR_ARG, "mesh output '%s': block name '%s' used twice", w->out.name, bl->name);
     if (!tl_cell_type_valid(bl->type))
-      TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': cell type %d outside [0, %d)", w->name, bl->name, (int)bl->type,
+      TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': cell type %d outside [0, %d)", w->out.name, bl->name, (int)bl->type,
                TL_CELL_TYPE_COUNT);
     if (bl->n_cells > 0 && !bl->connectivity)
-      TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': no connectivity", w->name, bl->name);
+      TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': no connectivity", w->out.name, bl->name);
     size_t m = bl->n_cells * (size_t)tl_cell_type_nodes(bl->type);
     for (size_t i = 0; i < m; ++i)
       if (bl->connectivity[i] < 0 || (size_t)bl->connectivity[i] >= v->n_nodes)
-        TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': cell %zu node %zu is %d, outside [0, %zu)", w->name, bl->name,
+        TL_ERROR(TL_ERR_ARG, "mesh output '%s' block '%s': cell %zu node %zu is %d, outside [0, %zu)", w->out.name, bl->name,
                  i / (size_t)tl_cell_type_nodes(bl->type), i % (size_t)tl_cell_type_nodes(bl->type), bl->connectivity[i],
                  v->n_nodes);
-    snprintf(owner, sizeof owner, "mesh output '%s' block '%s'", w->name, bl->name);
+    snprintf(owner, sizeof owner, "mesh output '%s' block '%s'", w->out.name, bl->name);
     TL_CHECK(tl_fields_check(owner, bl->n_fields, bl->fields, bl->n_cells));
   }
   return TL_OK;
@@ -293,9 +287,9 @@ TlStatus tl_mesh_writer_write(TlMeshWriter *w, int64_t step, double time, const 
   uint64_t h = tl_mesh_hash(v);
   if (!w->have_mesh || h != w->mesh_hash) {
     char file[1100];
-    snprintf(file, sizeof file, "%s_mesh_%04zu.h5", w->name, w->mesh_count);
+    snprintf(file, sizeof file, "%s_mesh_%04zu.h5", w->out.name, w->mesh_count);
     char *path;
-    TL_CHECK(tl_path_join(w->dir, file, &path));
+    TL_CHECK(tl_path_join(w->out.dir, file, &path));
     TlStatus s = tl_mw_write_mesh(path, v);
     if (s == TL_OK) snprintf(w->mesh_path, sizeof w->mesh_path, "%s", path);
     tl_free(&path);
@@ -306,16 +300,16 @@ TlStatus tl_mesh_writer_write(TlMeshWriter *w, int64_t step, double time, const 
     w->mesh_count++;
   }
   char file[1100];
-  snprintf(file, sizeof file, "%s_%06zu.h5", w->name, w->count);
+  snprintf(file, sizeof file, "%s_%06zu.h5", w->out.name, w->out.count);
   char *path;
-  TL_CHECK(tl_path_join(w->dir, file, &path));
+  TL_CHECK(tl_path_join(w->out.dir, file, &path));
   TlStatus s = tl_mw_write_step(path, w->mesh_file, step, time, v);
-  if (s == TL_OK) snprintf(w->last_path, sizeof w->last_path, "%s", path);
+  if (s == TL_OK) snprintf(w->out.last_path, sizeof w->out.last_path, "%s", path);
   tl_free(&path);
   TL_CHECK(s);
-  TL_CHECK(tl_mw_grid(&w->grid, w->mesh_file, file, w->count, time, v));
-  TL_CHECK(tl_xdmf_series_add(w->series, w->grid.text));
-  w->count++;
+  TL_CHECK(tl_mw_grid(&w->out.grid, w->mesh_file, file, w->out.count, time, v));
+  TL_CHECK(tl_xdmf_series_add(w->out.series, w->out.grid.text));
+  w->out.count++;
   return TL_OK;
 }
 
@@ -325,12 +319,12 @@ static TlStatus tl_mw_save(const void *object, TlCheckpointWriter *cw, const cha
   const TlMeshWriter *w = object;
   char sub[512];
   snprintf(sub, sizeof sub, "%s/series", group);
-  TL_CHECK(tl_checkpoint_write_int64(cw, group, "count", (int64_t)w->count));
+  TL_CHECK(tl_checkpoint_write_int64(cw, group, "count", (int64_t)w->out.count));
   TL_CHECK(tl_checkpoint_write_int64(cw, group, "mesh_count", (int64_t)w->mesh_count));
   TL_CHECK(tl_checkpoint_write_int64(cw, group, "have_mesh", w->have_mesh));
   TL_CHECK(tl_checkpoint_write_bytes(cw, group, "mesh_hash", sizeof w->mesh_hash, &w->mesh_hash));
   TL_CHECK(tl_checkpoint_write_string(cw, group, "mesh_file", w->mesh_file));
-  TL_CHECK(tl_xdmf_series_checkpoint_ops.save(w->series, cw, sub));
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.save(w->out.series, cw, sub));
   return TL_OK;
 }
 
@@ -351,13 +345,13 @@ static TlStatus tl_mw_load(void *object, TlCheckpointReader *r, const char *grou
   TL_CHECK(tl_checkpoint_read_string(r, group, "mesh_file", &mesh_file));
   snprintf(w->mesh_file, sizeof w->mesh_file, "%s", mesh_file);
   tl_free(&mesh_file);
-  TL_CHECK(tl_xdmf_series_checkpoint_ops.load(w->series, r, sub));
-  w->count = (size_t)count;
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.load(w->out.series, r, sub));
+  w->out.count = (size_t)count;
   w->mesh_count = (size_t)mesh_count;
   w->have_mesh = have != 0;
   if (w->have_mesh) {
     char *path;
-    TL_CHECK(tl_path_join(w->dir, w->mesh_file, &path));
+    TL_CHECK(tl_path_join(w->out.dir, w->mesh_file, &path));
     snprintf(w->mesh_path, sizeof w->mesh_path, "%s", path);
     tl_free(&path);
   }

@@ -10,11 +10,7 @@
 _Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
 
 struct TlParticleWriter {
-  char *dir, *name, *xmf_path;
-  char last_path[4096];
-  size_t count;
-  TlXdmfSeries *series;
-  TlText grid; /* reused for each step's XML */
+  TlSeriesOutput out; /* folder, name, .xmf series, step count, last file, XML buffer */
   int *vertices; /* 0..n-1, the vertex cells; grown, never shrunk */
   size_t vertices_capacity;
 };
@@ -23,12 +19,8 @@ void tl_particle_writer_destroy(TlParticleWriter **writer)
 {
   if (!writer || !*writer) return;
   TlParticleWriter *w = *writer;
-  tl_xdmf_series_destroy(&w->series);
-  tl_text_free(&w->grid);
+  tl_series_output_close(&w->out);
   tl_free(&w->vertices);
-  tl_free(&w->dir);
-  tl_free(&w->name);
-  tl_free(&w->xmf_path);
   tl_free(writer);
 }
 
@@ -38,7 +30,7 @@ TlStatus tl_particle_writer_create(const char *dir, const char *name, TlParticle
   TlParticleWriter *w;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_xdmf_series_open(dir, name, "particle", &w->dir, &w->name, &w->xmf_path, &w->series), fail);
+  TL_CHECK_GOTO(s, tl_series_output_open(&w->out, dir, name, "particle"), fail);
   *writer = w;
   return TL_OK;
 fail:
@@ -46,8 +38,8 @@ fail:
   return s;
 }
 
-size_t tl_particle_writer_count(const TlParticleWriter *writer) { return writer->count; }
-const char *tl_particle_writer_last_path(const TlParticleWriter *writer) { return writer->last_path; }
+size_t tl_particle_writer_count(const TlParticleWriter *writer) { return writer->out.count; }
+const char *tl_particle_writer_last_path(const TlParticleWriter *writer) { return writer->out.last_path; }
 
 static TlStatus tl_pw_vec3(TlH5File *f, const char *path, size_t n, const TlVec3 *v)
 {
@@ -131,25 +123,25 @@ static TlStatus tl_pw_grid(TlText *x, const char *file, size_t count, double tim
 
 static TlStatus tl_pw_check(const TlParticleWriter *w, const TlParticleView *v)
 {
-  if (!v) TL_ERROR(TL_ERR_ARG, "particle output '%s': no view given", w->name);
+  if (!v) TL_ERROR(TL_ERR_ARG, "particle output '%s': no view given", w->out.name);
   if (v->n > (size_t)0x7fffffff)
-    TL_ERROR(TL_ERR_ARG, "particle output '%s': n = %zu particles exceeds 2^31-1 per file", w->name, v->n);
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': n = %zu particles exceeds 2^31-1 per file", w->out.name, v->n);
   if (v->n > 0 && (!v->position || !v->radius))
-    TL_ERROR(TL_ERR_ARG, "particle output '%s': position and radius are required (got %s, %s)", w->name,
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': position and radius are required (got %s, %s)", w->out.name,
              v->position ? "position" : "no position", v->radius ? "radius" : "no radius");
   if (v->n_fields > 0 && !v->fields)
-    TL_ERROR(TL_ERR_ARG, "particle output '%s': %zu fields announced, none given", w->name, v->n_fields);
+    TL_ERROR(TL_ERR_ARG, "particle output '%s': %zu fields announced, none given", w->out.name, v->n_fields);
   static const char *const reserved[] = {"radius", "velocity", "angular_velocity", "force", "torque", "species"};
   for (size_t i = 0; i < v->n_fields; ++i) {
-    TL_CHECK(tl_field_check(&v->fields[i], w->name));
+    TL_CHECK(tl_field_check(&v->fields[i], w->out.name));
     if (v->n > 0 && !v->fields[i].data)
-      TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' has no data", w->name, v->fields[i].name);
+      TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' has no data", w->out.name, v->fields[i].name);
     for (size_t k = 0; k < sizeof reserved / sizeof *reserved; ++k)
       if (strcmp(v->fields[i].name, reserved[k]) == 0)
-        TL_ERROR(TL_ERR_ARG, "particle output '%s': extra field name '%s' is reserved", w->name, reserved[k]);
+        TL_ERROR(TL_ERR_ARG, "particle output '%s': extra field name '%s' is reserved", w->out.name, reserved[k]);
     for (size_t k = 0; k < i; ++k)
       if (strcmp(v->fields[i].name, v->fields[k].name) == 0)
-        TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' given twice", w->name, v->fields[i].name);
+        TL_ERROR(TL_ERR_ARG, "particle output '%s': field '%s' given twice", w->out.name, v->fields[i].name);
   }
   return TL_OK;
 }
@@ -158,21 +150,21 @@ TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double
 {
   TL_CHECK(tl_pw_check(writer, view));
   char file[1100];
-  snprintf(file, sizeof file, "%s_%06zu.h5", writer->name, writer->count);
+  snprintf(file, sizeof file, "%s_%06zu.h5", writer->out.name, writer->out.count);
   if (view->n > writer->vertices_capacity) {
     TL_CHECK(tl_realloc(&writer->vertices, view->n, sizeof *writer->vertices));
     for (size_t i = writer->vertices_capacity; i < view->n; ++i) writer->vertices[i] = (int)i;
     writer->vertices_capacity = view->n;
   }
   char *path;
-  TL_CHECK(tl_path_join(writer->dir, file, &path));
+  TL_CHECK(tl_path_join(writer->out.dir, file, &path));
   TlStatus s = tl_pw_write_h5(path, step, time, view, writer->vertices);
-  if (s == TL_OK) snprintf(writer->last_path, sizeof writer->last_path, "%s", path);
+  if (s == TL_OK) snprintf(writer->out.last_path, sizeof writer->out.last_path, "%s", path);
   tl_free(&path);
   TL_CHECK(s);
-  TL_CHECK(tl_pw_grid(&writer->grid, file, writer->count, time, view));
-  TL_CHECK(tl_xdmf_series_add(writer->series, writer->grid.text));
-  writer->count++;
+  TL_CHECK(tl_pw_grid(&writer->out.grid, file, writer->out.count, time, view));
+  TL_CHECK(tl_xdmf_series_add(writer->out.series, writer->out.grid.text));
+  writer->out.count++;
   return TL_OK;
 }
 
@@ -182,8 +174,8 @@ static TlStatus tl_pw_save(const void *object, TlCheckpointWriter *w, const char
   const TlParticleWriter *pw = object;
   char sub[512];
   snprintf(sub, sizeof sub, "%s/series", group);
-  TL_CHECK(tl_checkpoint_write_int64(w, group, "count", (int64_t)pw->count));
-  TL_CHECK(tl_xdmf_series_checkpoint_ops.save(pw->series, w, sub));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "count", (int64_t)pw->out.count));
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.save(pw->out.series, w, sub));
   return TL_OK;
 }
 
@@ -195,8 +187,8 @@ static TlStatus tl_pw_load(void *object, TlCheckpointReader *r, const char *grou
   int64_t count;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "count", &count));
   if (count < 0) TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': %s/count = %lld", tl_checkpoint_reader_path(r), group, (long long)count);
-  TL_CHECK(tl_xdmf_series_checkpoint_ops.load(pw->series, r, sub));
-  pw->count = (size_t)count;
+  TL_CHECK(tl_xdmf_series_checkpoint_ops.load(pw->out.series, r, sub));
+  pw->out.count = (size_t)count;
   return TL_OK;
 }
 

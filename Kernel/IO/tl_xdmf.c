@@ -104,8 +104,7 @@ static double tl_xdmf_now(void)
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-TlStatus tl_xdmf_series_open(const char *dir, const char *name, const char *what, char **dir_copy,
-                             char **name_copy, char **xmf_path, TlXdmfSeries **series)
+TlStatus tl_series_output_open(TlSeriesOutput *out, const char *dir, const char *name, const char *what)
 {
   int ok = name && name[0];
   for (const char *c = name; ok && *c; ++c)
@@ -116,11 +115,20 @@ TlStatus tl_xdmf_series_open(const char *dir, const char *name, const char *what
   if (dir && dir[0]) TL_CHECK(tl_mkdir_p(dir));
   char xmf[1024];
   snprintf(xmf, sizeof xmf, "%s.xmf", name);
-  TL_CHECK(tl_strdup(dir ? dir : "", dir_copy));
-  TL_CHECK(tl_strdup(name, name_copy));
-  TL_CHECK(tl_path_join(dir, xmf, xmf_path));
-  TL_CHECK(tl_xdmf_series_create(*xmf_path, series));
+  TL_CHECK(tl_strdup(dir ? dir : "", &out->dir));
+  TL_CHECK(tl_strdup(name, &out->name));
+  TL_CHECK(tl_path_join(dir, xmf, &out->xmf_path));
+  TL_CHECK(tl_xdmf_series_create(out->xmf_path, &out->series));
   return TL_OK;
+}
+
+void tl_series_output_close(TlSeriesOutput *out)
+{
+  tl_xdmf_series_destroy(&out->series);
+  tl_text_free(&out->grid);
+  tl_free(&out->dir);
+  tl_free(&out->name);
+  tl_free(&out->xmf_path);
 }
 
 TlStatus tl_xdmf_series_create(const char *path, TlXdmfSeries **series)

@@ -51,12 +51,22 @@ typedef struct TlXdmfSeries TlXdmfSeries;
 
 /* A series written to `path` (e.g. "results/run/particles.xmf"). */
 TlStatus tl_xdmf_series_create(const char *path, TlXdmfSeries **series);
-/* The start of every snapshot writer: checks the base name `name` (non-empty,
- * no '/', ':', space, quotes or <>&; `what` names the writer in the error),
- * creates the folder `dir`, and returns copies of dir and name, the path of
- * <dir>/<name>.xmf and its series. */
-TlStatus tl_xdmf_series_open(const char *dir, const char *name, const char *what, char **dir_copy,
-                             char **name_copy, char **xmf_path, TlXdmfSeries **series);
+/* What every snapshot writer (particles, meshes) holds: its folder, base
+ * name, the <dir>/<name>.xmf series, the step count and last file written,
+ * and a reused buffer for each step's XML. */
+typedef struct {
+  char *dir, *name, *xmf_path;
+  TlXdmfSeries *series;
+  TlText grid;
+  size_t count;
+  char last_path[4096];
+} TlSeriesOutput;
+
+/* Checks the base name `name` (non-empty, no '/', ':', space, quotes or <>&;
+ * `what` names the writer in the error), creates the folder `dir` and opens
+ * the series.  Close releases everything, also after a failed open. */
+TlStatus tl_series_output_open(TlSeriesOutput *out, const char *dir, const char *name, const char *what);
+void tl_series_output_close(TlSeriesOutput *out);
 /* Writes any steps not yet in the file, then frees. */
 void tl_xdmf_series_destroy(TlXdmfSeries **series);
 /* Adds one step: `grid` is the XML of one <Grid> element that already
