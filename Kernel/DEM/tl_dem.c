@@ -564,6 +564,26 @@ typedef struct {
   TlStatus status;
 } ChunkCtx;
 
+/* The nearest periodic image of a branch vector in an orthogonal box. */
+static inline void minimum_image_ortho(const ChunkCtx *c, TlVec3 *b)
+{
+  double *bc = &b->x;
+  for (int q = 0; q < 3; ++q) {
+    if (c->len[q] <= 0.0) continue;
+    if (bc[q] > c->half[q]) bc[q] -= c->len[q];
+    else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
+  }
+}
+
+/* A pair that has separated: its force and history start again from zero. */
+static inline void release_contact(TlContactList *L, size_t k, size_t hd)
+{
+  if (!L->touching[k]) return;
+  L->touching[k] = 0;
+  L->force[k] = tl_v3(0, 0, 0);
+  if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+}
+
 /* The contact loop of one chunk, specialised at compile time on the domain
  * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
  * and on rotation, so the common cases carry no dead branches. */
@@ -590,23 +610,12 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chu
       b.x = x[j].x - x[i].x;
       b.y = x[j].y - x[i].y;
       b.z = x[j].z - x[i].z;
-      if (ORTHO) {
-        double *bc = &b.x;
-        for (int q = 0; q < 3; ++q) {
-          if (c->len[q] <= 0.0) continue;
-          if (bc[q] > c->half[q]) bc[q] -= c->len[q];
-          else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
-        }
-      }
+      if (ORTHO) minimum_image_ortho(c, &b);
     }
     const double ri = radius[i], rj = radius[j], cut = ri + rj;
     const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
     if (r2 >= cut * cut && !bonded) {
-      if (L->touching[k]) {
-        L->touching[k] = 0;
-        L->force[k] = tl_v3(0, 0, 0);
-        if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
-      }
+      release_contact(L, k, hd);
       continue;
     }
     const double dist = sqrt(r2);
@@ -695,23 +704,12 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
       b.z = xr[j][2] - xr[i][2];
       ri = xr[i][3];
       rj = xr[j][3];
-      if (ORTHO) {
-        double *bc = &b.x;
-        for (int q = 0; q < 3; ++q) {
-          if (c->len[q] <= 0.0) continue;
-          if (bc[q] > c->half[q]) bc[q] -= c->len[q];
-          else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
-        }
-      }
+      if (ORTHO) minimum_image_ortho(c, &b);
     }
     const double cut = ri + rj;
     const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
     if (r2 >= cut * cut && !bonded) {
-      if (L->touching[k]) {
-        L->touching[k] = 0;
-        L->force[k] = tl_v3(0, 0, 0);
-        if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
-      }
+      release_contact(L, k, hd);
       continue;
     }
     const double dist = sqrt(r2);
