@@ -18,6 +18,7 @@
 #include <unistd.h>
 #include "peers/tl_peer.h"
 #include "talus.h"
+#include "tl_parallel.h"
 #include "tl_dem.h"
 #include "tl_lammps_data.h"
 
@@ -263,14 +264,7 @@ static TlStatus run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
-  /* OpenMP threads that wait by sleeping rather than spinning: on a shared
-   * machine a spinning thread at a barrier steals the core its partner
-   * needs.  The runtime reads the variable at start-up, so set it and
-   * start again (once). */
-  if (!getenv("OMP_WAIT_POLICY")) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);
-  }
+  tl_parallel_prefer_passive_wait(argv); /* timings on a shared machine */
   TlStatus s = tl_initialize();
   if (s == TL_OK) s = run(argc, argv);
   return tl_driver_exit(s);

@@ -1,6 +1,8 @@
 #include "tl_parallel.h"
 
 #include <omp.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 #include "tl_config.h"
 #if TALUS_WITH_MPI
@@ -60,3 +62,10 @@ int tl_parallel_size(void)
 }
 
 int tl_parallel_threads(void) { return omp_get_max_threads(); }
+
+void tl_parallel_prefer_passive_wait(char **argv)
+{
+  if (getenv("OMP_WAIT_POLICY")) return;
+  setenv("OMP_WAIT_POLICY", "passive", 1);
+  execv("/proc/self/exe", argv);
+}

@@ -11,6 +11,12 @@ TlStatus tl_parallel_initialize(int *argc, char ***argv);
 TlStatus tl_parallel_finalize(void);
 int tl_parallel_rank(void);
 int tl_parallel_size(void);
+/* For main() of programs that time themselves on shared machines: unless
+ * OMP_WAIT_POLICY is set, sets it to "passive" and restarts the program (the
+ * OpenMP runtime reads it only at start-up), so threads waiting at a barrier
+ * sleep instead of spinning on the core their partner needs.  Returns only
+ * when the variable was already set or the restart failed. */
+void tl_parallel_prefer_passive_wait(char **argv);
 /* Number of OpenMP threads a parallel region will use. */
 int tl_parallel_threads(void);
 
