@@ -354,3 +354,19 @@ TlStatus tl_stepper_reject(TlStepper *st, TlStatus s, const char *what, double d
   return tl_error_set(s, __FILE__, __LINE__, "%s\n  %s step t = %.9g -> %.9g (dt = %.3g) rejected",
                       why, what, st->t, st->t + dt, dt);
 }
+
+void tl_stepper_save_start(TlStepper *st)
+{
+  size_t bytes = (size_t)st->n * sizeof(double);
+  memcpy(st->u0, st->u, bytes);
+  memcpy(st->v0, st->v, bytes);
+  memcpy(st->a0, st->a, bytes);
+  memcpy(st->f_ext0, st->f_ext, bytes);
+}
+
+double tl_stepper_max_abs(const double *x, TlSparseIndex n)
+{
+  double m = 0.0;
+  for (TlSparseIndex i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
+  return m;
+}

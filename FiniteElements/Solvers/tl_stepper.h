@@ -134,6 +134,11 @@ TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
 TlStatus tl_stepper_newton_solve(TlStepper *st, double *x);
 TlStatus tl_stepper_max_omega2(TlStepper *st, double *omega2);
 void tl_stepper_mass_times(const TlStepper *st, const double *x, double *y);
+/* Saves the state at the start of a step (u, v, a, f_ext into u0, v0, a0,
+ * f_ext0), which tl_stepper_reject restores. */
+void tl_stepper_save_start(TlStepper *st);
+/* max |x_i| of a dof vector. */
+double tl_stepper_max_abs(const double *x, TlSparseIndex n);
 /* Restores the state saved at the start of the step (u0, v0, a0, f_ext0),
  * rolls the material state back and appends what failed to the message. */
 TlStatus tl_stepper_reject(TlStepper *st, TlStatus s, const char *what, double dt);

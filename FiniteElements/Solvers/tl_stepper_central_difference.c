@@ -50,10 +50,7 @@ static TlStatus cd_step(TlStepper *st, double dt)
              "time step dt = %.6g exceeds the critical step 2/omega_max = %.6g of the central "
              "difference scheme (omega_max^2 of M^-1 K at t = %g)",
              dt, st->dt_crit, st->t);
-  memcpy(st->u0, st->u, bytes);
-  memcpy(st->v0, st->v, bytes);
-  memcpy(st->a0, st->a, bytes);
-  memcpy(st->f_ext0, st->f_ext, bytes);
+  tl_stepper_save_start(st);
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
   double *vh = st->work;

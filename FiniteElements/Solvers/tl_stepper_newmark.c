@@ -117,22 +117,12 @@ static TlStatus newmark_initialise(TlStepper *st)
   return TL_OK;
 }
 
-static double max_abs(const double *x, TlSparseIndex n)
-{
-  double m = 0.0;
-  for (TlSparseIndex i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
-  return m;
-}
-
 static TlStatus newmark_step(TlStepper *st, double dt)
 {
   TlMechSystem *sys = st->sys;
   Newmark *nm = st->impl;
   size_t bytes = (size_t)st->n * sizeof(double);
-  memcpy(st->u0, st->u, bytes);
-  memcpy(st->v0, st->v, bytes);
-  memcpy(st->a0, st->a, bytes);
-  memcpy(st->f_ext0, st->f_ext, bytes);
+  tl_stepper_save_start(st);
   /* Kept factors hold M / (beta dt^2): a new step size needs new ones. */
   if (dt != st->dt) tl_newton_invalidate(st->newton);
   st->dt = dt;
@@ -153,13 +143,13 @@ static TlStatus newmark_step(TlStepper *st, double dt)
    * applied and residual forces at the predictor (which carries the
    * prescribed motion of the step). */
   tl_stepper_mass_times(st, st->a0, st->f_int);
-  double scale = fmax(max_abs(st->f_int, st->n), max_abs(st->f_ext0, st->n) + max_abs(st->f_hook, st->n));
+  double scale = fmax(tl_stepper_max_abs(st->f_int, st->n), tl_stepper_max_abs(st->f_ext0, st->n) + tl_stepper_max_abs(st->f_hook, st->n));
   TL_CHECK(newmark_residual(st, nm->x, st->work));
-  scale = fmax(scale, fmax(max_abs(st->work, st->n), fmax(max_abs(st->f_int, st->n), max_abs(st->f_ext, st->n))));
+  scale = fmax(scale, fmax(tl_stepper_max_abs(st->work, st->n), fmax(tl_stepper_max_abs(st->f_int, st->n), tl_stepper_max_abs(st->f_ext, st->n))));
   st->force_scale = scale;
   /* The residual cannot be resolved below the round-off of its inertia term
    * M (u - u_pred) / (beta dt^2), whose parts are of size m |u| / (beta dt^2). */
-  double mmax = max_abs(st->m, st->n), umax = 0.0;
+  double mmax = tl_stepper_max_abs(st->m, st->n), umax = 0.0;
   for (TlSparseIndex i = 0; i < st->n; ++i)
     umax = fmax(umax, fmax(fabs(st->u0[i]), fabs(nm->x[i])));
   st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);

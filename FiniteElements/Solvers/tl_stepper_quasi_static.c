@@ -70,31 +70,21 @@ static TlStatus qs_initialise(TlStepper *st)
   return TL_OK;
 }
 
-static double max_abs(const double *x, TlSparseIndex n)
-{
-  double m = 0.0;
-  for (TlSparseIndex i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
-  return m;
-}
-
 /* One increment t -> t + h from the current equilibrium. */
 static TlStatus qs_increment(TlStepper *st, double h)
 {
   TlMechSystem *sys = st->sys;
   QuasiStatic *qs = st->impl;
   size_t bytes = (size_t)st->n * sizeof(double);
-  memcpy(st->u0, st->u, bytes);
-  memcpy(st->v0, st->v, bytes);
-  memcpy(st->a0, st->a, bytes);
-  memcpy(st->f_ext0, st->f_ext, bytes);
+  tl_stepper_save_start(st);
   st->t_new = st->t + h;
   st->lambda = load_factor(st, st->t_new);
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, h, st->u, st->v, st->f_hook));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
   TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, qs->zero, st->f_int));
-  st->force_scale = fmax(st->lambda * max_abs(st->f_ext, st->n) + max_abs(st->f_hook, st->n),
-                         max_abs(st->f_int, st->n));
+  st->force_scale = fmax(st->lambda * tl_stepper_max_abs(st->f_ext, st->n) + tl_stepper_max_abs(st->f_hook, st->n),
+                         tl_stepper_max_abs(st->f_int, st->n));
   memcpy(qs->x, st->u, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, qs->x, NULL, NULL));
   memcpy(st->u, qs->x, bytes);
