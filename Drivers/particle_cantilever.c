@@ -383,6 +383,11 @@ static TlStatus run(int argc, char **argv)
          "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
          step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
          d.e0[5]);
+  TlStepperStats fs;
+  tl_stepper_get_stats(st, &fs);
+  printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
+         fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
+         wall - fs.t_step);
   printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
          c.output_dir, sn.mesh ? ", beam.xmf, particles.xmf" : "", c.output_dir);
   TlSummary sum;
