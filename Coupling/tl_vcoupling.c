@@ -58,6 +58,7 @@ struct TlVCoupling {
   size_t np;
   long *owner; size_t cap_owner;
   double *scratch;    /* nn */
+  double *res_acc;    /* 7 n_cnode: resolution check (int N x, int N, sum Pi x) */
   Bins bins;
   int updated;
 };
@@ -297,6 +298,7 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   TL_CHECK_GOTO(s, tl_calloc(&vc->uDE, 3 * vc->n_cnode, sizeof *vc->uDE), fail);
   TL_CHECK_GOTO(s, tl_calloc(&vc->r, 3 * vc->n_cnode, sizeof *vc->r), fail);
   TL_CHECK_GOTO(s, tl_calloc(&vc->F, 3 * vc->n_cnode, sizeof *vc->F), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&vc->res_acc, 7 * vc->n_cnode, sizeof *vc->res_acc), fail);
   *out = vc;
   return TL_OK;
 fail:
@@ -333,6 +335,7 @@ void tl_vcoupling_destroy(TlVCoupling **pvc)
   tl_free(&vc->F);
   tl_free(&vc->owner);
   tl_free(&vc->scratch);
+  tl_free(&vc->res_acc);
   bins_free(&vc->bins);
   tl_free(pvc);
 }
@@ -571,6 +574,74 @@ TlStatus tl_vcoupling_forces(TlVCoupling *vc, const double *du_p, const double *
     diag->work_fem = wf;
     diag->work_dem = wp;
   }
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_resolution(TlVCoupling *vc, const double *xp, TlVCouplingResolution *res)
+{
+  if (!vc->updated) TL_ERROR(TL_ERR_STATE, "tl_vcoupling_update must run before the resolution check");
+  const int nn = vc->nn;
+  const size_t nc = vc->n_cnode;
+  double *ix = vc->res_acc, *iw = ix + 3 * nc, *xde = iw + nc;
+  memset(vc->res_acc, 0, 7 * nc * sizeof *vc->res_acc);
+  /* X_i: int N_i x dV and int N_i dV over the row's coupled elements */
+  TlQuadrature q;
+  TL_CHECK(tl_element_quadrature(vc->type, vc->type->order_mass > 0 ? vc->type->order_mass : 3, &q));
+  double *N = vc->scratch;
+  for (size_t s = 0; s < vc->n_elem; ++s) {
+    const double *x = vc->xe + s * nn * 3;
+    for (int g = 0; g < q.n; ++g) {
+      double J[3][3], detJ, xg[3];
+      TL_CHECK(tl_element_jacobian(vc->type, 3, x, q.xi[g], J, &detJ));
+      tl_element_interpolate(vc->type, x, q.xi[g], xg);
+      vc->type->eval(1, q.xi[g], N, NULL);
+      for (int k = 0; k < nn; ++k) {
+        size_t i = vc->conn[s * nn + k];
+        double wdv = q.w[g] * detJ * N[k];
+        iw[i] += wdv;
+        for (int d = 0; d < 3; ++d) ix[3 * i + d] += wdv * xg[d];
+      }
+    }
+  }
+  for (size_t j = 0; j < vc->n_pi; ++j)
+    for (int d = 0; d < 3; ++d) xde[3 * vc->pi_node[j] + d] += vc->pi_val[j] * xp[3 * vc->pi_part[j] + d];
+  memset(res, 0, sizeof *res);
+  res->h = vc->h_elem;
+  for (size_t i = 0; i < nc; ++i) {
+    if (!vc->active[i] || !(iw[i] > 0.0)) continue;
+    double b = 0.0, xr[3];
+    for (int d = 0; d < 3; ++d) {
+      xr[d] = ix[3 * i + d] / iw[i];
+      b = fmax(b, fabs(xde[3 * i + d] - xr[d]));
+    }
+    if (!(b <= res->bias_max)) {
+      res->bias_max = b;
+      res->node = vc->cnode[i];
+      for (int d = 0; d < 3; ++d) {
+        res->x_de[d] = xde[3 * i + d];
+        res->x_ref[d] = xr[d];
+      }
+    }
+  }
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_check_resolution(TlVCoupling *vc, const double *xp, double limit_fraction, long step,
+                                       TlVCouplingResolution *out)
+{
+  if (!(limit_fraction > 0.0)) TL_ERROR(TL_ERR_ARG, "resolution limit %g (element sizes) must be > 0", limit_fraction);
+  TlVCouplingResolution r;
+  TL_CHECK(tl_vcoupling_resolution(vc, xp, &r));
+  if (out) *out = r;
+  if (!(r.bias_max <= limit_fraction * r.h))
+    TL_ERROR(TL_ERR_UNSTABLE,
+             "CG width c = %g m (%.3g element sizes) is beyond what the mesh resolves, at step %ld: node %zu takes "
+             "its homogenised particle displacement from (%.4g, %.4g, %.4g), %.3g m (%.3g element sizes) from the "
+             "centroid (%.4g, %.4g, %.4g) of its shape function, over the limit of %.3g element sizes (%.3g m), "
+             "past which a node is tied to particles nearer its neighbour than itself. The kernel is cut off where "
+             "the particles end; choose a smaller c",
+             vc->c, vc->c / r.h, step, r.node, r.x_de[0], r.x_de[1], r.x_de[2], r.bias_max, r.bias_max / r.h,
+             r.x_ref[0], r.x_ref[1], r.x_ref[2], limit_fraction, limit_fraction * r.h);
   return TL_OK;
 }
 

@@ -104,6 +104,37 @@ TlStatus tl_vcoupling_point_weights(TlVCoupling *vc, size_t n, const double *x, 
 TlStatus tl_vcoupling_forces(TlVCoupling *vc, const double *du_p, const double *du_n, double *f_nodes,
                              double *f_particles, TlVCouplingDiag *diag);
 
+/* Resolution of Pi, the check on the CG width.  For each coupled row i,
+ * the homogenised position of its particles, X_i^DE = sum_a Pi_ia x_a (xp:
+ * the particle positions of the last update), against the centroid of the
+ * row's shape function over its coupled support, X_i = int N_i x dV /
+ * int N_i dV (current geometry).  A consistent operator (one that carries a
+ * uniform strain of the particles to the nodes) has X_i^DE = X_i up to the
+ * particle spacing.  Where the kernel is cut off (the particle region ends,
+ * or the body's faces, within c of the element) X_i^DE drifts from X_i by
+ * a distance growing with c; once it passes half an element size, node i
+ * takes its displacement from particles that lie nearer a neighbouring
+ * node than to its own: the coupling no longer resolves the mesh, and a
+ * wave through the overlap is distorted (a phase error of that distance). */
+typedef struct {
+  double bias_max;     /* max over rows i and directions d of |X_id^DE - X_id| (m) */
+  size_t node;         /* global mesh node of the row with the largest bias */
+  double x_de[3], x_ref[3];
+  double h;            /* largest element extent (m), the scale of the limit */
+} TlVCouplingResolution;
+
+/* Half an element size: the default limit of tl_vcoupling_check_resolution. */
+#define TL_VCOUPLING_BIAS_LIMIT 0.5
+
+TlStatus tl_vcoupling_resolution(TlVCoupling *vc, const double *xp, TlVCouplingResolution *res);
+
+/* The resolution check as a stop: TL_ERR_UNSTABLE, with a message naming
+ * the CG width, the bias, the limit (limit_fraction h) and `step`, when the
+ * bias exceeds limit_fraction times the element size; res (may be NULL)
+ * gets the measurement either way. */
+TlStatus tl_vcoupling_check_resolution(TlVCoupling *vc, const double *xp, double limit_fraction, long step,
+                                       TlVCouplingResolution *res);
+
 /* The homogenised particle field at the coupled nodes, u_i = sum_a Pi_ia
  * q_a (q: 3 per particle): written into out (3 per mesh node) at the nodes
  * reached by particles, which are flagged 1 in reached (one per mesh node,

@@ -39,6 +39,15 @@ void tl_wave_params_default(TlWaveParams *p)
                       .epsilon = 0.0, .quad_order = 4, .full_dem = 0, .variant = TL_WAVE_PAPER};
 }
 
+/* The resolution check of Pi (tl_vcoupling_check_resolution). */
+static TlStatus check_resolution(TlWave *w)
+{
+  if (w->p.resolution_limit < 0.0) return TL_OK;
+  double lim = w->p.resolution_limit > 0.0 ? w->p.resolution_limit : TL_VCOUPLING_BIAS_LIMIT;
+  TL_CHECK(tl_vcoupling_check_resolution(w->vc, w->x, lim, w->step, NULL));
+  return TL_OK;
+}
+
 static size_t pid(const TlWave *w, int i, int j, int k) { return ((size_t)j * w->nxp + k) * w->nxp + i; }
 
 /* Weighted stiffness and lumped mass of the small-strain hex8 solid. */
@@ -175,6 +184,7 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass), fail);
+    TL_CHECK_GOTO(s, check_resolution(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_point_weights(w->vc, np, w->x, w->w), fail);
     for (size_t b = 0; b < w->nb; ++b)
       for (int d = 0; d < 3; ++d) w->xb[3 * b + d] = 0.5 * (w->x[3 * w->ba[b] + d] + w->x[3 * w->bb[b] + d]);
@@ -286,6 +296,7 @@ TlStatus tl_wave_step(TlWave *w)
   w->step++;
   if (w->vc) {
     TL_CHECK(tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass));
+    if (w->step % 100 == 0) TL_CHECK(check_resolution(w));
     TL_CHECK(tl_vcoupling_point_weights(w->vc, np, w->x, w->w));
     for (size_t b = 0; b < w->nb; ++b)
       for (int d = 0; d < 3; ++d) w->xb[3 * b + d] = 0.5 * (w->x[3 * w->ba[b] + d] + w->x[3 * w->bb[b] + d]);

@@ -51,6 +51,10 @@ typedef struct {
   int per_element;     /* Pi rows per element (Eq. 18 over Omega_e) instead of per node */
   int full_dem;        /* 1: particles over the whole bar, no solid */
   TlWaveVariant variant;
+  double resolution_limit; /* largest resolution bias of Pi in element sizes
+                              (tl_vcoupling_check_resolution), checked at the
+                              start and every 100 steps; 0: the default
+                              TL_VCOUPLING_BIAS_LIMIT (half an element), < 0: no check */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */
@@ -73,7 +77,8 @@ typedef struct TlWave TlWave;
 TlStatus tl_wave_create(const TlWaveParams *p, TlWave **w);
 void tl_wave_destroy(TlWave **w);
 double tl_wave_dt(const TlWave *w);
-/* One step; TL_ERR_UNSTABLE with a diagnosis when the run blows up. */
+/* One step; TL_ERR_UNSTABLE with a diagnosis when the run blows up or the
+ * CG width outruns the mesh (the resolution check). */
 TlStatus tl_wave_step(TlWave *w);
 void tl_wave_state(const TlWave *w, TlWaveState *s);
 size_t tl_wave_n_particles(const TlWave *w);

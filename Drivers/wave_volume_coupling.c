@@ -9,6 +9,7 @@
 #include "talus.h"
 #include "tl_atomic_file.h"
 #include "tl_output_dir.h"
+#include "tl_vcoupling.h"
 #include "tl_vcoupling_wave.h"
 
 typedef struct {
@@ -165,6 +166,10 @@ static TlStatus run(int argc, char **argv)
   int iscope = 0;
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-pi_scope", ivar ? "node" : "element", scopes,
                                          "element: Eq. 18 as written, normalised over each Omega_e, forces assembled; node: over each node's whole support (default element for -variant paper, node for spring)", &iscope), done);
+  double res_limit = TL_VCOUPLING_BIAS_LIMIT;
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-resolution_limit", TL_VCOUPLING_BIAS_LIMIT, 0.0, 1e3, "element sizes",
+                                       "stop when Pi takes a node's displacement from further than this from its shape "
+                                       "function's centroid (the CG width outrunning the mesh; 0: no check)", &res_limit), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
@@ -196,6 +201,7 @@ static TlStatus run(int argc, char **argv)
   p.variant = (TlWaveVariant)ivar;
   p.quad_order = (int)quad;
   p.per_element = iscope;
+  p.resolution_limit = res_limit > 0.0 ? res_limit : -1.0;
   ro.n_snap = n_snap;
   double wall0 = tl_wtime();
   TlWaveRecord rc = {0}, rr = {0};

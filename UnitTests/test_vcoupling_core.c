@@ -2,6 +2,8 @@
  * both forms (Eq. 19 through the inverse map, Eq. 18 by quadrature), the
  * penalty forces (Eqs. 29-32) and their balance (Eq. 41). */
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 
 #include "talus.h"
 #include "tl_test.h"
@@ -309,6 +311,76 @@ static void test_bad_input(const TlMesh *mesh)
   TL_TEST_ASSERT(vc == NULL, "destroy nulls the pointer");
 }
 
+/* Resolution of Pi: with the kernel cut off where the particles end, the
+ * homogenised position of a node's particles drifts from its shape
+ * function's centroid as c grows; with the same c and particles all around
+ * (no cut-off) it stays within a small fraction of the element size. */
+static void test_resolution(const TlMesh *mesh)
+{
+  size_t np = make_lattice(2, 0);
+  double prev = -1.0, h = 0.4;
+  int monotone = 1;
+  double bias[5];
+  const double cs[5] = {0.0, 0.4, 0.8, 1.2, 2.0};
+  for (int k = 0; k < 5; ++k) {
+    TlVCouplingParams p = {{1, 8.0, 12.0}, cs[k], "lucy", 1e10, 4, 1};
+    TlVCoupling *vc = NULL;
+    TL_TEST_STATUS(tl_vcoupling_create(mesh, 0, &p, &vc), TL_OK);
+    if (!vc) return;
+    TL_TEST_STATUS(tl_vcoupling_update(vc, NULL, np, xp, mp), TL_OK);
+    TlVCouplingResolution r;
+    TL_TEST_STATUS(tl_vcoupling_resolution(vc, xp, &r), TL_OK);
+    TL_TEST_CLOSE(r.h, h, 1e-12);
+    bias[k] = r.bias_max / h;
+    if (!(bias[k] > prev)) monotone = 0;
+    prev = bias[k];
+    /* the stop: names the width, the limit and the step */
+    TlStatus st = tl_vcoupling_check_resolution(vc, xp, TL_VCOUPLING_BIAS_LIMIT, 42, NULL);
+    TL_TEST_STATUS(st, bias[k] > TL_VCOUPLING_BIAS_LIMIT ? TL_ERR_UNSTABLE : TL_OK);
+    if (st != TL_OK) {
+      char want[64];
+      snprintf(want, sizeof want, "c = %g m", cs[k]);
+      TL_TEST_ASSERT(strstr(tl_error_message(), want) && strstr(tl_error_message(), "at step 42") &&
+                         strstr(tl_error_message(), "limit of 0.5 element sizes"),
+                     "diagnosis names c, the step and the limit: %s", tl_error_message());
+    }
+    tl_vcoupling_destroy(&vc);
+  }
+  /* 2 particles per element edge: c = 0 within a quarter of the spacing */
+  TL_TEST_ASSERT(bias[0] < 0.125 * 0.5, "c = 0: bias %g element sizes", bias[0]);
+  TL_TEST_ASSERT(monotone, "bias grows with c: %g %g %g %g %g", bias[0], bias[1], bias[2], bias[3], bias[4]);
+  TL_TEST_ASSERT(bias[4] > 0.5, "c = 5 h outruns the mesh: bias %g", bias[4]);
+
+  /* one element inside a lattice reaching 5 element sizes beyond it on every
+   * side: no cut-off, and the same c = 3 h keeps the bias small */
+  TlMesh *one = NULL;
+  size_t n1[3] = {1, 1, 1};
+  double lo[3] = {0, 0, 0}, hi[3] = {0.4, 0.4, 0.4};
+  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, n1, lo, hi, &one), TL_OK);
+  if (!one) return;
+  size_t n = 0;
+  for (int k = 0; k < 11; ++k)
+    for (int j = 0; j < 11; ++j)
+      for (int i = 0; i < 11; ++i) {
+        xp[3 * n] = -2.0 + (i + 0.5) * 0.4;
+        xp[3 * n + 1] = -2.0 + (j + 0.5) * 0.4;
+        xp[3 * n + 2] = -2.0 + (k + 0.5) * 0.4;
+        mp[n++] = 1.0;
+      }
+  TlVCouplingParams p = {{1, 0.0, 0.4}, 1.2, "lucy", 1e10, 4, 1};
+  TlVCoupling *vc = NULL;
+  TL_TEST_STATUS(tl_vcoupling_create(one, 0, &p, &vc), TL_OK);
+  if (vc) {
+    TL_TEST_STATUS(tl_vcoupling_update(vc, NULL, n, xp, mp), TL_OK);
+    TlVCouplingResolution r;
+    TL_TEST_STATUS(tl_vcoupling_resolution(vc, xp, &r), TL_OK);
+    TL_TEST_ASSERT(r.bias_max < 0.1 * h && r.bias_max < 0.25 * bias[3] * h,
+                   "no cut-off at c = 3 h: bias %g element sizes (cut off: %g)", r.bias_max / h, bias[3]);
+  }
+  tl_vcoupling_destroy(&vc);
+  tl_mesh_destroy(&one);
+}
+
 int main(void)
 {
   if (tl_initialize() != TL_OK) {
@@ -333,6 +405,7 @@ int main(void)
   }
   test_rows_per_element(mesh);
   test_bad_input(mesh);
+  test_resolution(mesh);
   tl_mesh_destroy(&mesh);
   return tl_test_report();
 }

@@ -2,6 +2,7 @@
  * energy book-keeping of the coupled step, the spring variant conserving
  * energy, a divergent penalty stopped with a diagnosis, bad parameters. */
 #include <math.h>
+#include <string.h>
 
 #include "talus.h"
 #include "tl_test.h"
@@ -97,6 +98,36 @@ static void test_divergence_stops(void)
   tl_wave_destroy(&w);
 }
 
+/* A CG width beyond what the mesh resolves stops at creation with a
+ * diagnosis naming c, the limit and the step; the widest accepted width runs;
+ * the check can be switched off. */
+static void test_width_beyond_range(void)
+{
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  TlWave *w = NULL;
+  p.c = 3.0 * p.dx;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_UNSTABLE);
+  TL_TEST_ASSERT(w == NULL, "no half-built scene");
+  const char *m = tl_error_message();
+  TL_TEST_ASSERT(strstr(m, "c = 1.2 m (3 element sizes)") && strstr(m, "at step 0") &&
+                     strstr(m, "limit of 0.5 element sizes"),
+                 "diagnosis names c, the step and the limit: %s", m);
+  p.resolution_limit = -1.0;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  tl_wave_destroy(&w);
+  /* the paper's widest stable width passes the check at the start and at
+   * steps 100 and 200 */
+  p.resolution_limit = 0.0;
+  p.c = 2.5 * p.dx;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
+  TlStatus st = TL_OK;
+  for (int k = 0; k < 201 && st == TL_OK; ++k) st = tl_wave_step(w);
+  TL_TEST_STATUS(st, TL_OK);
+  tl_wave_destroy(&w);
+}
+
 static void test_bad_params(void)
 {
   TlWaveParams p;
@@ -126,6 +157,7 @@ int main(void)
   test_mass_and_balance(0);
   test_spring_conserves();
   test_divergence_stops();
+  test_width_beyond_range();
   test_bad_params();
   return tl_test_report();
 }
