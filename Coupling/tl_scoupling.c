@@ -280,7 +280,8 @@ TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const dou
       }
     }
   }
-  if (sc->wall) TL_CHECK(tl_trisurface_set_vertices(tl_wall_trisurface_surface(sc->wall), sc->vx, sc->vv));
+  /* The wall refreshes the geometry of the triangles near particles only. */
+  if (sc->wall) TL_CHECK(tl_trisurface_move_vertices(tl_wall_trisurface_surface(sc->wall), sc->vx, sc->vv));
   /* The quadrature is recomputed only when forces are spread (and never
    * for the Dirac limit, which reads the node positions directly). */
   sc->cg_stale = 1;

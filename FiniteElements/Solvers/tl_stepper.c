@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "tl_linear_solver.h"
+#include "tl_math.h"
 #include "tl_memory.h"
 #include "tl_registry.h"
 #include "tl_timer.h"
@@ -230,7 +231,7 @@ TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
   no.keep_factors = st->opt.keep_factors;
   no.line_search = st->opt.line_search;
   double us = 0.0;
-  for (TlSparseIndex i = 0; i < st->n; ++i) us = fmax(us, fabs(x[i]));
+  for (TlSparseIndex i = 0; i < st->n; ++i) us = tl_max(us, fabs(x[i]));
   no.u_scale = fmax(st->u_scale, us) > 0.0 ? fmax(st->u_scale, us) : 1.0;
   TL_CHECK(tl_newton_set_options(st->newton, &no));
   TL_CHECK(tl_newton_solve(st->newton, x));
@@ -367,6 +368,6 @@ void tl_stepper_save_start(TlStepper *st)
 double tl_stepper_max_abs(const double *x, TlSparseIndex n)
 {
   double m = 0.0;
-  for (TlSparseIndex i = 0; i < n; ++i) m = fmax(m, fabs(x[i]));
+  for (TlSparseIndex i = 0; i < n; ++i) m = tl_max(m, fabs(x[i]));
   return m;
 }

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "tl_linear_solver.h"
+#include "tl_math.h"
 #include "tl_memory.h"
 #include "tl_stepper.h"
 
@@ -151,7 +152,7 @@ static TlStatus newmark_step(TlStepper *st, double dt)
    * M (u - u_pred) / (beta dt^2), whose parts are of size m |u| / (beta dt^2). */
   double mmax = tl_stepper_max_abs(st->m, st->n), umax = 0.0;
   for (TlSparseIndex i = 0; i < st->n; ++i)
-    umax = fmax(umax, fmax(fabs(st->u0[i]), fabs(nm->x[i])));
+    umax = tl_max(umax, tl_max(fabs(st->u0[i]), fabs(nm->x[i])));
   st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);
   st->u_scale = umax;
   memcpy(st->v, st->v0, bytes);

@@ -331,16 +331,16 @@ TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
     TlVec3 lo = s->x[s->face_node[f * (size_t)s->nodes_per_face]], hi = lo;
     for (int a = 0; a < s->nodes_per_face; ++a) {
       TlVec3 p = s->x[s->face_node[f * (size_t)s->nodes_per_face + (size_t)a]];
-      lo = tl_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-      hi = tl_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+      lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
+      hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
     }
     for (int q = 0; q < s->qp_per_face; ++q) {
       size_t slot = f * (size_t)s->qp_per_face + (size_t)q;
       TlVec3 p = s->xq[slot];
       if (!(s->wq[slot] > 0.0) || !isfinite(s->wq[slot]) || !tl_v3_isfinite(p))
         TL_ERROR(TL_ERR_NUMERIC, "face %zu quadrature point %d has weight %g", f, q, s->wq[slot]);
-      lo = tl_v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-      hi = tl_v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+      lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
+      hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
     }
     s->face_lo[f] = lo;
     s->face_hi[f] = hi;
@@ -365,9 +365,9 @@ static TlStatus bin_faces(TlCGSurface *s)
   TlVec3 ext = tl_v3(0, 0, 0);
   for (size_t f = 0; f < s->n_faces; ++f) {
     TlVec3 c = tl_v3_scale(tl_v3_add(s->face_lo[f], s->face_hi[f]), 0.5), e = tl_v3_sub(s->face_hi[f], s->face_lo[f]);
-    lo = tl_v3(fmin(lo.x, c.x), fmin(lo.y, c.y), fmin(lo.z, c.z));
-    hi = tl_v3(fmax(hi.x, c.x), fmax(hi.y, c.y), fmax(hi.z, c.z));
-    ext = tl_v3(fmax(ext.x, e.x), fmax(ext.y, e.y), fmax(ext.z, e.z));
+    lo = tl_v3(tl_min(lo.x, c.x), tl_min(lo.y, c.y), tl_min(lo.z, c.z));
+    hi = tl_v3(tl_max(hi.x, c.x), tl_max(hi.y, c.y), tl_max(hi.z, c.z));
+    ext = tl_v3(tl_max(ext.x, e.x), tl_max(ext.y, e.y), tl_max(ext.z, e.z));
   }
   double size = fmax(ext.x, fmax(ext.y, ext.z));
   if (!(size > 0.0)) size = 1.0;

@@ -12,6 +12,11 @@ typedef struct { double m[3][3]; } TlMat3;            /* m[row][col] */
 typedef struct { double w, x, y, z; } TlQuat;         /* w + xi + yj + zk */
 
 /* ---- vectors ---- */
+/* max/min of two doubles as one instruction (libm's fmax/fmin are calls);
+ * a NaN in b is ignored, as fmax does, a NaN in a is not. */
+static inline double tl_max(double a, double b) { return b > a ? b : a; }
+static inline double tl_min(double a, double b) { return b < a ? b : a; }
+
 static inline TlVec3 tl_v3(double x, double y, double z) { return (TlVec3){x, y, z}; }
 static inline TlVec3 tl_v3_add(TlVec3 a, TlVec3 b) { return (TlVec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
 static inline TlVec3 tl_v3_sub(TlVec3 a, TlVec3 b) { return (TlVec3){a.x - b.x, a.y - b.y, a.z - b.z}; }

@@ -170,69 +170,122 @@ TlStatus tl_trisurface_set_vertices(TlTriSurface *s, const double *x, const doub
   return TL_OK;
 }
 
-TlStatus tl_trisurface_update(TlTriSurface *s)
+static inline TlVec3 vmin(TlVec3 a, TlVec3 b) { return tl_v3(tl_min(a.x, b.x), tl_min(a.y, b.y), tl_min(a.z, b.z)); }
+static inline TlVec3 vmax(TlVec3 a, TlVec3 b) { return tl_v3(tl_max(a.x, b.x), tl_max(a.y, b.y), tl_max(a.z, b.z)); }
+
+static TlStatus check_vertices(const TlTriSurface *s)
 {
-  if (!s) TL_ERROR(TL_ERR_ARG, "tl_trisurface_update: NULL surface");
   for (size_t i = 0; i < s->n_vertices; ++i)
     if (!tl_v3_isfinite(s->x[i]) || !tl_v3_isfinite(s->v[i]))
       TL_ERROR(TL_ERR_NUMERIC, "vertex %zu has a non-finite position (%g, %g, %g) or velocity "
                "(%g, %g, %g)", i, s->x[i].x, s->x[i].y, s->x[i].z, s->v[i].x, s->v[i].y, s->v[i].z);
-  TlVec3 lo = tl_v3(INFINITY, INFINITY, INFINITY), hi = tl_v3(-INFINITY, -INFINITY, -INFINITY);
-  for (size_t t = 0; t < s->n_triangles; ++t) {
-    const int *v = s->tri + 3 * t;
-    TlVec3 a = s->x[v[0]], b = s->x[v[1]], c = s->x[v[2]];
-    double q = tl_triangle_quality(a, b, c);
-    if (!(q >= s->quality_tolerance))
-      TL_ERROR(TL_ERR_NUMERIC, "triangle %zu (vertices %d, %d, %d) is degenerate: quality %.3g "
-               "below the tolerance %.3g (1 = equilateral, 0 = zero area or needle)",
-               t, v[0], v[1], v[2], q, s->quality_tolerance);
-    TlVec3 n = tl_v3_cross(tl_v3_sub(b, a), tl_v3_sub(c, a));
-    double len = tl_v3_norm(n);
-    s->normal[t] = tl_v3_scale(n, 1.0 / len);
-    s->area[t] = 0.5 * len;
-    s->box_lo[t] = tl_v3(fmin(a.x, fmin(b.x, c.x)), fmin(a.y, fmin(b.y, c.y)), fmin(a.z, fmin(b.z, c.z)));
-    s->box_hi[t] = tl_v3(fmax(a.x, fmax(b.x, c.x)), fmax(a.y, fmax(b.y, c.y)), fmax(a.z, fmax(b.z, c.z)));
-    lo = tl_v3(fmin(lo.x, s->box_lo[t].x), fmin(lo.y, s->box_lo[t].y), fmin(lo.z, s->box_lo[t].z));
-    hi = tl_v3(fmax(hi.x, s->box_hi[t].x), fmax(hi.y, s->box_hi[t].y), fmax(hi.z, s->box_hi[t].z));
+  return TL_OK;
+}
+
+/* Normal, area and box of triangle t. */
+static TlStatus triangle_geometry(TlTriSurface *s, size_t t)
+{
+  const int *v = s->tri + 3 * t;
+  TlVec3 a = s->x[v[0]], b = s->x[v[1]], c = s->x[v[2]];
+  double q = tl_triangle_quality(a, b, c);
+  if (!(q >= s->quality_tolerance))
+    TL_ERROR(TL_ERR_NUMERIC, "triangle %zu (vertices %d, %d, %d) is degenerate: quality %.3g "
+             "below the tolerance %.3g (1 = equilateral, 0 = zero area or needle)",
+             t, v[0], v[1], v[2], q, s->quality_tolerance);
+  TlVec3 n = tl_v3_cross(tl_v3_sub(b, a), tl_v3_sub(c, a));
+  double len = tl_v3_norm(n);
+  s->normal[t] = tl_v3_scale(n, 1.0 / len);
+  s->area[t] = 0.5 * len;
+  s->box_lo[t] = vmin(a, vmin(b, c));
+  s->box_hi[t] = vmax(a, vmax(b, c));
+  return TL_OK;
+}
+
+/* Shape and fold of edge e from the normals of its triangles. */
+static void edge_geometry(TlTriSurface *s, size_t e)
+{
+  int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
+  if (ta < 0 || tb < 0) {
+    /* a boundary edge, or the absorbed half of a periodic pair */
+    s->edge_shape[e] = TL_EDGE_BOUNDARY;
+    s->edge_fold[e] = 0.0;
+    return;
   }
+  /* Sine of the fold: how far B's far vertex rises above A's plane,
+   * relative to its distance from the shared edge (B brought into A's
+   * frame across a periodic face). */
+  TlVec3 p0 = s->x[s->edge_vertex[2 * e]], p1 = s->x[s->edge_vertex[2 * e + 1]];
+  const int *vb = s->tri + 3 * (size_t)tb;
+  TlVec3 shift = tl_v3(0, 0, 0);
+  int e0 = s->edge_vertex[2 * e], e1 = s->edge_vertex[2 * e + 1];
+  if (s->edge_twin[e] >= 0) {
+    /* B's own edge vertices are the twins of e0 and e1 */
+    shift = tl_v3_sub(s->x[s->edge_twin[e]], p0);
+    int kb = 0;
+    while (kb < 2 && s->tri_edge[3 * (size_t)tb + kb] != (int)e) ++kb;
+    e0 = vb[kb], e1 = vb[(kb + 1) % 3];
+  }
+  s->edge_shift[e] = shift;
+  int far = vb[0];
+  for (int k = 0; k < 3; ++k)
+    if (vb[k] != e0 && vb[k] != e1) far = vb[k];
+  TlVec3 u = tl_v3_normalize(tl_v3_sub(p1, p0));
+  TlVec3 d = tl_v3_sub(tl_v3_sub(s->x[far], shift), p0);
+  TlVec3 h = tl_v3_axpy(d, -tl_v3_dot(d, u), u);
+  double fold = tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h);
+  s->edge_fold[e] = fold;
+  s->edge_shape[e] = fold > s->flat_tolerance    ? TL_EDGE_CONCAVE
+                     : fold < -s->flat_tolerance ? TL_EDGE_CONVEX
+                                                 : TL_EDGE_FLAT;
+}
+
+static void surface_box(TlTriSurface *s)
+{
+  TlVec3 lo = tl_v3(INFINITY, INFINITY, INFINITY), hi = tl_v3(-INFINITY, -INFINITY, -INFINITY);
+  for (size_t i = 0; i < s->n_vertices; ++i) lo = vmin(lo, s->x[i]), hi = vmax(hi, s->x[i]);
   s->surface_lo = lo;
   s->surface_hi = hi;
+}
+
+TlStatus tl_trisurface_update(TlTriSurface *s)
+{
+  if (!s) TL_ERROR(TL_ERR_ARG, "tl_trisurface_update: NULL surface");
+  TL_CHECK(check_vertices(s));
+  for (size_t t = 0; t < s->n_triangles; ++t) TL_CHECK(triangle_geometry(s, t));
+  surface_box(s);
   ++s->version;
-  for (size_t e = 0; e < s->n_edges; ++e) {
-    int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
-    if (ta < 0 || tb < 0) {
-      /* a boundary edge, or the absorbed half of a periodic pair */
-      s->edge_shape[e] = TL_EDGE_BOUNDARY;
-      s->edge_fold[e] = 0.0;
-      continue;
+  for (size_t e = 0; e < s->n_edges; ++e) edge_geometry(s, e);
+  s->geometry_stale = 0;
+  return TL_OK;
+}
+
+TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const double *v)
+{
+  if (!s || !x) TL_ERROR(TL_ERR_ARG, "tl_trisurface_move_vertices: NULL surface or positions");
+  for (size_t i = 0; i < s->n_vertices; ++i) s->x[i] = tl_v3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  if (v)
+    for (size_t i = 0; i < s->n_vertices; ++i) s->v[i] = tl_v3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  TL_CHECK(check_vertices(s));
+  surface_box(s);
+  ++s->version;
+  s->geometry_stale = 1;
+  return TL_OK;
+}
+
+TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles)
+{
+  for (size_t k = 0; k < n; ++k) {
+    const size_t t = (size_t)triangles[k];
+    if (t >= s->n_triangles) TL_ERROR(TL_ERR_ARG, "triangle %zu outside [0, %zu)", t, s->n_triangles);
+    /* the triangle and those across its edges (periodic twins included) */
+    for (int j = 0; j < 3; ++j) {
+      const size_t e = (size_t)s->tri_edge[3 * t + (size_t)j];
+      for (int side = 0; side < 2; ++side)
+        if (s->edge_tri[2 * e + (size_t)side] >= 0) TL_CHECK(triangle_geometry(s, (size_t)s->edge_tri[2 * e + (size_t)side]));
     }
-    /* Sine of the fold: how far B's far vertex rises above A's plane,
-     * relative to its distance from the shared edge (B brought into A's
-     * frame across a periodic face). */
-    TlVec3 p0 = s->x[s->edge_vertex[2 * e]], p1 = s->x[s->edge_vertex[2 * e + 1]];
-    const int *vb = s->tri + 3 * (size_t)tb;
-    TlVec3 shift = tl_v3(0, 0, 0);
-    int e0 = s->edge_vertex[2 * e], e1 = s->edge_vertex[2 * e + 1];
-    if (s->edge_twin[e] >= 0) {
-      /* B's own edge vertices are the twins of e0 and e1 */
-      shift = tl_v3_sub(s->x[s->edge_twin[e]], p0);
-      int kb = 0;
-      while (kb < 2 && s->tri_edge[3 * (size_t)tb + kb] != (int)e) ++kb;
-      e0 = vb[kb], e1 = vb[(kb + 1) % 3];
-    }
-    s->edge_shift[e] = shift;
-    int far = vb[0];
-    for (int k = 0; k < 3; ++k)
-      if (vb[k] != e0 && vb[k] != e1) far = vb[k];
-    TlVec3 u = tl_v3_normalize(tl_v3_sub(p1, p0));
-    TlVec3 d = tl_v3_sub(tl_v3_sub(s->x[far], shift), p0);
-    TlVec3 h = tl_v3_axpy(d, -tl_v3_dot(d, u), u);
-    double fold = tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h);
-    s->edge_fold[e] = fold;
-    s->edge_shape[e] = fold > s->flat_tolerance    ? TL_EDGE_CONCAVE
-                       : fold < -s->flat_tolerance ? TL_EDGE_CONVEX
-                                                   : TL_EDGE_FLAT;
   }
+  for (size_t k = 0; k < n; ++k)
+    for (int j = 0; j < 3; ++j) edge_geometry(s, (size_t)s->tri_edge[3 * (size_t)triangles[k] + (size_t)j]);
   return TL_OK;
 }
 

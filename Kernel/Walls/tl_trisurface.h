@@ -24,6 +24,7 @@
 #define TL_TRISURFACE_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include "tl_domain.h"
 #include "tl_error.h"
 #include "tl_math.h"
@@ -61,7 +62,8 @@ typedef struct {
    * triangle's frame to the second's, recomputed by update. */
   int *edge_twin;
   TlVec3 *edge_shift;
-  unsigned long version;    /* incremented by every update */
+  unsigned long version;    /* incremented by every update and every move */
+  int geometry_stale;       /* moved by tl_trisurface_move_vertices since the last full update */
   /* Classification tolerances. */
   double flat_tolerance;    /* |fold sine| below it counts as flat (default 1e-9) */
   double quality_tolerance; /* tl_triangle_quality below it is refused (default 1e-6) */
@@ -81,6 +83,16 @@ TlStatus tl_trisurface_set_vertices(TlTriSurface *s, const double *x, const doub
 /* Recomputes normals, areas, bounding boxes and edge shapes from s->x.
  * Refuses non-finite positions and degenerate triangles. */
 TlStatus tl_trisurface_update(TlTriSurface *s);
+/* Moving surfaces whose contacts touch a few triangles (a coupled solid):
+ * copies positions and velocities (v may be NULL) and refreshes only the
+ * surface's box, leaving the per-triangle geometry stale (geometry_stale
+ * set).  The owner of the surface then refreshes what it reads:
+ * tl_trisurface_update (everything) or tl_trisurface_update_triangles (the
+ * given triangles, their neighbours' normals and the shapes of their
+ * edges), so that a step costs O(triangles touched) instead of
+ * O(triangles).  Both compute the same numbers bit for bit. */
+TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const double *v);
+TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles);
 /* Changes the tolerances (positive, below 1) and reclassifies. */
 TlStatus tl_trisurface_set_tolerances(TlTriSurface *s, double flat_tolerance,
                                       double quality_tolerance);

@@ -45,6 +45,12 @@ typedef struct {
   double list_skin;
   int list_valid;
   long list_builds;
+  /* Distinct triangles of the list, for partial geometry updates. */
+  int32_t *listed;
+  size_t n_listed, listed_capacity;
+  unsigned char *seen; /* per triangle, scratch of the above */
+  size_t seen_capacity;
+  unsigned long listed_version; /* list build they belong to (0: none) */
 } TlWallTriSurface;
 
 static const TlWallOps tl_wall_trisurface_ops;
@@ -110,6 +116,8 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
   tl_free(&t->pair);
   tl_free(&t->x_list);
   tl_free(&t->vertex_list);
+  tl_free(&t->listed);
+  tl_free(&t->seen);
   tl_free(&t);
 }
 
@@ -188,9 +196,15 @@ static int tl_wall_trisurface_list_stale(const TlWallTriSurface *t, const TlPart
   const TlTriSurface *s = t->surface;
   double dv2 = 0.0;
   if (t->list_version != s->version)
-    for (size_t i = 0; i < s->n_vertices; ++i) dv2 = fmax(dv2, tl_v3_norm2(tl_v3_sub(s->x[i], t->vertex_list[i])));
+    for (size_t i = 0; i < s->n_vertices; ++i) {
+      double d2 = tl_v3_norm2(tl_v3_sub(s->x[i], t->vertex_list[i]));
+      dv2 = d2 > dv2 ? d2 : dv2;
+    }
   double dp2 = 0.0;
-  for (size_t i = 0; i < p->n; ++i) dp2 = fmax(dp2, tl_v3_norm2(tl_v3_sub(p->x[i], t->x_list[i])));
+  for (size_t i = 0; i < p->n; ++i) {
+    double d2 = tl_v3_norm2(tl_v3_sub(p->x[i], t->x_list[i]));
+    dp2 = d2 > dp2 ? d2 : dp2;
+  }
   return sqrt(dp2) + sqrt(dv2) > 0.5 * skin;
 }
 
@@ -257,6 +271,25 @@ static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallS
   return TL_OK;
 }
 
+/* The distinct triangles of the candidate list (once per list build). */
+static TlStatus tl_wall_trisurface_listed_triangles(TlWallTriSurface *t)
+{
+  if (t->listed_version == (unsigned long)t->list_builds) return TL_OK;
+  const size_t nt = t->surface->n_triangles;
+  TL_CHECK(tl_array_reserve(&t->listed, &t->listed_capacity, nt, sizeof *t->listed));
+  /* a triangle appears once per particle near it: keep the first */
+  TL_CHECK(tl_array_reserve(&t->seen, &t->seen_capacity, nt ? nt : 1, 1));
+  unsigned char *seen = t->seen;
+  memset(seen, 0, nt);
+  t->n_listed = 0;
+  for (size_t k = 0; k < t->n_pairs; ++k) {
+    int32_t tri = t->pair[2 * k];
+    if (!seen[tri]) seen[tri] = 1, t->listed[t->n_listed++] = tri;
+  }
+  t->listed_version = (unsigned long)t->list_builds;
+  return TL_OK;
+}
+
 /* Contacts of this step into t->current (unsorted): the listed pairs
  * tested exactly, or every particle against every triangle (oracle, or no
  * grid given). */
@@ -268,7 +301,17 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
   int use_list = step->grid && !t->brute_force;
   if (use_list) {
     double skin = step->grid->skin > 0.0 ? step->grid->skin : 0.0;
-    if (tl_wall_trisurface_list_stale(t, p, skin)) TL_CHECK(tl_wall_trisurface_build_list(t, step, skin));
+    if (tl_wall_trisurface_list_stale(t, p, skin)) {
+      if (s->geometry_stale) TL_CHECK(tl_trisurface_update(t->surface));
+      TL_CHECK(tl_wall_trisurface_build_list(t, step, skin));
+    } else if (s->geometry_stale) {
+      /* The surface moved without its geometry: refresh the listed
+       * triangles only (the rest cannot be touched before the next build). */
+      TL_CHECK(tl_wall_trisurface_listed_triangles(t));
+      TL_CHECK(tl_trisurface_update_triangles(t->surface, t->n_listed, t->listed));
+    }
+  } else if (s->geometry_stale) {
+    TL_CHECK(tl_trisurface_update(t->surface));
   }
   long n = use_list ? (long)t->n_pairs : (long)s->n_triangles;
   int nthreads;
