@@ -29,7 +29,13 @@ struct TlWave {
   TlVCoupling *vc;
   double eq41, residual, work, spring;
   double vmax_allowed, eps;
+  /* snapshots */
+  double *radius;
+  int *conn_int;
 };
+
+/* Snapshots hand the IO module the scene's 3-per-point arrays as TlVec3. */
+_Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
 
 void tl_wave_params_default(TlWaveParams *p)
 {
@@ -136,6 +142,8 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
   TL_CHECK_GOTO(s, tl_calloc(&w->du, 3 * np, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&w->w, np, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&w->mass, np, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&w->radius, np, sizeof(double)), fail);
+  for (size_t a = 0; a < np; ++a) w->radius[a] = 0.5 * w->d;
   for (int j = 0; j < w->nyp; ++j)
     for (int k = 0; k < w->nxp; ++k)
       for (int i = 0; i < w->nxp; ++i) {
@@ -177,6 +185,9 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     TL_CHECK_GOTO(s, tl_calloc(&w->Mw, w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->fixed, w->nn, 1), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->Ke, w->mesh->blocks[0].n_elements * 576, sizeof(double)), fail);
+    /* hex8 node order is VTK's */
+    TL_CHECK_GOTO(s, tl_calloc(&w->conn_int, w->mesh->blocks[0].n_elements * 8, sizeof(int)), fail);
+    for (size_t k = 0; k < w->mesh->blocks[0].n_elements * 8; ++k) w->conn_int[k] = (int)w->mesh->blocks[0].conn[k];
     for (size_t i = 0; i < w->nn; ++i) w->fixed[i] = fabs(w->mesh->x[3 * i + 1] - p->length) < 1e-9 * p->length;
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
     w->eps = eps;
@@ -202,11 +213,12 @@ void tl_wave_destroy(TlWave **pw)
   TlWave *w = *pw;
   if (!w) return;
   double **arr[] = {&w->x, &w->x0, &w->v, &w->f, &w->w, &w->du, &w->mass, &w->xb, &w->wb,
-                    &w->u, &w->vn, &w->an, &w->fn, &w->dun, &w->Mw, &w->Ke};
+                    &w->u, &w->vn, &w->an, &w->fn, &w->dun, &w->Mw, &w->Ke, &w->radius};
   for (size_t k = 0; k < sizeof arr / sizeof arr[0]; ++k) tl_free(arr[k]);
   tl_free(&w->ba);
   tl_free(&w->bb);
   tl_free(&w->fixed);
+  tl_free(&w->conn_int);
   tl_vcoupling_destroy(&w->vc);
   tl_mesh_destroy(&w->mesh);
   tl_free(pw);
@@ -438,6 +450,92 @@ void tl_wave_profile(const TlWave *w, double *y, double *vy)
   }
 }
 
+/* ------------------------------------------------------------ checkpoint */
+static TlStatus wave_save(const void *object, TlCheckpointWriter *cw, const char *g)
+{
+  const TlWave *w = object;
+  size_t np = w->np, nb = w->nb, nn = w->nn;
+  TL_CHECK(tl_checkpoint_write_int64(cw, g, "step", w->step));
+  TL_CHECK(tl_checkpoint_write_double(cw, g, "time", w->t));
+  double sc[4] = {w->eq41, w->residual, w->work, w->spring};
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "diagnostics", 4, sc));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "position", 3 * np, w->x));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "velocity", 3 * np, w->v));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "force", 3 * np, w->f));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "step_displacement", 3 * np, w->du));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "weight", np, w->w));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "bond_midpoint", 3 * nb, w->xb));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "bond_weight", nb, w->wb));
+  if (w->mesh) {
+    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_displacement", 3 * nn, w->u));
+    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_velocity", 3 * nn, w->vn));
+    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_acceleration", 3 * nn, w->an));
+    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_force", 3 * nn, w->fn));
+    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_step_displacement", 3 * nn, w->dun));
+  }
+  return TL_OK;
+}
+
+static TlStatus wave_load(void *object, TlCheckpointReader *cr, const char *g)
+{
+  TlWave *w = object;
+  size_t np = w->np, nb = w->nb, nn = w->nn;
+  int64_t step;
+  double sc[4];
+  TL_CHECK(tl_checkpoint_read_int64(cr, g, "step", &step));
+  TL_CHECK(tl_checkpoint_read_double(cr, g, "time", &w->t));
+  w->step = (long)step;
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "diagnostics", 4, sc));
+  w->eq41 = sc[0];
+  w->residual = sc[1];
+  w->work = sc[2];
+  w->spring = sc[3];
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "position", 3 * np, w->x));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "velocity", 3 * np, w->v));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "force", 3 * np, w->f));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "step_displacement", 3 * np, w->du));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "weight", np, w->w));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "bond_midpoint", 3 * nb, w->xb));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "bond_weight", nb, w->wb));
+  if (w->mesh != NULL) {
+    if (!tl_checkpoint_has(cr, g, "solid_displacement"))
+      TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a full-DEM scene, this one is coupled",
+               tl_checkpoint_reader_path(cr));
+    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_displacement", 3 * nn, w->u));
+    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_velocity", 3 * nn, w->vn));
+    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_acceleration", 3 * nn, w->an));
+    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_force", 3 * nn, w->fn));
+    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_step_displacement", 3 * nn, w->dun));
+    /* Pi and the weights follow from the restored geometry, as after a step */
+    TL_CHECK(tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass));
+  } else if (tl_checkpoint_has(cr, g, "solid_displacement")) {
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a coupled scene, this one is full DEM",
+             tl_checkpoint_reader_path(cr));
+  }
+  return TL_OK;
+}
+
+const TlCheckpointOps tl_wave_checkpoint_ops = {
+    {"checkpoint", "wave_volume_coupling", "V1 wave scene: particles, solid, coupling work"}, wave_save, wave_load};
+
+/* ------------------------------------------------------------- snapshots */
+TlStatus tl_wave_write_snapshot(const TlWave *w, TlParticleWriter *pw, TlMeshWriter *mw)
+{
+  TlField pf[1] = {{"weight", 1, w->w}};
+  TlParticleView pv = {.n = w->np, .position = (const TlVec3 *)w->x, .radius = w->radius,
+                       .velocity = (const TlVec3 *)w->v, .force = (const TlVec3 *)w->f, .n_fields = 1, .fields = pf};
+  if (pw) TL_CHECK(tl_particle_writer_write(pw, w->step, w->t, &pv));
+  if (!mw || !w->mesh) return TL_OK;
+  const TlElementBlock *B = &w->mesh->blocks[0];
+  TlField nf[3] = {{"velocity", 3, w->vn}, {"particle_weight", 1, tl_vcoupling_node_weights(w->vc)},
+                   {"weighted_mass", 1, w->Mw}};
+  TlMeshBlock block = {.name = "bar", .type = TL_CELL_HEX8, .n_cells = B->n_elements, .connectivity = w->conn_int};
+  TlMeshView mv = {.n_nodes = w->nn, .reference = (const TlVec3 *)w->mesh->x, .displacement = (const TlVec3 *)w->u,
+                   .n_node_fields = 3, .node_fields = nf, .n_blocks = 1, .blocks = &block};
+  TL_CHECK(tl_mesh_writer_write(mw, w->step, w->t, &mv));
+  return TL_OK;
+}
+
 void tl_wave_record_free(TlWaveRecord *r)
 {
   tl_free(&r->state);
@@ -446,6 +544,50 @@ void tl_wave_record_free(TlWaveRecord *r)
   memset(r, 0, sizeof *r);
 }
 
+/* What a run records, checkpointed with the scene so that a restarted run
+ * writes the same tables as one run in one go. */
+typedef struct {
+  TlWaveRecord *r;
+  size_t cap;
+  int n_snap, *next;
+} RecordSection;
+
+static TlStatus record_save(const void *object, TlCheckpointWriter *cw, const char *g)
+{
+  const RecordSection *R = object;
+  const size_t per = sizeof(TlWaveState) / sizeof(double);
+  TL_CHECK(tl_checkpoint_write_int64(cw, g, "rows", (int64_t)R->r->n));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "states", R->r->n * per, (const double *)R->r->state));
+  TL_CHECK(tl_checkpoint_write_int64(cw, g, "profiles_taken", *R->next));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "profile_times", TL_WAVE_MAX_SNAPSHOTS, R->r->snap_t));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "profiles", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny, R->r->profile));
+  return TL_OK;
+}
+
+static TlStatus record_load(void *object, TlCheckpointReader *cr, const char *g)
+{
+  RecordSection *R = object;
+  const size_t per = sizeof(TlWaveState) / sizeof(double);
+  int64_t n, next;
+  TL_CHECK(tl_checkpoint_read_int64(cr, g, "rows", &n));
+  if (n < 1 || (size_t)n > R->cap)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds %lld recorded rows, this run records at most %zu (same -t_end "
+             "and -record_every?)", tl_checkpoint_reader_path(cr), (long long)n, R->cap);
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "states", (size_t)n * per, (double *)R->r->state));
+  R->r->n = (size_t)n;
+  TL_CHECK(tl_checkpoint_read_int64(cr, g, "profiles_taken", &next));
+  if (next < 0 || next > R->n_snap)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' has taken %lld profiles, this run takes %d (same -snapshots?)",
+             tl_checkpoint_reader_path(cr), (long long)next, R->n_snap);
+  *R->next = (int)next;
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profile_times", TL_WAVE_MAX_SNAPSHOTS, R->r->snap_t));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profiles", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny, R->r->profile));
+  return TL_OK;
+}
+
+static const TlCheckpointOps record_checkpoint_ops = {
+    {"checkpoint", "wave_record", "recorded states and velocity profiles of a V1 run"}, record_save, record_load};
+
 TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRecord *r)
 {
   memset(r, 0, sizeof *r);
@@ -453,43 +595,84 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   if (o->every < 1) TL_ERROR(TL_ERR_ARG, "recording interval %ld steps must be >= 1", o->every);
   if (o->n_snap < 0 || o->n_snap > TL_WAVE_MAX_SNAPSHOTS)
     TL_ERROR(TL_ERR_ARG, "%d snapshots outside [0, %d]", o->n_snap, TL_WAVE_MAX_SNAPSHOTS);
+  if (o->snapshot_dt < 0 || o->checkpoint_every < 0 || o->stop_step < 0)
+    TL_ERROR(TL_ERR_ARG, "snapshot_dt = %g s, checkpoint_every = %ld, stop_step = %ld must be >= 0", o->snapshot_dt,
+             o->checkpoint_every, o->stop_step);
+  const int restart = o->restart && o->restart[0];
+  if (!o->output_dir && (o->snapshot_dt > 0 || o->checkpoint_every > 0 || restart))
+    TL_ERROR(TL_ERR_ARG, "snapshots, checkpoints and restarts need an output folder");
   double wall0 = tl_wtime();
   TlWave *w = NULL;
   TL_CHECK(tl_wave_create(p, &w));
   TlStatus s = TL_OK;
+  TlParticleWriter *pw = NULL;
+  TlMeshWriter *mw = NULL;
+  TlCheckpoint *cp = NULL;
+  char ckpt[4096] = "";
   long steps = (long)ceil(o->t_end / w->dt - 1e-9);
   size_t cap = (size_t)(steps / o->every) + 3;
+  int next = 0;
+  RecordSection R = {r, cap, o->n_snap, &next};
   r->ny = tl_wave_profile_size(w);
   r->dt = w->dt;
   r->n_particles = w->np;
   TL_CHECK_GOTO(s, tl_calloc(&r->state, cap, sizeof *r->state), out);
   TL_CHECK_GOTO(s, tl_calloc(&r->y, r->ny, sizeof *r->y), out);
   TL_CHECK_GOTO(s, tl_calloc(&r->profile, (size_t)(o->n_snap ? o->n_snap : 1) * r->ny, sizeof *r->profile), out);
-  tl_wave_state(w, &r->state[r->n++]);
-  int next = 0;
+  tl_wave_profile(w, r->y, r->profile); /* the layer positions; the profile itself is overwritten */
+  if (o->snapshot_dt > 0) {
+    TL_CHECK_GOTO(s, tl_particle_writer_create(o->output_dir, "particles", &pw), out);
+    if (!p->full_dem) TL_CHECK_GOTO(s, tl_mesh_writer_create(o->output_dir, "solid", &mw), out);
+  }
+  if (o->checkpoint_every > 0 || restart) {
+    snprintf(ckpt, sizeof ckpt, "%s/checkpoint.h5", o->output_dir);
+    TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), out);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "wave", &tl_wave_checkpoint_ops, w), out);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "record", &record_checkpoint_ops, &R), out);
+    if (pw) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "particle_snapshots", &tl_particle_writer_checkpoint_ops, pw), out);
+    if (mw) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "solid_snapshots", &tl_mesh_writer_checkpoint_ops, mw), out);
+  }
+  if (restart) {
+    TL_CHECK_GOTO(s, tl_checkpoint_load(cp, o->restart, NULL, NULL), out);
+    r->start_step = w->step;
+  } else {
+    tl_wave_state(w, &r->state[r->n++]);
+    if (pw) TL_CHECK_GOTO(s, tl_wave_write_snapshot(w, pw, mw), out);
+  }
   TlProgress bar;
   if (o->progress) tl_progress_init(&bar, p->full_dem ? "full DEM" : "coupled", (double)steps);
-  for (long k = 1; k <= steps; ++k) {
+  for (long k = w->step + 1; k <= steps; ++k) {
     TL_CHECK_GOTO(s, tl_wave_step(w), out);
     if ((k % o->every == 0 || k == steps) && r->n < cap) tl_wave_state(w, &r->state[r->n++]);
     while (next < o->n_snap && w->t >= o->snap[next] - 1e-12) {
       tl_wave_profile(w, r->y, r->profile + (size_t)next * r->ny);
       r->snap_t[next++] = w->t;
     }
+    /* snapshot n at the first step at or after n snapshot_dt */
+    if (pw && w->t >= (double)tl_particle_writer_count(pw) * o->snapshot_dt - 1e-12 * o->snapshot_dt)
+      TL_CHECK_GOTO(s, tl_wave_write_snapshot(w, pw, mw), out);
+    if (cp && o->checkpoint_every > 0 && k % o->checkpoint_every == 0)
+      TL_CHECK_GOTO(s, tl_checkpoint_save(cp, ckpt, w->t, k), out);
     if (o->progress && k % 200 == 0) tl_progress_update(&bar, (double)k);
+    if (o->stop_step > 0 && k == o->stop_step && k < steps) {
+      r->stopped = 1;
+      break;
+    }
   }
   if (o->progress) tl_progress_finish(&bar);
-  if (next < o->n_snap) {
+  r->steps = w->step;
+  r->n_snapshots = pw ? tl_particle_writer_count(pw) : 0;
+  if (!r->stopped && next < o->n_snap) {
     s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "snapshot time %g s lies beyond t_end = %g s",
                      o->snap[next], o->t_end);
     goto out;
   }
-  r->steps = steps;
 out:
+  tl_checkpoint_destroy(&cp);
+  tl_particle_writer_destroy(&pw);
+  tl_mesh_writer_destroy(&mw);
   tl_wave_destroy(&w);
   r->wall = tl_wtime() - wall0;
-  if (s != TL_OK) {
-    /* keep what was recorded for the diagnosis; the caller frees */
-  }
+  /* on failure what was recorded stays for the diagnosis; the caller frees */
   return s;
 }

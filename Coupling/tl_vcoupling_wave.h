@@ -19,7 +19,10 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include "tl_checkpoint.h"
 #include "tl_error.h"
+#include "tl_mesh_snapshot.h"
+#include "tl_particle_snapshot.h"
 
 typedef enum { TL_WAVE_PULSE = 0, TL_WAVE_COSINE, TL_WAVE_CYCLES } TlWaveExcitation;
 /* TL_WAVE_PAPER: the penalty on the displacement over the last step
@@ -88,6 +91,18 @@ size_t tl_wave_n_particles(const TlWave *w);
 size_t tl_wave_profile_size(const TlWave *w);
 void tl_wave_profile(const TlWave *w, double *y, double *vy);
 
+/* The full dynamic state of the scene (time, step, particle positions,
+ * velocities, forces and weights, the solid's displacement, velocity,
+ * acceleration and forces, the running coupling work), so that a scene
+ * built with the same parameters and loaded continues bit for bit. */
+extern const TlCheckpointOps tl_wave_checkpoint_ops;
+
+/* One snapshot for ParaView: the particles (position, radius, velocity,
+ * force, weight w_a) to pw, and the solid (displacement, velocity, nodal
+ * weight w_i, weighted lumped mass) to mw; mw may be NULL, and is ignored
+ * for the full-DEM reference. */
+TlStatus tl_wave_write_snapshot(const TlWave *w, TlParticleWriter *pw, TlMeshWriter *mw);
+
 /* A whole run: steps to t_end, records the state every `every` steps and
  * the velocity profile at the snapshot times (the first step at or after
  * each).  The record arrays are allocated here; free with
@@ -99,6 +114,12 @@ typedef struct {
   int n_snap;
   double snap[TL_WAVE_MAX_SNAPSHOTS];
   int progress; /* show a progress bar */
+  /* output of the run (all optional; output_dir NULL: none of them) */
+  const char *output_dir;   /* snapshots particles*.h5 / solid*.h5 (+ .xmf), checkpoint.h5 */
+  double snapshot_dt;       /* HDF5 + XDMF snapshots every snapshot_dt (s; 0: none), from t = 0 */
+  long checkpoint_every;    /* checkpoint.h5 every n steps (0: none) */
+  const char *restart;      /* continue from this checkpoint (NULL or "": start afresh) */
+  long stop_step;           /* stop after this step (0: run to t_end) */
 } TlWaveRunOptions;
 
 typedef struct {
@@ -108,9 +129,12 @@ typedef struct {
   double *y;            /* ny */
   double *profile;      /* n_snap x ny */
   double snap_t[TL_WAVE_MAX_SNAPSHOTS];
-  long steps;
+  long steps;           /* last step taken */
+  long start_step;      /* 0, or the step restarted from */
+  int stopped;          /* 1: stopped at stop_step before t_end */
   double dt, wall;
   size_t n_particles;
+  size_t n_snapshots;   /* snapshot files written by the whole run so far */
 } TlWaveRecord;
 
 TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRecord *r);

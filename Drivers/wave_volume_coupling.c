@@ -190,6 +190,17 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-baseline", "", "compare energies.csv with this table (self-test)", &baseline), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-baseline_tol", 1e-6, 0.0, 1.0, "", "relative tolerance against -baseline", &baseline_tol), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "fail unless mass at t = 0 is exact, Eq. 41 holds to 1e-12 and the momentum drift stays below 1e-3", &check), done);
+  const char *restart = NULL;
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-snapshot_dt", 0.01, 0.0, 1e3, "s",
+                                       "HDF5 + XDMF snapshots of particles and solid every (ParaView: particles.xmf, "
+                                       "solid.xmf; 0: none)", &ro.snapshot_dt), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "checkpoint every n coupled steps to <output_dir>/checkpoint.h5 (0: none)",
+                                      &ro.checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue the coupled run from this checkpoint file "
+                                         "(same options; the full-DEM reference is rerun)", &restart), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000,
+                                      "stop the coupled run after this step (0: run to t_end)", &ro.stop_step), done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
 
@@ -203,6 +214,8 @@ static TlStatus run(int argc, char **argv)
   p.per_element = iscope;
   p.resolution_limit = res_limit > 0.0 ? res_limit : -1.0;
   ro.n_snap = n_snap;
+  ro.output_dir = dir;
+  ro.restart = restart;
   double wall0 = tl_wtime();
   TlWaveRecord rc = {0}, rr = {0};
   {
@@ -214,11 +227,27 @@ static TlStatus run(int argc, char **argv)
   }
   TlWaveParams pr = p;
   pr.full_dem = 1;
-  if (reference) TL_CHECK_GOTO(s, tl_wave_run(&pr, &ro, &rr), out);
+  TlWaveRunOptions rro = ro; /* the reference: no snapshots, checkpoints or restarts */
+  rro.output_dir = NULL;
+  rro.snapshot_dt = 0.0;
+  rro.checkpoint_every = rro.stop_step = 0;
+  rro.restart = NULL;
+  if (reference && !ro.stop_step) TL_CHECK_GOTO(s, tl_wave_run(&pr, &rro, &rr), out);
   double wall_ref = rr.wall;
   s = tl_wave_run(&p, &ro, &rc);
   if (s != TL_OK) {
     tl_error_trace(s, __FILE__, __LINE__);
+    goto out;
+  }
+  if (rc.stopped) {
+    printf("stopped after step %ld (t = %.6g s)%s%s\n", rc.steps, rc.steps * rc.dt,
+           ro.checkpoint_every ? "; checkpoint in " : "", ro.checkpoint_every ? dir : "");
+    TlSummary sum;
+    tl_summary_init(&sum);
+    tl_summary_string(&sum, "case", cases[icase]);
+    tl_summary_int(&sum, "stopped_at", rc.steps);
+    tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+    tl_summary_print(&sum, stdout);
     goto out;
   }
   /* figures */
@@ -256,9 +285,10 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
   }
   printf("%s %s, c = %g m (%.3g dX), eps = %s, %zu particles, dt = %.4g s, %ld steps: energy %.6g J -> %.6g J "
-         "(reference %.6g J); coupled run %.2f s, reference %.2f s; output in %s\n",
+         "(reference %.6g J); coupled run %.2f s%s, reference %.2f s; %zu snapshots; output in %s\n",
          cases[icase], excitations[iexc], p.c, p.c / p.dx, p.epsilon > 0 ? "given" : "Table 6", rc.n_particles, rc.dt,
-         rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall, wall_ref, dir);
+         rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall,
+         rc.start_step ? " (restarted)" : "", wall_ref, rc.n_snapshots, dir);
   double baseline_diff = NAN;
   if (check) {
     if (!(mass_err0 < 1e-12) || !(eq41 < 1e-12) || !(drift < 1e-3)) {

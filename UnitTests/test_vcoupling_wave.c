@@ -2,6 +2,7 @@
  * energy book-keeping of the coupled step, the spring variant conserving
  * energy, a divergent penalty stopped with a diagnosis, bad parameters. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "talus.h"
@@ -128,6 +129,62 @@ static void test_width_beyond_range(void)
   tl_wave_destroy(&w);
 }
 
+/* N steps in one go against N/2 steps, a checkpoint, a scene built afresh
+ * and loaded from it, and N/2 steps: the same state bit for bit. */
+static void test_restart(TlWaveVariant variant, double c)
+{
+  TlWaveParams p;
+  tl_wave_params_default(&p);
+  p.variant = variant;
+  p.c = c;
+  const int N = 600;
+  TlWave *a = NULL, *b = NULL;
+  TL_TEST_STATUS(tl_wave_create(&p, &a), TL_OK);
+  TL_TEST_STATUS(tl_wave_create(&p, &b), TL_OK);
+  if (!a || !b) {
+    tl_wave_destroy(&a);
+    tl_wave_destroy(&b);
+    return;
+  }
+  TlStatus st = TL_OK;
+  for (int k = 0; k < N && st == TL_OK; ++k) st = tl_wave_step(a);
+  for (int k = 0; k < N / 2 && st == TL_OK; ++k) st = tl_wave_step(b);
+  TL_TEST_STATUS(st, TL_OK);
+  TlCheckpoint *cp = NULL;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "wave", &tl_wave_checkpoint_ops, b), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_save(cp, "wave_restart.h5", 0.0, N / 2), TL_OK);
+  tl_checkpoint_destroy(&cp);
+  tl_wave_destroy(&b);
+  TL_TEST_STATUS(tl_wave_create(&p, &b), TL_OK);
+  if (!b) {
+    tl_wave_destroy(&a);
+    return;
+  }
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "wave", &tl_wave_checkpoint_ops, b), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_load(cp, "wave_restart.h5", NULL, NULL), TL_OK);
+  tl_checkpoint_destroy(&cp);
+  for (int k = 0; k < N / 2 && st == TL_OK; ++k) st = tl_wave_step(b);
+  TL_TEST_STATUS(st, TL_OK);
+  TlWaveState sa, sb;
+  tl_wave_state(a, &sa);
+  tl_wave_state(b, &sb);
+  TL_TEST_ASSERT(sa.kin_fem > 0.0 || variant == TL_WAVE_SPRING || sa.kin_dem > 0.0, "the wave moves");
+  TL_TEST_ASSERT(memcmp(&sa, &sb, sizeof sa) == 0, "variant %d, c = %g: restarted state differs (total %.17g / %.17g, "
+                 "t %.17g / %.17g)", (int)variant, c, sa.total, sb.total, sa.t, sb.t);
+  size_t ny = tl_wave_profile_size(a);
+  double ya[512], va[512], yb[512], vb[512];
+  if (ny <= 512) {
+    tl_wave_profile(a, ya, va);
+    tl_wave_profile(b, yb, vb);
+    TL_TEST_ASSERT(memcmp(va, vb, ny * sizeof *va) == 0, "restarted velocity profile differs");
+  }
+  tl_wave_destroy(&a);
+  tl_wave_destroy(&b);
+  remove("wave_restart.h5");
+}
+
 static void test_bad_params(void)
 {
   TlWaveParams p;
@@ -158,6 +215,9 @@ int main(void)
   test_spring_conserves();
   test_divergence_stops();
   test_width_beyond_range();
+  test_restart(TL_WAVE_PAPER, 0.0);
+  test_restart(TL_WAVE_PAPER, 0.6);
+  test_restart(TL_WAVE_SPRING, 0.0);
   test_bad_params();
   return tl_test_report();
 }
