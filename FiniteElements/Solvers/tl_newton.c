@@ -31,6 +31,7 @@ struct TlNewton {
   double history[TL_NEWTON_HISTORY];
   int n_history;
   int factored; /* valid numeric factors exist */
+  long since_factor; /* linear solves with the current factors */
 };
 
 /* ------------------------------------------------ the SUNMatrix wrapper */
@@ -78,6 +79,7 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A)
     return SUNLS_PACKAGE_FAIL_UNREC;
   }
   nw->factored = 1;
+  nw->since_factor = 0;
   return SUNLS_SUCCESS;
 }
 static int ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, realtype tol)
@@ -86,6 +88,7 @@ static int ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, real
   (void)tol;
   TlNewton *nw = S->content;
   TlStatus st = tl_linear_solver_solve(nw->ls, N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+  nw->since_factor++;
   if (st != TL_OK) {
     record_callback_error(nw, st);
     return SUNLS_PACKAGE_FAIL_UNREC;
@@ -269,8 +272,12 @@ TlStatus tl_newton_refactor(TlNewton *nw)
   nw->factored = 0;
   TL_CHECK(tl_linear_solver_factor(nw->ls, nw->J));
   nw->factored = 1;
+  nw->since_factor = 0;
   return TL_OK;
 }
+
+long tl_newton_iterations_since_factor(const TlNewton *nw) { return nw->since_factor; }
+void tl_newton_set_iterations_since_factor(TlNewton *nw, long n) { nw->since_factor = n; }
 
 static int history_text(const TlNewton *nw, char *buf, size_t size)
 {
@@ -290,9 +297,10 @@ TlStatus tl_newton_solve(TlNewton *nw, double *x)
    * to the problem's displacement size; residuals stay unscaled. */
   N_VConst(1.0 / nw->opt.u_scale, nw->uscale);
   /* Reusing factors across solves: tell KINSOL not to set up at the start
-   * when valid factors are kept.  If the stale factors do not converge,
-   * start again from x with fresh ones. */
-  int stale = nw->opt.keep_factors && nw->factored;
+   * when valid factors are kept and have served fewer than max_setup_calls
+   * iterations (KINSOL counts within one solve only).  If the stale factors
+   * do not converge, start again from x with fresh ones. */
+  int stale = nw->opt.keep_factors && nw->factored && nw->since_factor < nw->opt.max_setup_calls;
   int flag = 0;
   long iters = 0;
   for (int attempt = 0; attempt < 2; ++attempt) {

@@ -67,6 +67,10 @@ void tl_newton_invalidate(TlNewton *newton);
  * into J and calling tl_newton_refactor(). */
 int tl_newton_has_factors(const TlNewton *newton);
 TlStatus tl_newton_refactor(TlNewton *newton);
+/* Newton iterations served by the kept factors (with keep_factors, fresh
+ * ones are made once this reaches max_setup_calls); restored on restart. */
+long tl_newton_iterations_since_factor(const TlNewton *newton);
+void tl_newton_set_iterations_since_factor(TlNewton *newton, long n);
 void tl_newton_get_stats(const TlNewton *newton, TlNewtonStats *stats);
 /* Residual norms of the last solve (one per evaluation), count returned. */
 int tl_newton_history(const TlNewton *newton, const double **norms);

@@ -23,6 +23,7 @@ void tl_stepper_options_default(TlStepperOptions *o)
   o->keep_factors = 0;
   o->line_search = 0;
   o->lumped = 0;
+  o->predictor = TL_PREDICTOR_AUTO;
   o->allow_unstable = 0;
   o->blowup = 1e6;
   o->ramp_time = 0.0;
@@ -51,6 +52,8 @@ static TlStatus check_options(const TlStepperOptions *o)
              o->reuse);
   if (!(o->blowup > 1.0)) TL_ERROR(TL_ERR_ARG, "blow-up factor %g must exceed 1", o->blowup);
   if (!(o->ramp_time >= 0.0)) TL_ERROR(TL_ERR_ARG, "ramp_time = %g must be >= 0", o->ramp_time);
+  if (o->predictor < TL_PREDICTOR_AUTO || o->predictor > TL_PREDICTOR_TAYLOR)
+    TL_ERROR(TL_ERR_ARG, "Newmark predictor %d is none of AUTO (0), LAST (1), TAYLOR (2)", o->predictor);
   if (o->max_cuts < 0 || o->max_cuts > 60)
     TL_ERROR(TL_ERR_ARG, "max_cuts = %d outside [0, 60]", o->max_cuts);
   return TL_OK;

@@ -40,6 +40,7 @@ typedef struct {
   int keep_factors;    /* keep the factors across steps (modified Newton) [0] */
   int line_search;     /* KINSOL line search [0] */
   int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
+  int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO] */
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
   double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
   int critical_bound;  /* explicit: take omega_max^2 from the system's (conservative) bound
@@ -47,6 +48,15 @@ typedef struct {
   double ramp_time;    /* quasi-static load ramp [0] */
   int max_cuts;        /* quasi-static step halvings [10] */
 } TlStepperOptions;
+
+/* Newmark predictors: the last displacement u_n (safe when the step leaves
+ * element modes unresolved, omega dt >> 1: their undamped parts in v_n, a_n
+ * would be amplified onto distorted states), the Taylor one
+ * u_n + dt v_n + dt^2/2 a_n (second order: one Newton iteration usually
+ * suffices when every mode is resolved), or AUTO: Taylor when the system's
+ * bound on omega_max (taken at the initial state) gives omega_max dt <= 1,
+ * else the last displacement. */
+enum { TL_PREDICTOR_AUTO = 0, TL_PREDICTOR_LAST = 1, TL_PREDICTOR_TAYLOR = 2 };
 
 typedef struct {
   double kinetic, strain, external_work, total; /* total = kinetic + strain - external_work */
@@ -89,6 +99,7 @@ struct TlStepper {
   double force_scale;
   double force_floor; /* round-off level of the residual (inertia terms) */
   double u_scale;     /* displacement size for Newton's step test */
+  double omega2_bound; /* implicit, predictor AUTO: the system's bound on omega_max^2 at the initial state (0: none) */
   TlStepperStats stats;
   void *impl;
 };

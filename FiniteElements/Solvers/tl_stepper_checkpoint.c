@@ -32,7 +32,10 @@ static TlStatus stepper_save(const void *object, TlCheckpointWriter *w, const ch
    * starts with a fresh factorisation). */
   int factored = st->newton && st->opt.keep_factors && tl_newton_has_factors(st->newton);
   TL_CHECK(tl_checkpoint_write_int64(w, group, "factored", factored));
-  if (factored) TL_CHECK(tl_checkpoint_write_doubles(w, group, "jacobian", (size_t)st->J->nnz, st->J->values));
+  if (factored) {
+    TL_CHECK(tl_checkpoint_write_doubles(w, group, "jacobian", (size_t)st->J->nnz, st->J->values));
+    TL_CHECK(tl_checkpoint_write_int64(w, group, "iterations_since_factor", tl_newton_iterations_since_factor(st->newton)));
+  }
   const TlCheckpointOps *sys_ops = st->sys->ops->checkpoint;
   if (sys_ops) {
     char sub[512];
@@ -83,6 +86,9 @@ static TlStatus stepper_load(void *object, TlCheckpointReader *r, const char *gr
     if (factored) {
       TL_CHECK(tl_checkpoint_read_doubles(r, group, "jacobian", (size_t)st->J->nnz, st->J->values));
       TL_CHECK(tl_newton_refactor(st->newton));
+      int64_t since = 0;
+      TL_CHECK(tl_checkpoint_read_int64(r, group, "iterations_since_factor", &since));
+      tl_newton_set_iterations_since_factor(st->newton, (long)since);
     }
   } else if (factored) {
     TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds Newton factors; the '%s' stepper has none", path, group,

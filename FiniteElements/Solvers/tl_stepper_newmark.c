@@ -27,10 +27,26 @@ static void newmark_kinematics(const TlStepper *st, const double *u, double *a, 
   }
 }
 
+typedef struct {
+  double *x;  /* Newton unknown */
+  double *r0; /* residual at the predictor, computed for the force scale */
+  int r0_valid;
+} Newmark;
+
 static TlStatus newmark_residual(void *ctx, const double *x, double *r)
 {
   TlStepper *st = ctx;
   TlMechSystem *sys = st->sys;
+  Newmark *nm = st->impl;
+  /* Newton's first evaluation is at the predictor, where the step already
+   * evaluated the residual for its force scale. */
+  if (nm->r0_valid) {
+    nm->r0_valid = 0;
+    if (memcmp(x, nm->x, (size_t)st->n * sizeof *x) == 0) {
+      memcpy(r, nm->r0, (size_t)st->n * sizeof *r);
+      return TL_OK;
+    }
+  }
   newmark_kinematics(st, x, st->a, st->v);
   TL_CHECK(sys->ops->internal_force(sys, st->t_new, x, st->v, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, x, st->f_ext));
@@ -61,16 +77,13 @@ static TlStatus newmark_jacobian(void *ctx, const double *x, TlSparse *J)
   return TL_OK;
 }
 
-typedef struct {
-  double *x; /* Newton unknown */
-} Newmark;
-
 static TlStatus newmark_setup(TlStepper *st)
 {
   Newmark *nm = NULL;
   TL_CHECK(TL_NEW(nm));
   st->impl = nm;
   TL_CHECK(tl_calloc(&nm->x, (size_t)st->n, sizeof *nm->x));
+  TL_CHECK(tl_calloc(&nm->r0, (size_t)st->n, sizeof *nm->r0));
   TL_CHECK(tl_stepper_implicit_setup(st, newmark_residual, newmark_jacobian));
   return TL_OK;
 }
@@ -115,6 +128,9 @@ static TlStatus newmark_initialise(TlStepper *st)
     if (!st->M) st->a[i] = 0.0;
   }
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t, NULL, NULL, st->a));
+  st->omega2_bound = 0.0;
+  if (st->opt.predictor == TL_PREDICTOR_AUTO && sys->ops->max_frequency_squared)
+    TL_CHECK(sys->ops->max_frequency_squared(sys, st->u, &st->omega2_bound));
   return TL_OK;
 }
 
@@ -130,14 +146,20 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   st->t_new = st->t + dt;
   memset(st->f_hook, 0, bytes);
   if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
-  /* Predictor: the last displacement; prescribed values at t_{n+1}.  Not
-   * the constant-acceleration one: the trapezoidal rule keeps the unresolved
+  /* Predictor; prescribed values at t_{n+1}.  The last displacement unless
+   * every mode is resolved: the trapezoidal rule keeps the unresolved
    * element modes (omega dt >> 1) in a_n undamped, and dt^2/2 a_n moves them
    * by omega^2 dt^2 / 2 times their amplitude, onto distorted states where
    * K + M/(beta dt^2) is indefinite (CHOLMOD refuses it) or Newton diverges
-   * into inverted elements (test_fem_stepper_beam).  Suddenly applied loads
-   * throw it off the same way. */
-  memcpy(nm->x, st->u0, bytes);
+   * into inverted elements (test_fem_stepper_beam).  With omega_max dt <= 1
+   * the Taylor predictor is second order and saves an iteration. */
+  const int taylor = st->opt.predictor == TL_PREDICTOR_TAYLOR ||
+                     (st->opt.predictor == TL_PREDICTOR_AUTO && st->omega2_bound > 0.0 &&
+                      st->omega2_bound * dt * dt <= 1.0);
+  if (taylor)
+    for (TlSparseIndex i = 0; i < st->n; ++i) nm->x[i] = st->u0[i] + dt * (st->v0[i] + 0.5 * dt * st->a0[i]);
+  else
+    memcpy(nm->x, st->u0, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
   memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
   /* Force scale for the tolerance: inertia at the start, and the internal,
@@ -155,9 +177,12 @@ static TlStatus newmark_step(TlStepper *st, double dt)
     umax = tl_max(umax, tl_max(fabs(st->u0[i]), fabs(nm->x[i])));
   st->force_floor = 64.0 * DBL_EPSILON * (mmax * umax / (st->opt.beta * dt * dt) + st->force_scale);
   st->u_scale = umax;
+  memcpy(nm->r0, st->work, bytes);
+  nm->r0_valid = 1;
   memcpy(st->v, st->v0, bytes);
   memcpy(st->a, st->a0, bytes);
   TlStatus s = tl_stepper_newton_solve(st, nm->x);
+  nm->r0_valid = 0;
   if (s != TL_OK) return tl_stepper_reject(st, s, "Newmark", dt);
   memcpy(st->u, nm->x, bytes);
   newmark_kinematics(st, st->u, st->a, st->v);
@@ -174,6 +199,7 @@ static void newmark_destroy(TlStepper *st)
   Newmark *nm = st->impl;
   if (!nm) return;
   tl_free(&nm->x);
+  tl_free(&nm->r0);
   tl_free(&st->impl);
 }
 
