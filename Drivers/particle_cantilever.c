@@ -22,6 +22,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 #include "talus.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
@@ -30,7 +31,7 @@
 
 typedef struct {
   TlCantileverParams beam;
-  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt;
+  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
   int stepper, one_way, keep_factors;
@@ -84,6 +85,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-one_way", 0, "rigid beam (one-way coupling)", &c->one_way), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1000, 1, 100000, "Newmark: refactorise every n Newton iterations", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-keep_factors", 1, "Newmark: keep the factors across steps", &c->keep_factors), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-newton_rtol", 1e-10, 1e-16, 1e-2, "", "Newmark: Newton stops at |R| <= rtol x force scale", &c->newton_rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.0, 0.0, 1e6, "s", "end time (0: when the particles leave the beam)", &c->t_end), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_max", 80.0, 0.0, 1e6, "s", "end time if the particles never leave", &c->t_max), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-output_dt", 0.01, 0.0, 1e6, "s", "table rows every (0: every step)", &c->output_dt), done);
@@ -204,6 +206,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_initialize());
   TL_CHECK(configure(argc, argv, &c));
   const double wall0 = tl_wtime();
+  const clock_t cpu0 = clock();
   TlStatus s = TL_OK;
   TlCantilever *beam = NULL;
   TlSCoupling *sc = NULL;
@@ -252,6 +255,7 @@ static TlStatus run(int argc, char **argv)
   tl_stepper_options_default(&sto);
   sto.reuse = c.reuse;
   sto.keep_factors = c.keep_factors;
+  sto.rtol = c.newton_rtol;
   sto.max_iterations = c.reuse > 1 ? 200 : 30;
   TL_CHECK_GOTO(s, tl_stepper_create(steppers[c.stepper], tl_solid_system(beam->solid), &sto, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
@@ -379,6 +383,7 @@ static TlStatus run(int argc, char **argv)
   const double err_int = d.err_int, err_time = d.err_time, sym_dev = d.sym_dev, E_max = d.E_max, t_off = d.t_off;
   const double err_avg = err_time > 0.0 ? err_int / err_time : NAN;
   const double wall = tl_wtime() - wall0;
+  const double cpu = (double)(clock() - cpu0) / CLOCKS_PER_SEC;
   printf("%ld coupled steps to t = %.4g s; particles leave the beam at t = %.4g s; err_avg = %.4g m, "
          "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
          step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
@@ -397,6 +402,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "sym_dev", sym_dev);
   tl_summary_real(&sum, "E_max", E_max);
   tl_summary_real(&sum, "t_off", t_off);
+  tl_summary_real(&sum, "cpu", cpu);
   tl_summary_real(&sum, "wall", wall);
   tl_summary_print(&sum, stdout);
 done:
