@@ -95,6 +95,18 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
   L->wall_force = L->wall_acc;
   tl_mech_system_set_step_hook(L->sys, hook, L);
+  /* The solid's initial acceleration with the coupling forces of t_0 (the
+   * stepper's state was set before the hook existed). */
+  if (!o.one_way) {
+    tl_solid_nodes_to_dofs(solid, L->F_nodes, L->F_dof);
+    memcpy(L->u_old, stepper->u, nd * sizeof(double));
+    double *vcopy = NULL;
+    if ((s = tl_calloc(&vcopy, nd ? nd : 1, sizeof *vcopy)) != TL_OK) goto fail;
+    memcpy(vcopy, stepper->v, nd * sizeof(double));
+    s = tl_stepper_set_state(stepper, stepper->t, L->u_old, vcopy);
+    tl_free(&vcopy);
+    if (s != TL_OK) goto fail;
+  }
   *out = L;
   return TL_OK;
 fail:

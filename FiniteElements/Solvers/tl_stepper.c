@@ -125,6 +125,10 @@ TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const do
   }
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, t, st->u, st->v, st->a));
   st->W_ext = 0.0;
+  /* The initial acceleration balances the hook's forces too (a coupling
+   * that already loads the solid at t). */
+  memset(st->f_hook, 0, bytes);
+  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, t, 0.0, st->u, st->v, st->f_hook));
   TL_CHECK(st->ops->initialise(st));
   TL_CHECK(sys->ops->external_force(sys, t, st->u, st->f_ext));
   return TL_OK;

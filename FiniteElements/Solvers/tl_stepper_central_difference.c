@@ -32,8 +32,7 @@ static TlStatus cd_accelerations(TlStepper *st, double t, const double *vel)
 
 static TlStatus cd_initialise(TlStepper *st)
 {
-  memset(st->f_hook, 0, (size_t)st->n * sizeof(double));
-  TL_CHECK(cd_accelerations(st, st->t, st->v));
+  TL_CHECK(cd_accelerations(st, st->t, st->v)); /* f_hook: set by tl_stepper_set_state */
   TL_CHECK(tl_stepper_critical_dt(st, &st->dt_crit));
   TlEnergies e;
   TL_CHECK(tl_stepper_energies(st, &e));

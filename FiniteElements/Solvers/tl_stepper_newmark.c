@@ -95,7 +95,7 @@ static TlStatus newmark_initialise(TlStepper *st)
   double *r = st->work;
   TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, st->v, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t, st->u, st->f_ext));
-  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] = st->f_ext[i] - st->f_int[i];
+  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] = st->f_ext[i] + st->f_hook[i] - st->f_int[i];
   if (!st->M) {
     for (TlSparseIndex i = 0; i < st->n; ++i) st->a[i] = r[i] / st->m[i];
   } else {
