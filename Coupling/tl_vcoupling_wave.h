@@ -58,6 +58,8 @@ typedef struct {
                               (tl_vcoupling_check_resolution), checked at the
                               start and every 100 steps; 0: the default
                               TL_VCOUPLING_BIAS_LIMIT (half an element), < 0: no check */
+  int no_penalty_check;    /* 1: skip the penalty's stability check at creation
+                              (tl_wave_penalty_ratio; for studies of the blow-up) */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */
@@ -89,6 +91,18 @@ size_t tl_wave_n_particles(const TlWave *w);
  * layers of the full bar): particle layers where particles exist and lie
  * at or left of dem_end, the solid interpolated beyond. */
 size_t tl_wave_profile_size(const TlWave *w);
+/* The penalty's explicit stability ratio eps dt^2 lambda_max(W^-1 B^T M B)
+ * (B = [Pi, -I]: particle and nodal velocities to the nodal mismatch; M =
+ * int N_i N_j; W the weighted masses, w_a m_a and the lumped (1 - w) rho V)
+ * by `iterations` power iterations in the W inner product (a lower bound
+ * converging from below), with the particle and the node that carry most
+ * of the stiffest mode.  The paper's penalty is a damper eps M dt on the
+ * velocity mismatch, explicit over one step, with amplification
+ * 1 - ratio: stable for ratio <= 2; the spring variant, a stiffness eps M
+ * under central differences, for ratio <= 4 (TL_WAVE_PENALTY_LIMIT).
+ * tl_wave_create refuses a scene beyond it (unless no_penalty_check). */
+TlStatus tl_wave_penalty_ratio(TlWave *w, int iterations, double *ratio, size_t *particle, size_t *node);
+#define TL_WAVE_PENALTY_LIMIT(variant) ((variant) == TL_WAVE_SPRING ? 4.0 : 2.0)
 void tl_wave_profile(const TlWave *w, double *y, double *vy);
 
 /* The full dynamic state of the scene (time, step, particle positions,

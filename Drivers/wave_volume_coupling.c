@@ -170,6 +170,10 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-resolution_limit", TL_VCOUPLING_BIAS_LIMIT, 0.0, 1e3, "element sizes",
                                        "stop when Pi takes a node's displacement from further than this from its shape "
                                        "function's centroid (the CG width outrunning the mesh; 0: no check)", &res_limit), done);
+  int penalty_check = 1;
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-penalty_check", 1,
+                                       "refuse a penalty beyond the explicit stable range (eps dt^2 lambda_max of the "
+                                       "weighted coupling over 2, or 4 for the spring variant)", &penalty_check), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
@@ -213,6 +217,7 @@ static TlStatus run(int argc, char **argv)
   p.quad_order = (int)quad;
   p.per_element = iscope;
   p.resolution_limit = res_limit > 0.0 ? res_limit : -1.0;
+  p.no_penalty_check = !penalty_check;
   ro.n_snap = n_snap;
   ro.output_dir = dir;
   ro.restart = restart;

@@ -79,20 +79,54 @@ static void test_spring_conserves(void)
   tl_wave_destroy(&w);
 }
 
+/* A penalty beyond the explicit stable range: refused at creation with the
+ * ratio, the limit and the largest stable eps; run anyway (check off) it
+ * diverges, and the run stops with a diagnosis before any NaN.  The ratio
+ * scales with eps, and the limit it predicts brackets the observed one. */
 static void test_divergence_stops(void)
 {
   TlWaveParams p;
   tl_wave_params_default(&p);
-  p.epsilon = 4e10;
   TlWave *w = NULL;
   TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
   if (!w) return;
+  double r1, r2;
+  size_t a, i;
+  TL_TEST_STATUS(tl_wave_penalty_ratio(w, 200, &r1, &a, &i), TL_OK);
+  tl_wave_destroy(&w);
+  TL_TEST_ASSERT(r1 > 0.1 && r1 < 2.0, "Table 6 penalty is stable: ratio %g", r1);
+  p.epsilon = 2.0e10;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
+  TL_TEST_STATUS(tl_wave_penalty_ratio(w, 200, &r2, &a, &i), TL_OK);
+  TL_TEST_CLOSE(r2 / r1, 2.0e10 / (1.6e9 / (0.4 * 0.4)), 1e-3); /* Table 6, 1P: eps = 1.6e9 Pa / d^2 */
+  /* just below the predicted limit: runs 600 steps */
+  double eps_lim = 2.0e10 * 2.0 / r2;
   TlStatus st = TL_OK;
+  for (int k = 0; k < 600 && st == TL_OK; ++k) st = tl_wave_step(w);
+  TL_TEST_STATUS(st, TL_OK);
+  tl_wave_destroy(&w);
+  p.epsilon = 0.97 * eps_lim;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  for (int k = 0; w && k < 600 && st == TL_OK; ++k) st = tl_wave_step(w);
+  TL_TEST_STATUS(st, TL_OK);
+  tl_wave_destroy(&w);
+
+  p.epsilon = 4e10;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_UNSTABLE);
+  TL_TEST_ASSERT(w == NULL, "no half-built scene");
+  const char *m = tl_error_message();
+  TL_TEST_ASSERT(strstr(m, "penalty eps = 4e+10") && strstr(m, "at step 0") && strstr(m, "over the limit 2 "),
+                 "diagnosis names eps, the step and the limit: %s", m);
+  /* 10 % above the predicted limit, run anyway: it blows up and stops */
+  p.epsilon = 1.1 * eps_lim;
+  p.no_penalty_check = 1;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_OK);
+  if (!w) return;
   int k = 0;
-  for (; k < 500 && st == TL_OK; ++k) st = tl_wave_step(w);
+  for (; k < 3000 && st == TL_OK; ++k) st = tl_wave_step(w);
   TL_TEST_STATUS(st, TL_ERR_UNSTABLE);
-  TL_TEST_ASSERT(strstr(tl_error_message(), "penalty eps = 4e+10") != NULL, "diagnosis names the penalty: %s",
-                 tl_error_message());
+  TL_TEST_ASSERT(strstr(tl_error_message(), "diverged") != NULL, "runtime diagnosis: %s", tl_error_message());
   TlWaveState s;
   tl_wave_state(w, &s);
   TL_TEST_ASSERT(isfinite(s.total), "state still finite when stopped (%g)", s.total);
