@@ -507,38 +507,53 @@ static TlStatus check_penalty(TlWave *w)
 
 size_t tl_wave_profile_size(const TlWave *w) { return (size_t)w->nyp_full; }
 
-void tl_wave_profile(const TlWave *w, double *y, double *vy)
+/* v_y of the solid at y: the mean over a node layer, linear between layers. */
+static double solid_vy(const TlWave *w, double y)
+{
+  int nyn = (int)lround((w->p.length - w->p.fem_start) / w->p.dx) + 1;
+  double r = (y - w->p.fem_start) / w->p.dx;
+  int l = (int)floor(r);
+  if (l < 0) l = 0;
+  if (l >= nyn - 1) l = nyn - 2;
+  double f = r - l, avg[2] = {0, 0};
+  for (int side = 0; side < 2; ++side) {
+    double yl = w->p.fem_start + (l + side) * w->p.dx;
+    int cnt = 0;
+    for (size_t i = 0; i < w->nn; ++i)
+      if (fabs(w->mesh->x[3 * i + 1] - yl) < 1e-9) {
+        avg[side] += w->vn[3 * i + 1];
+        ++cnt;
+      }
+    avg[side] /= cnt > 0 ? cnt : 1;
+  }
+  return (1 - f) * avg[0] + f * avg[1];
+}
+
+static void profile(const TlWave *w, int blend, double *y, double *vy)
 {
   size_t per = (size_t)w->nxp * w->nxp;
-  int nyn = w->mesh ? (int)lround((w->p.length - w->p.fem_start) / w->p.dx) + 1 : 0;
-  int nxn = w->mesh ? (int)lround(w->p.width / w->p.dx) + 1 : 0;
   for (int j = 0; j < w->nyp_full; ++j) {
     y[j] = (j + 0.5) * w->d;
-    double s = 0.0;
     if (j < w->nyp) {
-      for (size_t q = 0; q < per; ++q) s += w->v[3 * (j * per + q) + 1];
+      double s = 0.0, sw = 0.0;
+      for (size_t q = 0; q < per; ++q) {
+        s += w->v[3 * (j * per + q) + 1];
+        sw += w->w[j * per + q];
+      }
       vy[j] = s / (double)per;
+      /* the Arlequin field in the overlap: w v_particles + (1 - w) v_solid */
+      if (blend && w->mesh && y[j] > w->p.fem_start) {
+        double wl = sw / (double)per;
+        vy[j] = wl * vy[j] + (1.0 - wl) * solid_vy(w, y[j]);
+      }
       continue;
     }
-    /* the solid: average v_y over the node layer, linear between layers */
-    double r = (y[j] - w->p.fem_start) / w->p.dx;
-    int l = (int)floor(r);
-    if (l >= nyn - 1) l = nyn - 2;
-    double f = r - l, avg[2] = {0, 0};
-    for (int side = 0; side < 2; ++side) {
-      double yl = w->p.fem_start + (l + side) * w->p.dx;
-      int cnt = 0;
-      for (size_t i = 0; i < w->nn; ++i)
-        if (fabs(w->mesh->x[3 * i + 1] - yl) < 1e-9) {
-          avg[side] += w->vn[3 * i + 1];
-          ++cnt;
-        }
-      avg[side] /= cnt > 0 ? cnt : 1;
-    }
-    (void)nxn;
-    vy[j] = (1 - f) * avg[0] + f * avg[1];
+    vy[j] = solid_vy(w, y[j]);
   }
 }
+
+void tl_wave_profile(const TlWave *w, double *y, double *vy) { profile(w, 0, y, vy); }
+void tl_wave_profile_weighted(const TlWave *w, double *y, double *vy) { profile(w, 1, y, vy); }
 
 /* ------------------------------------------------------------ checkpoint */
 static TlStatus wave_save(const void *object, TlCheckpointWriter *cw, const char *g)
@@ -631,6 +646,7 @@ void tl_wave_record_free(TlWaveRecord *r)
   tl_free(&r->state);
   tl_free(&r->y);
   tl_free(&r->profile);
+  tl_free(&r->profile_weighted);
   memset(r, 0, sizeof *r);
 }
 
@@ -651,6 +667,8 @@ static TlStatus record_save(const void *object, TlCheckpointWriter *cw, const ch
   TL_CHECK(tl_checkpoint_write_int64(cw, g, "profiles_taken", *R->next));
   TL_CHECK(tl_checkpoint_write_doubles(cw, g, "profile_times", TL_WAVE_MAX_SNAPSHOTS, R->r->snap_t));
   TL_CHECK(tl_checkpoint_write_doubles(cw, g, "profiles", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny, R->r->profile));
+  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "profiles_weighted", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny,
+                                       R->r->profile_weighted));
   return TL_OK;
 }
 
@@ -672,6 +690,8 @@ static TlStatus record_load(void *object, TlCheckpointReader *cr, const char *g)
   *R->next = (int)next;
   TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profile_times", TL_WAVE_MAX_SNAPSHOTS, R->r->snap_t));
   TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profiles", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny, R->r->profile));
+  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profiles_weighted", (size_t)(R->n_snap ? R->n_snap : 1) * R->r->ny,
+                                      R->r->profile_weighted));
   return TL_OK;
 }
 
@@ -709,6 +729,8 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   TL_CHECK_GOTO(s, tl_calloc(&r->state, cap, sizeof *r->state), out);
   TL_CHECK_GOTO(s, tl_calloc(&r->y, r->ny, sizeof *r->y), out);
   TL_CHECK_GOTO(s, tl_calloc(&r->profile, (size_t)(o->n_snap ? o->n_snap : 1) * r->ny, sizeof *r->profile), out);
+  TL_CHECK_GOTO(s, tl_calloc(&r->profile_weighted, (size_t)(o->n_snap ? o->n_snap : 1) * r->ny,
+                             sizeof *r->profile_weighted), out);
   tl_wave_profile(w, r->y, r->profile); /* the layer positions; the profile itself is overwritten */
   if (o->snapshot_dt > 0) {
     TL_CHECK_GOTO(s, tl_particle_writer_create(o->output_dir, "particles", &pw), out);
@@ -736,6 +758,7 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
     if ((k % o->every == 0 || k == steps) && r->n < cap) tl_wave_state(w, &r->state[r->n++]);
     while (next < o->n_snap && w->t >= o->snap[next] - 1e-12) {
       tl_wave_profile(w, r->y, r->profile + (size_t)next * r->ny);
+      tl_wave_profile_weighted(w, r->y, r->profile_weighted + (size_t)next * r->ny);
       r->snap_t[next++] = w->t;
     }
     /* snapshot n at the first step at or after n snapshot_dt */

@@ -104,6 +104,10 @@ size_t tl_wave_profile_size(const TlWave *w);
 TlStatus tl_wave_penalty_ratio(TlWave *w, int iterations, double *ratio, size_t *particle, size_t *node);
 #define TL_WAVE_PENALTY_LIMIT(variant) ((variant) == TL_WAVE_SPRING ? 4.0 : 2.0)
 void tl_wave_profile(const TlWave *w, double *y, double *vy);
+/* The same with the Arlequin field in the overlap: w v_particles +
+ * (1 - w) v_solid at each particle layer (w: the layer's mean weight), so
+ * that particles of vanishing weight count as little as they weigh. */
+void tl_wave_profile_weighted(const TlWave *w, double *y, double *vy);
 
 /* The full dynamic state of the scene (time, step, particle positions,
  * velocities, forces and weights, the solid's displacement, velocity,
@@ -142,6 +146,7 @@ typedef struct {
   size_t ny;            /* profile points */
   double *y;            /* ny */
   double *profile;      /* n_snap x ny */
+  double *profile_weighted; /* n_snap x ny: tl_wave_profile_weighted */
   double snap_t[TL_WAVE_MAX_SNAPSHOTS];
   long steps;           /* last step taken */
   long start_step;      /* 0, or the step restarted from */

@@ -36,11 +36,11 @@ static TlStatus write_energies(FILE *f, void *ctx)
 static TlStatus write_profiles(FILE *f, void *ctx)
 {
   const Files *F = ctx;
-  fprintf(f, "t,y,vy,vy_ref\n");
+  fprintf(f, "t,y,vy,vy_ref,vy_weighted\n");
   for (int s = 0; s < F->n_snap; ++s)
     for (size_t j = 0; j < F->c->ny; ++j)
-      fprintf(f, "%.6g,%.6g,%.9g,%.9g\n", F->c->snap_t[s], F->c->y[j], F->c->profile[s * F->c->ny + j],
-              F->ref->profile[s * F->ref->ny + j]);
+      fprintf(f, "%.6g,%.6g,%.9g,%.9g,%.9g\n", F->c->snap_t[s], F->c->y[j], F->c->profile[s * F->c->ny + j],
+              F->ref->profile[s * F->ref->ny + j], F->c->profile_weighted[s * F->c->ny + j]);
   return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the profiles failed") : TL_OK;
 }
 
@@ -265,7 +265,7 @@ static TlStatus run(int argc, char **argv)
     resid = fmax(resid, st->residual);
   }
   double mass_err0 = fabs(rc.state[0].mass_dem + rc.state[0].mass_fem - Mexact) / Mexact;
-  double E_ref = NAN, dissipated = NAN, perr = NAN;
+  double E_ref = NAN, dissipated = NAN, perr = NAN, perr_w = NAN;
   if (reference) {
     for (size_t k = 0; k < rr.n; ++k) pmax = fmax(pmax, fabs(rr.state[k].mom_dem));
     for (size_t k = 0; k < rc.n && k < rr.n; ++k)
@@ -273,14 +273,17 @@ static TlStatus run(int argc, char **argv)
         drift = fmax(drift, fabs(rc.state[k].mom_dem + rc.state[k].mom_fem - rr.state[k].mom_dem) / pmax);
     E_ref = rr.state[rr.n - 1].total;
     dissipated = 1.0 - rc.state[rc.n - 1].total / E_ref;
-    double num = 0.0, den = 0.0;
+    double num = 0.0, num_w = 0.0, den = 0.0;
     for (int q = 0; q < n_snap; ++q)
       for (size_t j = 0; j < rc.ny; ++j) {
         double a = rc.profile[q * rc.ny + j], b = rr.profile[q * rr.ny + j];
+        double aw = rc.profile_weighted[q * rc.ny + j];
         num += (a - b) * (a - b);
+        num_w += (aw - b) * (aw - b);
         den += b * b;
       }
     perr = den > 0 ? sqrt(num / den) : NAN;
+    perr_w = den > 0 ? sqrt(num_w / den) : NAN;
     Files F = {&rc, &rr, n_snap};
     TL_CHECK_GOTO(s, write_file(dir, "energies.csv", write_energies, &F), out);
     TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
@@ -323,6 +326,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "momentum_drift", drift);
   tl_summary_real(&sum, "eq41", eq41);
   tl_summary_real(&sum, "profile_err", perr);
+  tl_summary_real(&sum, "profile_err_weighted", perr_w);
   tl_summary_real(&sum, "residual", resid);
   tl_summary_real(&sum, "wall_coupled", rc.wall);
   if (baseline[0]) tl_summary_real(&sum, "baseline_diff", baseline_diff);

@@ -8,9 +8,10 @@
                     against the reference (Fig. 20 b-c)
       profiles.png  v_y along the bar at the snapshot times, coupled and
                     full DEM (Fig. 19)
-  plot_wave.py --sweep table.md -o dissipation.png
-      dissipated fraction against the CG width from the Markdown table of
-      tools/sweep_wave.sh, one line per case/excitation/variant (Fig. 21)
+  plot_wave.py --sweep table.md -o dissipation.png [--paper]
+      dissipated fraction, profile error and wall time against the CG
+      width from the Markdown table of tools/sweep_wave.sh, one line per
+      case/excitation/variant (Fig. 21; --paper adds the paper's 1P pulse)
 
 PNGs are written to a temporary name and renamed.
 """
@@ -84,25 +85,56 @@ def plot_run(folder):
     save(fig, os.path.join(folder, "profiles.png"))
 
 
-def plot_sweep(table, out):
+# seeds/001 §6.2.2, Fig. 21: 1P pulse, dissipated % against c / dX (no
+# further gain at 2 and 2.5 dX).
+PAPER_1P_PULSE = [(0.0, 33.5), (1.5, 29.5), (2.0, 29.5), (2.5, 29.5)]
+
+
+def plot_sweep(table, out, paper=False):
+    """Three panels from the rows of tools/sweep_wave.sh: dissipated energy,
+    profile error (solid: particles as they are; dashed, where the table
+    has it: the weighted Arlequin field) and wall time of the coupled run
+    against the CG width, one line per case/excitation/variant."""
     lines = {}
     with open(table) as f:
         for line in f:
             cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            if len(cells) < 6 or cells[0] in ("case", "---") or cells[4].startswith("failed"):
+            if len(cells) < 6 or cells[0] in ("case", "---") or cells[0].startswith("-") or cells[4].startswith("failed"):
                 continue
             case, exc, var, c = cells[0], cells[1], cells[2], cells[3]
-            cval = float(c[:-1]) if c.endswith("h") else float(c) / 0.4
-            lines.setdefault(f"{case} {exc} {var}", []).append((cval, 100.0 * float(cells[4])))
+            try:
+                cval = float(c[:-1]) if c.endswith("h") else float(c) / 0.4
+                dis = 100.0 * float(cells[4])
+                err = float(cells[5])
+                wall = float(cells[8]) if len(cells) > 8 and cells[8] else float("nan")
+                errw = float(cells[10]) if len(cells) > 10 and cells[10] else float("nan")
+            except ValueError:
+                continue
+            lines.setdefault(f"{case} {exc} {var}", []).append((cval, dis, err, wall, errw))
     if not lines:
         sys.exit(f"{table}: no rows")
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
     for label, pts in sorted(lines.items()):
         pts.sort()
-        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=label)
-    ax.set_xlabel("CG width c / ΔX")
-    ax.set_ylabel("dissipated energy [%]")
-    ax.legend(fontsize=8)
+        cs = [p[0] for p in pts]
+        for k, ax in enumerate(axs):
+            line, = ax.plot(cs, [p[k + 1] for p in pts], "o-", label=label)
+        if any(p[4] == p[4] for p in pts):  # weighted (Arlequin) profile error, where measured
+            axs[1].plot([p[0] for p in pts if p[4] == p[4]], [p[4] for p in pts if p[4] == p[4]], "s--",
+                        color=line.get_color(), mfc="none", label=label + ", weighted field")
+    if paper:
+        axs[0].plot([p[0] for p in PAPER_1P_PULSE], [p[1] for p in PAPER_1P_PULSE], "k*--", ms=10,
+                    label="paper 1P pulse (Fig. 21)")
+    axs[0].set_ylabel("dissipated energy [%]")
+    axs[1].set_ylabel("profile error (relative L2 against full DEM)")
+    axs[2].set_ylabel("wall time of the coupled run [s]")
+    axs[2].set_yscale("log")
+    for ax in axs:
+        ax.set_xlabel("CG width c / ΔX")
+        ax.grid(alpha=0.3)
+    axs[0].legend(fontsize=7)
+    if any(len(h.get_label()) and "weighted" in h.get_label() for h in axs[1].get_lines()):
+        axs[1].legend(fontsize=7)
     save(fig, out)
 
 
@@ -111,9 +143,10 @@ def main():
     ap.add_argument("folder", nargs="?", help="output folder of wave_volume_coupling")
     ap.add_argument("--sweep", help="Markdown table of tools/sweep_wave.sh")
     ap.add_argument("-o", default="dissipation.png", help="PNG of --sweep")
+    ap.add_argument("--paper", action="store_true", help="overlay the paper's 1P pulse dissipation (Fig. 21)")
     a = ap.parse_args()
     if a.sweep:
-        plot_sweep(a.sweep, a.o)
+        plot_sweep(a.sweep, a.o, a.paper)
     if a.folder:
         plot_run(a.folder)
     if not a.sweep and not a.folder:
