@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "tl_memory.h"
+#include "tl_scoupling_faces.h"
 
 struct TlSCoupling {
   TlSolid *solid;
@@ -12,12 +13,13 @@ struct TlSCoupling {
   double width;
   size_t n_faces;
   TlFaceRef *faces;
-  int nf;            /* nodes per face: 3 or 4 */
+  int nf;            /* nodes per face */
+  TlSCouplingFaceType *ft; /* wall pieces and CG quadrature of the face type */
   size_t n_local;    /* distinct FE nodes of the faces */
   size_t *node;      /* local -> global node */
   int *face_local;   /* n_faces x nf local node numbers */
   TlVec3 *X0, *xs;   /* reference and current positions of the local nodes */
-  size_t n_vertices; /* wall vertices: local nodes, then one centre per quadrilateral */
+  size_t n_vertices; /* wall vertices: local nodes, then the extra points of each face */
   double *vx, *vv;   /* 3 x n_vertices scratch for the wall */
   TlWall *wall;
   int wall_given;    /* the world owns the wall */
@@ -103,18 +105,20 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   if (o.subdivisions < 0 || o.subdivisions > 64) TL_ERROR(TL_ERR_ARG, "CG subdivisions %d outside [0, 64]", o.subdivisions);
   const TlMesh *mesh = tl_solid_mesh(solid);
   if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "surface coupling needs a 3-D mesh (dimension %d)", mesh->dim);
-  int nf = 0;
+  const TlElementType *face_type = NULL;
   for (size_t f = 0; f < n_faces; f++) {
     if (faces[f].block < 0 || faces[f].block >= mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "face %zu names block %d, outside [0, %d)", f, faces[f].block, mesh->n_blocks);
     const TlElementType *t = mesh->blocks[faces[f].block].type;
     if (faces[f].face < 0 || faces[f].face >= t->n_faces || faces[f].element >= mesh->blocks[faces[f].block].n_elements)
       TL_ERROR(TL_ERR_ARG, "face %zu (element %zu, face %d) out of range", f, faces[f].element, faces[f].face);
-    if (t->face_n_nodes != 3 && t->face_n_nodes != 4)
-      TL_ERROR(TL_ERR_UNSUPPORTED, "face %zu of block '%s' has %d nodes: surface coupling takes linear triangles (3) and bilinear quadrilaterals (4) only",
-               f, mesh->blocks[faces[f].block].name, t->face_n_nodes);
-    if (nf && t->face_n_nodes != nf) TL_ERROR(TL_ERR_UNSUPPORTED, "face %zu has %d nodes, the others %d: one face type per coupled boundary", f, t->face_n_nodes, nf);
-    nf = t->face_n_nodes;
+    if (!t->face_type || t->face_type->dim != 2)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "block '%s' (%s) has no 2-D faces to couple", mesh->blocks[faces[f].block].name, t->header.name);
+    if (face_type && t->face_type != face_type)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "face %zu is a %s, the others %s: one face type per coupled boundary", f,
+               t->face_type->header.name, face_type->header.name);
+    face_type = t->face_type;
   }
+  const int nf = face_type->n_nodes;
   TlSCoupling *sc;
   TL_CHECK(TL_NEW(sc));
   TlStatus s = TL_OK;
@@ -133,26 +137,40 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
     const double *X = mesh->x + 3 * sc->node[i];
     sc->X0[i] = sc->xs[i] = tl_v3(X[0], X[1], X[2]);
   }
-  /* Wall: quadrilaterals as four triangles around their centre. */
-  size_t n_tri = nf == 4 ? 4 * n_faces : n_faces;
-  sc->n_vertices = sc->n_local + (nf == 4 ? n_faces : 0);
+  /* CG quadrature sub-cells per face direction: spacing (face size / (3
+   * sub)) well below the width; one for the Dirac limit. */
+  int sub = o.subdivisions;
+  if (sub == 0) {
+    double h = 0.0;
+    const int nc = face_type->n_corners;
+    for (size_t f = 0; f < n_faces; f++)
+      for (int a = 0; a < nc; a++) {
+        TlVec3 d = tl_v3_sub(sc->X0[sc->face_local[f * (size_t)nf + (size_t)a]],
+                             sc->X0[sc->face_local[f * (size_t)nf + (size_t)((a + 1) % nc)]]);
+        h = fmax(h, tl_v3_norm(d));
+      }
+    sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
+    if (sub < 1) sub = 1;
+    if (sub > 16) sub = 16;
+  }
+  if ((s = tl_scoupling_face_type_create(face_type, sub, &sc->ft)) != TL_OK) goto fail;
+  /* Wall: the face type's pieces (quadrilaterals as four triangles around
+   * their centre, quadratic faces subdivided). */
+  const TlSCouplingFaceType *ft = sc->ft;
+  size_t n_tri = (size_t)ft->n_pieces * n_faces;
+  sc->n_vertices = sc->n_local + (size_t)ft->n_extra * n_faces;
   int *tri = NULL;
   if ((s = tl_calloc(&sc->vx, 3 * sc->n_vertices, sizeof *sc->vx)) != TL_OK) goto fail;
   if ((s = tl_calloc(&sc->vv, 3 * sc->n_vertices, sizeof *sc->vv)) != TL_OK) goto fail;
   if ((s = tl_calloc(&tri, 3 * n_tri, sizeof *tri)) != TL_OK) goto fail;
   for (size_t f = 0; f < n_faces; f++) {
     const int *q = sc->face_local + f * (size_t)nf;
-    if (nf == 3) {
-      for (int a = 0; a < 3; a++) tri[3 * f + (size_t)a] = q[a];
-    } else {
-      int centre = (int)(sc->n_local + f);
-      for (int a = 0; a < 4; a++) {
-        int *t = tri + 3 * (4 * f + (size_t)a);
-        t[0] = q[a];
-        t[1] = q[(a + 1) % 4];
-        t[2] = centre;
+    for (int k = 0; k < ft->n_pieces; k++)
+      for (int j = 0; j < 3; j++) {
+        const int v = ft->piece[k][j];
+        tri[3 * (f * (size_t)ft->n_pieces + (size_t)k) + (size_t)j] =
+            v < nf ? q[v] : (int)(sc->n_local + f * (size_t)ft->n_extra + (size_t)(v - nf));
       }
-    }
   }
   if ((s = tl_scoupling_set_kinematics(sc, NULL, NULL)) != TL_OK) { tl_free(&tri); goto fail; }
   TlTriSurface *surf = NULL;
@@ -167,24 +185,14 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   } else {
     if ((s = tl_cg_kernel_create("dirac", 0.0, 3, &sc->kernel)) != TL_OK) goto fail;
   }
-  int sub = o.subdivisions;
-  if (sub == 0) {
-    /* Quadrature spacing (face size / (3 sub)) well below the width. */
-    double h = 0.0;
-    for (size_t f = 0; f < n_faces; f++)
-      for (int a = 0; a < nf; a++) {
-        TlVec3 d = tl_v3_sub(sc->X0[sc->face_local[f * (size_t)nf + (size_t)a]],
-                             sc->X0[sc->face_local[f * (size_t)nf + (size_t)((a + 1) % nf)]]);
-        h = fmax(h, tl_v3_norm(d));
-      }
-    sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
-    if (sub < 1) sub = 1;
-    if (sub > 16) sub = 16;
-  }
-  if (nf == 4)
+  /* Linear faces through the CG module's own triangle and quadrilateral
+   * types, any other through the face type's shape functions. */
+  if (face_type == &tl_element_quad4)
     s = tl_cg_surface_create_quads(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
-  else
+  else if (face_type == &tl_element_tri3)
     s = tl_cg_surface_create_triangles(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
+  else
+    s = tl_cg_surface_create_element_faces(sc->ft, sc->n_local, sc->xs, n_faces, sc->face_local, &sc->cg);
   if (s != TL_OK) goto fail;
   *out = sc;
   return TL_OK;
@@ -223,6 +231,7 @@ void tl_scoupling_destroy(TlSCoupling **psc)
   if (!sc) return;
   if (!sc->wall_given) tl_wall_destroy(&sc->wall);
   tl_cg_surface_destroy(&sc->cg);
+  tl_scoupling_face_type_destroy(&sc->ft);
   tl_cg_kernel_destroy(&sc->kernel);
   tl_free(&sc->faces);
   tl_free(&sc->node);
@@ -264,19 +273,24 @@ TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const dou
     sc->vx[3 * i] = x.x, sc->vx[3 * i + 1] = x.y, sc->vx[3 * i + 2] = x.z;
     for (int c = 0; c < 3; c++) sc->vv[3 * i + (size_t)c] = v ? v[3 * n + (size_t)c] : 0.0;
   }
-  if (sc->nf == 4) {
-    /* Centres: the bilinear interpolation at (0, 0), the mean of the corners. */
+  /* Extra wall vertices (centres): interpolated with the face's shape
+   * functions, positions and velocities alike. */
+  const TlSCouplingFaceType *ft = sc->ft;
+  if (ft && ft->n_extra) {
+    const int nf = sc->nf;
     for (size_t f = 0; f < sc->n_faces; f++) {
-      const int *q = sc->face_local + 4 * f;
-      const size_t cv = 3 * (sc->n_local + f);
-      for (int c = 0; c < 3; c++) {
-        double xs = 0.0, vs = 0.0;
-        for (int a = 0; a < 4; a++) {
-          xs += sc->vx[3 * (size_t)q[a] + (size_t)c];
-          vs += sc->vv[3 * (size_t)q[a] + (size_t)c];
+      const int *q = sc->face_local + f * (size_t)nf;
+      for (int k = 0; k < ft->n_extra; k++) {
+        const size_t cv = 3 * (sc->n_local + f * (size_t)ft->n_extra + (size_t)k);
+        for (int c = 0; c < 3; c++) {
+          double xs = 0.0, vs = 0.0;
+          for (int a = 0; a < nf; a++) {
+            xs += ft->extra_N[k][a] * sc->vx[3 * (size_t)q[a] + (size_t)c];
+            vs += ft->extra_N[k][a] * sc->vv[3 * (size_t)q[a] + (size_t)c];
+          }
+          sc->vx[cv + (size_t)c] = xs;
+          sc->vv[cv + (size_t)c] = vs;
         }
-        sc->vx[cv + (size_t)c] = 0.25 * xs;
-        sc->vv[cv + (size_t)c] = 0.25 * vs;
       }
     }
   }
@@ -307,7 +321,7 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   for (size_t k = 0; k < n; k++) {
     const TlTriContactRecord *r = &set->c[k];
     if (!r->active) continue;
-    size_t face = sc->nf == 4 ? (size_t)r->triangle / 4 : (size_t)r->triangle;
+    size_t face = (size_t)r->triangle / (size_t)sc->ft->n_pieces;
     sc->c_face[m] = face;
     sc->c_point[m] = r->point;
     sc->c_force[m] = r->force;
@@ -341,3 +355,4 @@ const TlFaceRef *tl_scoupling_elements(const TlSCoupling *sc) { return sc->eleme
 const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc) { return sc->active; }
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc) { return sc->n_contacts; }
 double tl_scoupling_width(const TlSCoupling *sc) { return sc->width; }
+const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg; }

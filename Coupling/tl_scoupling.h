@@ -4,11 +4,12 @@
  * One TlSCoupling serves one coupled boundary: a set of boundary faces of
  * the solid.  At creation it
  *   - finds the SCoupling elements (those owning a coupled face),
- *   - builds one DEM triangulated-surface wall from the faces: each
+ *   - builds one DEM triangulated-surface wall from the faces, of any face
+ *     type through its element type's ops (tl_scoupling_faces.h): each
  *     bilinear quadrilateral becomes four triangles around its interpolated
- *     centre (the paper's choice), each linear triangle stays as it is; the
- *     surface is one piece so the triangle-edge corrections (Algorithm 1)
- *     apply across the faces,
+ *     centre (the paper's choice), each linear triangle stays as it is,
+ *     quadratic faces are subdivided; the surface is one piece so the
+ *     triangle-edge corrections (Algorithm 1) apply across the faces,
  *   - builds the CG surface (Eq. 15 quadrature) over the same faces.
  * Every DEM step the owner moves the wall from the FE state
  * (tl_scoupling_set_kinematics: vertices = X + u, velocities v, centres
@@ -24,8 +25,7 @@
  * element types: R_a -= F_a on the nodes of the SCoupling elements.  The
  * list of SCoupling elements currently touched by particles (step 1 of
  * §5.3.1) is refreshed at every force evaluation.
- *
- * Quadratic faces (hex27, tet10) are refused for now with a message. */
+ */
 #ifndef TL_SCOUPLING_H
 #define TL_SCOUPLING_H
 
@@ -83,5 +83,8 @@ const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc);
 /* Number of wall contacts at the last force evaluation. */
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc);
 double tl_scoupling_width(const TlSCoupling *sc);
+/* The CG surface over the coupled faces (quadrature of Eq. 15), as of the
+ * last force evaluation. */
+const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc);
 
 #endif

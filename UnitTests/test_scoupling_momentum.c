@@ -1,4 +1,5 @@
-/* Surface coupling: walls from the faces of a hex8 beam, SCoupling elements,
+/* Surface coupling: walls from the faces of a beam of hex8, hex27, tet4 or
+ * tet10 elements (quadratic faces subdivided), SCoupling elements,
  * and the momentum balance of the coupling forces: at every step the forces
  * put on the FE nodes sum to minus the particle–wall forces, for the Dirac
  * limit (Eq. 16) and for the Lucy kernel (Eq. 15), with particles on faces,
@@ -9,19 +10,38 @@
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
 #include "tl_scoupling.h"
+#include "tl_scoupling_faces.h"
 #include "tl_test.h"
 
-static TlCantilever *small_beam(const TlElementType *type)
+/* The short S1 beam (2 x 6 x 2 cells, 0.8 x 2.4 x 0.8 m, clamped at y = 0)
+ * of any 3-D element type (tetrahedra: six per cell). */
+typedef struct {
+  TlMesh *mesh;
+  TlMaterial *material;
+  TlSolid *solid;
+} Beam;
+
+static Beam *small_beam(const TlElementType *type)
 {
-  TlCantileverParams p;
-  tl_cantilever_params_default(&p);
-  p.type = type;
-  p.ny = 6;
-  p.L = 2.4;
-  p.load = 0.0;
-  TlCantilever *c = NULL;
-  TL_TEST_STATUS(tl_cantilever_create(&p, &c), TL_OK);
-  return c;
+  Beam *b = NULL;
+  TL_TEST_STATUS(TL_NEW(b), TL_OK);
+  const size_t n[3] = {2, 6, 2};
+  const double lo[3] = {-0.4, 0.0, -0.4}, hi[3] = {0.4, 2.4, 0.4};
+  TL_TEST_STATUS(tl_mesh_create_box(type, n, lo, hi, &b->mesh), TL_OK);
+  TL_TEST_STATUS(tl_material_create_hooke(1e8, 0.0, 1309.0, &b->material), TL_OK);
+  TL_TEST_STATUS(tl_solid_create(b->mesh, &b->solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_set_material(b->solid, NULL, b->material), TL_OK);
+  TL_TEST_STATUS(tl_solid_fix(b->solid, "ymin", 7), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(b->solid), TL_OK);
+  return b;
+}
+
+static void beam_destroy(Beam **b)
+{
+  tl_solid_destroy(&(*b)->solid);
+  tl_material_destroy(&(*b)->material);
+  tl_mesh_destroy(&(*b)->mesh);
+  tl_free(b);
 }
 
 static TlDem *world(double r, double kn)
@@ -46,9 +66,9 @@ static double sum_abs(const double *f, size_t n)
   return s;
 }
 
-static void test_balance(double width)
+static void test_balance(const TlElementType *type, double width)
 {
-  TlCantilever *beam = small_beam(&tl_element_hex8);
+  Beam *beam = small_beam(type);
   const TlMesh *mesh = beam->mesh;
   TlSCouplingOptions so;
   tl_scoupling_options_default(&so);
@@ -56,8 +76,21 @@ static void test_balance(double width)
   const char *clamped[] = {"ymin"};
   TlSCoupling *sc = NULL;
   TL_TEST_STATUS(tl_scoupling_create_boundary(beam->solid, 1, clamped, &so, &sc), TL_OK);
-  /* 2 x 6 x 2 cells: every element touches the free boundary. */
-  TL_TEST_ASSERT(tl_scoupling_n_elements(sc) == 24, "SCoupling elements %zu, expected 24", tl_scoupling_n_elements(sc));
+  /* 2 x 6 x 2 cells: every hexahedron touches the free boundary (and most
+   * of the six tetrahedra of each cell). */
+  if (type->shape == TL_SHAPE_HEX)
+    TL_TEST_ASSERT(tl_scoupling_n_elements(sc) == 24, "SCoupling elements %zu, expected 24", tl_scoupling_n_elements(sc));
+  else
+    TL_TEST_ASSERT(tl_scoupling_n_elements(sc) >= 48, "SCoupling elements %zu, expected 48 or more", tl_scoupling_n_elements(sc));
+  /* The wall and the CG quadrature cover the coupled surface exactly: all
+   * faces but the clamped end, 2 (0.8 x 2.4) 2 + 0.8 x 0.8 = 8.32 m^2. */
+  const TlTriSurface *ws = tl_wall_trisurface_surface(tl_scoupling_wall(sc));
+  const TlCGSurface *cs = tl_scoupling_cg_surface(sc);
+  double wall_area = 0.0, cg_area = 0.0;
+  for (size_t t = 0; t < ws->n_triangles; t++) wall_area += ws->area[t];
+  for (size_t q = 0; q < cs->n_faces * (size_t)cs->qp_per_face; q++) cg_area += cs->wq[q];
+  TL_TEST_CLOSE(wall_area, 8.32, 1e-12);
+  TL_TEST_CLOSE(cg_area, 8.32, 1e-12);
   const double r = 0.1, kn = 2e7;
   TlDem *dem = world(r, kn);
   /* On the top face, on the top-side edge x = 0.4, at the free-end corner,
@@ -102,8 +135,8 @@ static void test_balance(double width)
     max_contacts = tl_scoupling_n_contacts(sc) > max_contacts ? tl_scoupling_n_contacts(sc) : max_contacts;
     max_active = tl_scoupling_n_active_elements(sc) > max_active ? tl_scoupling_n_active_elements(sc) : max_active;
   }
-  printf("c = %g: worst |sum F_nodes + sum f_wall| / scale = %.3e over 400 steps, max |f_wall| = %.3e N, "
-         "up to %zu contacts on %zu SCoupling elements\n", width, worst, f_peak, max_contacts, max_active);
+  printf("%s, c = %g: worst |sum F_nodes + sum f_wall| / scale = %.3e over 400 steps, max |f_wall| = %.3e N, "
+         "up to %zu contacts on %zu SCoupling elements\n", type->header.name, width, worst, f_peak, max_contacts, max_active);
   TL_TEST_ASSERT(f_peak > 1e3, "the particles must press on the beam (max wall force %g N)", f_peak);
   TL_TEST_ASSERT(max_contacts >= 4, "at least four particles in contact at once (got %zu)", max_contacts);
   TL_TEST_ASSERT(worst < 1e-14, "momentum balance defect %g (relative) beyond round-off", worst);
@@ -114,33 +147,74 @@ static void test_balance(double width)
   tl_stepper_destroy(&st);
   tl_dem_destroy(&dem);
   tl_scoupling_destroy(&sc);
-  tl_cantilever_destroy(&beam);
+  beam_destroy(&beam);
 }
 
-/* Quadratic faces are refused with a message; a coupling on a 2-D mesh too. */
+/* Bad widths and unknown face sets are refused with a message. */
 static void test_refusals(void)
 {
-  TlCantilever *beam = small_beam(&tl_element_hex27);
   TlSCoupling *sc = NULL;
-  TL_TEST_STATUS(tl_scoupling_create_boundary(beam->solid, 0, NULL, NULL, &sc), TL_ERR_UNSUPPORTED);
-  TL_TEST_ASSERT(sc == NULL, "no coupling after a refusal");
-  tl_cantilever_destroy(&beam);
-  beam = small_beam(&tl_element_hex8);
+  Beam *beam = small_beam(&tl_element_hex8);
   TlSCouplingOptions so;
   tl_scoupling_options_default(&so);
   so.width = -1.0;
   TL_TEST_STATUS(tl_scoupling_create_boundary(beam->solid, 0, NULL, &so, &sc), TL_ERR_ARG);
   const char *bad[] = {"nowhere"};
   TL_TEST_STATUS(tl_scoupling_create_boundary(beam->solid, 1, bad, NULL, &sc), TL_ERR_NOT_FOUND);
-  tl_cantilever_destroy(&beam);
+  beam_destroy(&beam);
+}
+
+/* The face plug-in on one curved quad9 and one curved tri6: the Dirac limit
+ * (Eq. 16) puts -f N_a(s) on the nodes for a contact at x(s), the
+ * projection recovering s on the curved face. */
+static void test_face_projection(void)
+{
+  const TlElementType *types[] = {&tl_element_quad9, &tl_element_tri6};
+  const double s0[2][2] = {{0.3, -0.55}, {0.2, 0.35}};
+  for (int k = 0; k < 2; k++) {
+    const TlElementType *t = types[k];
+    TlSCouplingFaceType *ft = NULL;
+    TL_TEST_STATUS(tl_scoupling_face_type_create(t, 1, &ft), TL_OK);
+    TlVec3 x[9];
+    int fn[9];
+    for (int a = 0; a < t->n_nodes; a++) {
+      const double u = t->ref_coords[2 * a], v = t->ref_coords[2 * a + 1];
+      x[a] = tl_v3(1.3 * u + 0.2 * v, 0.9 * v, 0.15 * u * u - 0.1 * v * v + 0.05 * u * v); /* curved */
+      fn[a] = a;
+    }
+    TlCGSurface *cs = NULL;
+    TL_TEST_STATUS(tl_cg_surface_create_element_faces(ft, (size_t)t->n_nodes, x, 1, fn, &cs), TL_OK);
+    TlCGKernel *dirac = NULL;
+    TL_TEST_STATUS(tl_cg_kernel_create("dirac", 0.0, 3, &dirac), TL_OK);
+    double xi[3] = {s0[k][0], s0[k][1], 0.0}, N[9];
+    t->eval(1, xi, N, NULL);
+    TlVec3 p = tl_v3(0, 0, 0), nodal[9] = {{0}};
+    for (int a = 0; a < t->n_nodes; a++) p = tl_v3_axpy(p, N[a], x[a]);
+    const TlVec3 f = tl_v3(0.3, -0.2, 1.0);
+    size_t face = 0;
+    TL_TEST_STATUS(tl_cg_surface_nodal_forces(cs, dirac, 1, &face, &p, &f, nodal), TL_OK);
+    double err = 0.0;
+    for (int a = 0; a < t->n_nodes; a++) err = fmax(err, tl_v3_norm(tl_v3_add(nodal[a], tl_v3_scale(f, N[a]))));
+    printf("%s: Dirac nodal forces against -f N(s): largest difference %.3g N\n", t->header.name, err);
+    TL_TEST_ASSERT(err < 1e-12, "%s: Eq. 16 on the curved face off by %g N", t->header.name, err);
+    tl_cg_kernel_destroy(&dirac);
+    tl_cg_surface_destroy(&cs);
+    tl_scoupling_face_type_destroy(&ft);
+  }
 }
 
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
-  test_balance(0.0);
-  test_balance(0.4);
-  test_balance(2.0);
+  /* Linear faces (the CG module's own types) and quadratic faces through
+   * their element type's ops, subdivided for the wall. */
+  const TlElementType *types[] = {&tl_element_hex8, &tl_element_hex27, &tl_element_tet4, &tl_element_tet10};
+  for (int k = 0; k < 4; k++) {
+    test_balance(types[k], 0.0);
+    test_balance(types[k], 0.4);
+    if (k == 0) test_balance(types[k], 2.0);
+  }
+  test_face_projection();
   test_refusals();
   return tl_test_report();
 }
