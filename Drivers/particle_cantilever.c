@@ -28,6 +28,7 @@
 #include "tl_coupled_loop.h"
 #include "tl_io.h"
 #include "tl_scoupling.h"
+#include "tl_solid_output.h"
 
 typedef struct {
   TlCantileverParams beam;
@@ -109,39 +110,26 @@ done:
   return s;
 }
 
+/* Snapshots: the beam through the solid's output (displacement, velocity,
+ * element stresses) and the particles, HDF5 + XDMF. */
 typedef struct {
-  TlMeshWriter *mesh;
+  TlSolidOutput *beam;
   TlParticleWriter *part;
-  TlVec3 *ref, *disp;
-  int *conn;
-  TlMeshBlock block;
-  TlMeshView view;
 } Snapshots;
 
-static TlStatus snapshots_open(const Config *c, const TlMesh *m, Snapshots *sn)
+static TlStatus snapshots_open(const Config *c, TlSolid *solid, Snapshots *sn)
 {
   memset(sn, 0, sizeof *sn);
   if (c->snapshot_dt <= 0.0) return TL_OK;
-  const TlElementBlock *b = &m->blocks[0];
-  TL_CHECK(tl_calloc(&sn->ref, m->n_nodes, sizeof *sn->ref));
-  TL_CHECK(tl_calloc(&sn->disp, m->n_nodes, sizeof *sn->disp));
-  TL_CHECK(tl_calloc(&sn->conn, 8 * b->n_elements, sizeof *sn->conn));
-  for (size_t i = 0; i < m->n_nodes; ++i) sn->ref[i] = (TlVec3){m->x[3 * i], m->x[3 * i + 1], m->x[3 * i + 2]};
-  for (size_t k = 0; k < 8 * b->n_elements; ++k) sn->conn[k] = (int)b->conn[k];
-  sn->block = (TlMeshBlock){.name = "beam", .type = TL_CELL_HEX8, .n_cells = b->n_elements, .connectivity = sn->conn};
-  sn->view = (TlMeshView){.n_nodes = m->n_nodes, .reference = sn->ref, .displacement = sn->disp, .n_blocks = 1,
-                          .blocks = &sn->block};
-  TL_CHECK(tl_mesh_writer_create(c->output_dir, "beam", &sn->mesh));
+  TL_CHECK(tl_solid_output_create(solid, c->output_dir, "beam", &sn->beam));
   TL_CHECK(tl_particle_writer_create(c->output_dir, "particles", &sn->part));
   return TL_OK;
 }
 
-static TlStatus snapshots_write(Snapshots *sn, long step, double t, const double *u_nodes, TlParticles *P)
+static TlStatus snapshots_write(Snapshots *sn, long step, double t, const TlStepper *st, TlParticles *P)
 {
-  if (!sn->mesh) return TL_OK;
-  for (size_t i = 0; i < sn->view.n_nodes; ++i)
-    sn->disp[i] = (TlVec3){u_nodes[3 * i], u_nodes[3 * i + 1], u_nodes[3 * i + 2]};
-  TL_CHECK(tl_mesh_writer_write(sn->mesh, step, t, &sn->view));
+  if (!sn->beam) return TL_OK;
+  TL_CHECK(tl_solid_output_write(sn->beam, step, t, st->u, st->v));
   TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
   TL_CHECK(tl_particle_writer_write(sn->part, step, t, &pv));
   return TL_OK;
@@ -149,11 +137,8 @@ static TlStatus snapshots_write(Snapshots *sn, long step, double t, const double
 
 static void snapshots_close(Snapshots *sn)
 {
-  tl_mesh_writer_destroy(&sn->mesh);
+  tl_solid_output_destroy(&sn->beam);
   tl_particle_writer_destroy(&sn->part);
-  tl_free(&sn->ref);
-  tl_free(&sn->disp);
-  tl_free(&sn->conn);
 }
 
 /* Running diagnostics, checkpointed with the run. */
@@ -288,7 +273,7 @@ static TlStatus run(int argc, char **argv)
                             {"fem_kinetic", "J"}, {"fem_strain", "J"}, {"work_on_solid", "J"}, {"work_on_particles", "J"},
                             {"total", "J"}};
   TL_CHECK_GOTO(s, open_table(&c, "energy", 9, ecols, &energy), done);
-  TL_CHECK_GOTO(s, snapshots_open(&c, tl_solid_mesh(beam->solid), &sn), done);
+  TL_CHECK_GOTO(s, snapshots_open(&c, beam->solid, &sn), done);
   TlCoupledEnergy e;
   Diagnostics d;
   memset(&d, 0, sizeof d);
@@ -305,8 +290,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "coupling", &tl_coupled_loop_checkpoint_ops, loop), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "trajectory", &tl_timeseries_checkpoint_ops, traj), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "energy", &tl_timeseries_checkpoint_ops, energy), done);
-  if (sn.mesh) {
-    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "beam_snapshots", &tl_mesh_writer_checkpoint_ops, sn.mesh), done);
+  if (sn.beam) {
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "beam_snapshots", &tl_solid_output_checkpoint_ops, sn.beam), done);
     TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "particle_snapshots", &tl_particle_writer_checkpoint_ops, sn.part), done);
   }
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &diag_checkpoint_ops, &d), done);
@@ -371,7 +356,7 @@ static TlStatus run(int argc, char **argv)
       tl_progress_update(&bar, (double)step);
     }
     if (snap_every > 0 && (step % snap_every == 0 || last))
-      TL_CHECK_GOTO(s, snapshots_write(&sn, step, t, tl_coupled_loop_u_nodes(loop), P), done);
+      TL_CHECK_GOTO(s, snapshots_write(&sn, step, t, st, P), done);
     if (last) break;
     d.step = step;
     if (c.checkpoint_every > 0 && step > 0 && step % c.checkpoint_every == 0)
@@ -394,7 +379,7 @@ static TlStatus run(int argc, char **argv)
          fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
          wall - fs.t_step);
   printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
-         c.output_dir, sn.mesh ? ", beam.xmf, particles.xmf" : "", c.output_dir);
+         c.output_dir, sn.beam ? ", beam.xmf, particles.xmf" : "", c.output_dir);
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_real(&sum, "c", c.cg_width);

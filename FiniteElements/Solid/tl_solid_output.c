@@ -154,3 +154,21 @@ TlStatus tl_solid_output_write(TlSolidOutput *o, int64_t step, double t, const d
 }
 
 const char *tl_solid_output_last_path(const TlSolidOutput *o) { return tl_mesh_writer_last_path(o->writer); }
+
+static TlStatus output_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const TlSolidOutput *o = object;
+  return tl_mesh_writer_checkpoint_ops.save(o->writer, w, group);
+}
+
+static TlStatus output_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  TlSolidOutput *o = object;
+  return tl_mesh_writer_checkpoint_ops.load(o->writer, r, group);
+}
+
+const TlCheckpointOps tl_solid_output_checkpoint_ops = {
+    .header = {"checkpoint", "solid_output_v1", "solid snapshot series (its mesh writer's section)"},
+    .save = output_save,
+    .load = output_load,
+};

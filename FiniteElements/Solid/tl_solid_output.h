@@ -7,6 +7,7 @@
 #define TL_SOLID_OUTPUT_H
 
 #include <stdint.h>
+#include "tl_checkpoint.h"
 #include "tl_error.h"
 #include "tl_solid.h"
 
@@ -19,5 +20,8 @@ TlStatus tl_solid_output_write(TlSolidOutput *out, int64_t step, double t, const
 /* The step file written last ("" before any). */
 const char *tl_solid_output_last_path(const TlSolidOutput *out);
 void tl_solid_output_destroy(TlSolidOutput **out);
+/* Checkpoint section (object: the TlSolidOutput): the series written so
+ * far, so that a restarted run appends to it. */
+extern const TlCheckpointOps tl_solid_output_checkpoint_ops;
 
 #endif
