@@ -12,7 +12,7 @@
  *   -mode all        the three in turn (default).
  *
  * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
- * Hex8 beam HDF5/XDMF snapshots (beam.xmf, warp by "displacement" in
+ * beam HDF5/XDMF snapshots with element stresses (beam.xmf, warp by "displacement" in
  * ParaView); last line `summary: ...`.
  *
  * Restart (vibration): -checkpoint_every n writes <output_dir>/checkpoint.h5
@@ -30,7 +30,7 @@
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
-#include "tl_mesh_snapshot.h"
+#include "tl_solid_output.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
 
@@ -82,7 +82,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
-                                      "vibration: HDF5/XDMF mesh snapshot every n steps (0: none; Hex8)",
+                                      "vibration: HDF5/XDMF mesh snapshot every n steps (0: none)",
                                       &c->snapshot_every), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 100000000,
                                       "vibration: checkpoint every n steps to <output_dir>/checkpoint.h5 (0: none)",
@@ -224,57 +224,28 @@ done:
   return s;
 }
 
-/* Mesh snapshots (HDF5 + XDMF, open beam.xmf in ParaView and warp by
- * "displacement"); Hex8 only: its node order is VTK's. */
+/* Mesh snapshots through the solid's output (HDF5 + XDMF, open beam.xmf
+ * in ParaView and warp by "displacement"; element stresses too). */
 typedef struct {
-  TlMeshWriter *writer;
-  TlVec3 *ref, *disp;
-  int *conn;
-  double *un;
-  TlMeshBlock block;
-  TlMeshView view;
+  TlSolidOutput *out;
 } Snapshots;
 
 static TlStatus snapshots_open(const Config *c, const TlCantilever *beam, Snapshots *sn)
 {
   memset(sn, 0, sizeof *sn);
-  if (c->snapshot_every <= 0 || c->beam.type != &tl_element_hex8) return TL_OK;
-  const TlMesh *m = beam->mesh;
-  const TlElementBlock *b = &m->blocks[0];
-  TL_CHECK(tl_calloc(&sn->ref, m->n_nodes, sizeof *sn->ref));
-  TL_CHECK(tl_calloc(&sn->disp, m->n_nodes, sizeof *sn->disp));
-  TL_CHECK(tl_calloc(&sn->un, 3 * m->n_nodes, sizeof *sn->un));
-  TL_CHECK(tl_calloc(&sn->conn, 8 * b->n_elements, sizeof *sn->conn));
-  for (size_t i = 0; i < m->n_nodes; ++i)
-    sn->ref[i] = (TlVec3){m->x[3 * i], m->x[3 * i + 1], m->x[3 * i + 2]};
-  for (size_t k = 0; k < 8 * b->n_elements; ++k) sn->conn[k] = (int)b->conn[k];
-  sn->block = (TlMeshBlock){.name = "beam", .type = TL_CELL_HEX8, .n_cells = b->n_elements,
-                            .connectivity = sn->conn};
-  sn->view = (TlMeshView){.n_nodes = m->n_nodes, .reference = sn->ref, .displacement = sn->disp,
-                          .n_blocks = 1, .blocks = &sn->block};
-  TL_CHECK(tl_mesh_writer_create(c->output_dir, "beam", &sn->writer));
+  if (c->snapshot_every <= 0) return TL_OK;
+  TL_CHECK(tl_solid_output_create(beam->solid, c->output_dir, "beam", &sn->out));
   return TL_OK;
 }
 
-static TlStatus snapshots_write(Snapshots *sn, const TlCantilever *beam, long step, double t,
-                                const double *u)
+static TlStatus snapshots_write(Snapshots *sn, long step, double t, const double *u, const double *v)
 {
-  if (!sn->writer) return TL_OK;
-  tl_solid_dofs_to_nodes(beam->solid, u, sn->un);
-  for (size_t i = 0; i < sn->view.n_nodes; ++i)
-    sn->disp[i] = (TlVec3){sn->un[3 * i], sn->un[3 * i + 1], sn->un[3 * i + 2]};
-  TL_CHECK(tl_mesh_writer_write(sn->writer, step, t, &sn->view));
+  if (!sn->out) return TL_OK;
+  TL_CHECK(tl_solid_output_write(sn->out, step, t, u, v));
   return TL_OK;
 }
 
-static void snapshots_close(Snapshots *sn)
-{
-  tl_mesh_writer_destroy(&sn->writer);
-  tl_free(&sn->ref);
-  tl_free(&sn->disp);
-  tl_free(&sn->un);
-  tl_free(&sn->conn);
-}
+static void snapshots_close(Snapshots *sn) { tl_solid_output_destroy(&sn->out); }
 
 /* -------------------------------------------------------- vibration */
 /* The driver's running diagnostics, checkpointed with the run. */
@@ -345,7 +316,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "newmark", &tl_stepper_checkpoint_ops, nm), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "vibration_table", &tl_timeseries_checkpoint_ops, ts), done);
-  if (sn.writer) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "snapshots", &tl_mesh_writer_checkpoint_ops, sn.writer), done);
+  if (sn.out) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "snapshots", &tl_solid_output_checkpoint_ops, sn.out), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &vibration_checkpoint_ops, &vs), done);
   TL_CHECK_GOTO(s, tl_path_join(c->output_dir, "checkpoint.h5", &cp_path), done);
   double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c->beam);
@@ -370,7 +341,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
     TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), done);
     double row0[5] = {0.0, vs.prev_w, e.kinetic, e.strain, e.total};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row0), done);
-    TL_CHECK_GOTO(s, snapshots_write(&sn, beam, 0, 0.0, nm->u), done);
+    TL_CHECK_GOTO(s, snapshots_write(&sn, 0, 0.0, nm->u, nm->v), done);
   }
   double t0 = tl_wtime();
   TlProgress bar;
@@ -388,7 +359,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
     double row[5] = {nm->t, w, e.kinetic, e.strain, e.total};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     if (c->snapshot_every > 0 && k % c->snapshot_every == 0)
-      TL_CHECK_GOTO(s, snapshots_write(&sn, beam, k, nm->t, nm->u), done);
+      TL_CHECK_GOTO(s, snapshots_write(&sn, k, nm->t, nm->u, nm->v), done);
     vs.step = k;
     if (c->checkpoint_every > 0 && k % c->checkpoint_every == 0)
       TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, nm->t, vs.step), done);
