@@ -52,8 +52,8 @@ for fem in $fems; do
       run=$out/c${c}_${fem}_k${k}
       line=$(grep '^summary:' "$run.log" 2>/dev/null || true)
       if [ -z "$line" ]; then
-        why=$(head -n 1 "$run.err" 2>/dev/null | sed 's/^[Ee]rror (\([a-z]*\)): /\1: /; s/,/;/g')
-        echo "$c,$fem,$k,,,,,,,${why:-no summary}" >> "$csv.tmp"
+        why=$( { head -n 1 "$run.err" 2>/dev/null || true; } | sed 's/^[Ee]rror (\([a-z]*\)): /\1: /; s/,/;/g')
+        echo "$c,$fem,$k,,,,,,,${why:-not run (or still running)}" >> "$csv.tmp"
         continue
       fi
       get() { echo "$line" | tr ' ' '\n' | sed -n "s/^$1=//p"; }
