@@ -26,6 +26,7 @@ struct TlSCoupling {
   TlCGKernel *kernel;
   TlCGSurface *cg;
   int cg_stale;      /* the nodes moved since the last quadrature update */
+  double face_size;  /* largest corner-to-corner edge of a face at creation */
   /* SCoupling elements and the element of each face */
   size_t n_elements, n_active;
   TlFaceRef *elements, *active;
@@ -140,15 +141,16 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   /* CG quadrature sub-cells per face direction: spacing (face size / (3
    * sub)) well below the width; one for the Dirac limit. */
   int sub = o.subdivisions;
+  double h = 0.0;
+  const int nc = face_type->n_corners;
+  for (size_t f = 0; f < n_faces; f++)
+    for (int a = 0; a < nc; a++) {
+      TlVec3 d = tl_v3_sub(sc->X0[sc->face_local[f * (size_t)nf + (size_t)a]],
+                           sc->X0[sc->face_local[f * (size_t)nf + (size_t)((a + 1) % nc)]]);
+      h = fmax(h, tl_v3_norm(d));
+    }
+  sc->face_size = h;
   if (sub == 0) {
-    double h = 0.0;
-    const int nc = face_type->n_corners;
-    for (size_t f = 0; f < n_faces; f++)
-      for (int a = 0; a < nc; a++) {
-        TlVec3 d = tl_v3_sub(sc->X0[sc->face_local[f * (size_t)nf + (size_t)a]],
-                             sc->X0[sc->face_local[f * (size_t)nf + (size_t)((a + 1) % nc)]]);
-        h = fmax(h, tl_v3_norm(d));
-      }
     sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
     if (sub < 1) sub = 1;
     if (sub > 16) sub = 16;
@@ -336,7 +338,9 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   sc->n_contacts = m;
   if (total_wall) *total_wall = total;
   if (m == 0) return TL_OK;
-  if (sc->cg_stale && sc->width > 0.0) TL_CHECK(tl_cg_surface_update(sc->cg, NULL));
+  /* The quadrature of the faces within reach of the contacts only (a face
+   * bulges beyond its nodes' box by far less than its size). */
+  if (sc->cg_stale && sc->width > 0.0) TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
   sc->cg_stale = 0;
   memset(sc->nodal, 0, sc->n_local * sizeof *sc->nodal);
   TL_CHECK(tl_cg_surface_nodal_forces(sc->cg, sc->kernel, m, sc->c_face, sc->c_point, sc->c_force, sc->nodal));

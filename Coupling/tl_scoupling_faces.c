@@ -162,11 +162,13 @@ void tl_scoupling_face_type_destroy(TlSCouplingFaceType **pft)
 
 /* ---- the CG surface plug-in ------------------------------------------- */
 
-static TlStatus faces_quadrature(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq)
+static TlStatus faces_quadrature(const TlCGSurface *s, size_t n, const size_t *faces, TlVec3 *xq, double *wq,
+                                 double *Nq)
 {
   const TlSCouplingFaceType *ft = s->context;
   const int nf = ft->nf, nq = ft->nq;
-  for (size_t f = 0; f < s->n_faces; ++f) {
+  for (size_t k = 0; k < n; ++k) {
+    const size_t f = faces ? faces[k] : k;
     const int *fn = s->face_node + f * (size_t)nf;
     for (int q = 0; q < nq; ++q) {
       const double *N = ft->N + (size_t)q * nf, *dN = ft->dN + (size_t)q * nf * 2;

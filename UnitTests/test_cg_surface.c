@@ -322,9 +322,59 @@ static void test_element_projection(void)
   free(Nq);
 }
 
+/* Refreshing the quadrature near the contacts only gives the nodal forces
+ * of a full refresh (to round-off: the faces are summed in another order),
+ * on a plate deformed after creation, for quadrilaterals and triangles. */
+static void test_update_near(int triangles)
+{
+  const char *what = triangles ? "triangulated plate" : "quad plate";
+  TlVec3 *x;
+  int *faces;
+  size_t nn, nf;
+  plate(8, triangles, &x, &nn, &faces, &nf);
+  TlCGSurface *s;
+  TL_TEST_STATUS(triangles ? tl_cg_surface_create_triangles(nn, x, nf, faces, 2, &s)
+                           : tl_cg_surface_create_quads(nn, x, nf, faces, 2, &s),
+                 TL_OK);
+  TlCGKernel *k;
+  TL_TEST_STATUS(tl_cg_kernel_create("lucy", 0.9, 3, &k), TL_OK);
+  /* a bump moves the nodes; contacts near one corner */
+  for (size_t i = 0; i < nn; ++i) x[i].z = 0.3 * sin(0.7 * x[i].x) * cos(0.5 * x[i].y) + 0.05 * x[i].x;
+  TlVec3 pts[3] = {{1.1, 1.3, 0.0}, {1.6, 0.9, 0.0}, {2.4, 1.8, 0.0}}, fw[3] = {{0.1, 0, -1}, {0, 0.2, -2}, {-0.3, 0.1, -1.5}};
+  for (int c = 0; c < 3; ++c) pts[c].z = 0.3 * sin(0.7 * pts[c].x) * cos(0.5 * pts[c].y) + 0.05 * pts[c].x;
+  TlVec3 *Ffull = calloc(nn, sizeof *Ffull), *Fnear = calloc(nn, sizeof *Fnear);
+  TL_TEST_STATUS(tl_cg_surface_update(s, NULL), TL_OK);
+  TL_TEST_STATUS(tl_cg_surface_nodal_forces(s, k, 3, NULL, pts, fw, Ffull), TL_OK);
+  /* move again, back to the same shape, refreshing near the contacts only */
+  for (size_t i = 0; i < nn; ++i) x[i].z += 0.2;
+  TL_TEST_STATUS(tl_cg_surface_update(s, NULL), TL_OK);
+  for (size_t i = 0; i < nn; ++i) x[i].z -= 0.2;
+  TL_TEST_STATUS(tl_cg_surface_update_near(s, 3, pts, 0.9 + 1.0), TL_OK);
+  TL_TEST_STATUS(tl_cg_surface_nodal_forces(s, k, 3, NULL, pts, fw, Fnear), TL_OK);
+  double diff = 0.0, scale = 0.0;
+  size_t loaded = 0;
+  for (size_t i = 0; i < nn; ++i) {
+    diff = fmax(diff, tl_v3_norm(tl_v3_sub(Ffull[i], Fnear[i])));
+    scale = fmax(scale, tl_v3_norm(Ffull[i]));
+    loaded += tl_v3_norm(Ffull[i]) > 0.0;
+  }
+  printf("%s: update near the contacts vs full update: largest nodal difference %.3g (largest force %.3g, %zu of %zu "
+         "nodes loaded)\n", what, diff, scale, loaded, nn);
+  TL_TEST_ASSERT(loaded > 4 && loaded < nn, "%s: the kernel loads some nodes, not all (%zu of %zu)", what, loaded, nn);
+  TL_TEST_ASSERT(diff <= 1e-14 * scale, "%s: partial update changes the forces by %g", what, diff);
+  free(Ffull);
+  free(Fnear);
+  tl_cg_kernel_destroy(&k);
+  tl_cg_surface_destroy(&s);
+  free(x);
+  free(faces);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
+  test_update_near(0);
+  test_update_near(1);
   test_cube_normalisation();
   test_dirac_limit(0);
   test_dirac_limit(1);

@@ -19,6 +19,9 @@ typedef struct {
   size_t *bin_start, cap_bin_start, *bin_index, *bin_of;
   TlVec3 bin_lo, bin_cell, half_extent;
   int bin_n[3];
+  /* faces refreshed by the last tl_cg_surface_update_near */
+  size_t *near, n_near;
+  int partial;
 } TlCGSurfaceScratch;
 
 /* The scratch lives right after the public struct. */
@@ -70,10 +73,11 @@ static void tri_sub(int s, int t, double P[3][2])
   }
 }
 
-static TlStatus tri_quadrature(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq)
+static TlStatus tri_quadrature(const TlCGSurface *s, size_t n, const size_t *faces, TlVec3 *xq, double *wq, double *Nq)
 {
   int sub = s->subdivisions, nsub = sub * sub;
-  for (size_t f = 0; f < s->n_faces; ++f) {
+  for (size_t k = 0; k < n; ++k) {
+    const size_t f = faces ? faces[k] : k;
     const int *v = s->face_node + 3 * f;
     TlVec3 X0 = s->x[v[0]], X1 = s->x[v[1]], X2 = s->x[v[2]];
     double area = 0.5 * tl_v3_norm(tl_v3_cross(tl_v3_sub(X1, X0), tl_v3_sub(X2, X0)));
@@ -140,13 +144,14 @@ static void quad_shape(double xi, double eta, double N[4], double dxi[4], double
   deta[0] = -0.25 * (1 - xi), deta[1] = -0.25 * (1 + xi), deta[2] = 0.25 * (1 + xi), deta[3] = 0.25 * (1 - xi);
 }
 
-static TlStatus quad_quadrature(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq)
+static TlStatus quad_quadrature(const TlCGSurface *s, size_t n, const size_t *faces, TlVec3 *xq, double *wq, double *Nq)
 {
   static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
   static const double gw[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
   int sub = s->subdivisions;
   double hs = 1.0 / sub;
-  for (size_t f = 0; f < s->n_faces; ++f) {
+  for (size_t i = 0; i < n; ++i) {
+    const size_t f = faces ? faces[i] : i;
     const int *v = s->face_node + 4 * f;
     TlVec3 X[4] = {s->x[v[0]], s->x[v[1]], s->x[v[2]], s->x[v[3]]};
     size_t slot = f * (size_t)s->qp_per_face;
@@ -231,6 +236,7 @@ void tl_cg_surface_destroy(TlCGSurface **surface)
   tl_free(&w->bin_start);
   tl_free(&w->bin_index);
   tl_free(&w->bin_of);
+  tl_free(&w->near);
   tl_free(surface);
 }
 
@@ -278,6 +284,7 @@ TlStatus tl_cg_surface_create(const TlCGSurfaceOps *ops, size_t n_nodes, const T
   TL_CHECK_GOTO(st, tl_calloc(&w->cand, n_faces, sizeof(size_t)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->bin_index, n_faces, sizeof(size_t)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->bin_of, n_faces, sizeof(size_t)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->near, n_faces, sizeof(size_t)), fail);
   s->x = x;
   *surface = s;
   return TL_OK;
@@ -319,6 +326,7 @@ TlStatus tl_cg_surface_create_quads(size_t n_nodes, const TlVec3 *x, size_t n_fa
 }
 
 static TlStatus bin_faces(TlCGSurface *s);
+static TlStatus face_box(TlCGSurface *s, size_t f);
 
 TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
 {
@@ -326,26 +334,61 @@ TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x)
   for (size_t i = 0; i < s->n_nodes; ++i)
     if (!tl_v3_isfinite(s->x[i]))
       TL_ERROR(TL_ERR_NUMERIC, "surface node %zu is not finite (%g, %g, %g)", i, s->x[i].x, s->x[i].y, s->x[i].z);
-  TL_CHECK(s->ops->quadrature(s, s->xq, s->wq, s->Nq));
-  for (size_t f = 0; f < s->n_faces; ++f) {
-    TlVec3 lo = s->x[s->face_node[f * (size_t)s->nodes_per_face]], hi = lo;
-    for (int a = 0; a < s->nodes_per_face; ++a) {
-      TlVec3 p = s->x[s->face_node[f * (size_t)s->nodes_per_face + (size_t)a]];
-      lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
-      hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
-    }
-    for (int q = 0; q < s->qp_per_face; ++q) {
-      size_t slot = f * (size_t)s->qp_per_face + (size_t)q;
-      TlVec3 p = s->xq[slot];
-      if (!(s->wq[slot] > 0.0) || !isfinite(s->wq[slot]) || !tl_v3_isfinite(p))
-        TL_ERROR(TL_ERR_NUMERIC, "face %zu quadrature point %d has weight %g", f, q, s->wq[slot]);
-      lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
-      hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
-    }
-    s->face_lo[f] = lo;
-    s->face_hi[f] = hi;
-  }
+  TL_CHECK(s->ops->quadrature(s, s->n_faces, NULL, s->xq, s->wq, s->Nq));
+  for (size_t f = 0; f < s->n_faces; ++f) TL_CHECK(face_box(s, f));
+  scratch_of(s)->partial = 0;
   TL_CHECK(bin_faces(s));
+  return TL_OK;
+}
+
+/* Box of face f from its nodes and quadrature points (which are checked). */
+static TlStatus face_box(TlCGSurface *s, size_t f)
+{
+  TlVec3 lo = s->x[s->face_node[f * (size_t)s->nodes_per_face]], hi = lo;
+  for (int a = 0; a < s->nodes_per_face; ++a) {
+    TlVec3 p = s->x[s->face_node[f * (size_t)s->nodes_per_face + (size_t)a]];
+    lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
+    hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
+  }
+  for (int q = 0; q < s->qp_per_face; ++q) {
+    size_t slot = f * (size_t)s->qp_per_face + (size_t)q;
+    TlVec3 p = s->xq[slot];
+    if (!(s->wq[slot] > 0.0) || !isfinite(s->wq[slot]) || !tl_v3_isfinite(p))
+      TL_ERROR(TL_ERR_NUMERIC, "face %zu quadrature point %d has weight %g", f, q, s->wq[slot]);
+    lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
+    hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
+  }
+  s->face_lo[f] = lo;
+  s->face_hi[f] = hi;
+  return TL_OK;
+}
+
+TlStatus tl_cg_surface_update_near(TlCGSurface *s, size_t n, const TlVec3 *points, double reach)
+{
+  TlCGSurfaceScratch *w = scratch_of(s);
+  for (size_t i = 0; i < s->n_nodes; ++i)
+    if (!tl_v3_isfinite(s->x[i]))
+      TL_ERROR(TL_ERR_NUMERIC, "surface node %zu is not finite (%g, %g, %g)", i, s->x[i].x, s->x[i].y, s->x[i].z);
+  const int npf = s->nodes_per_face;
+  w->n_near = 0;
+  for (size_t f = 0; f < s->n_faces; ++f) {
+    TlVec3 lo = s->x[s->face_node[f * (size_t)npf]], hi = lo;
+    for (int a = 1; a < npf; ++a) {
+      TlVec3 p = s->x[s->face_node[f * (size_t)npf + (size_t)a]];
+      lo = tl_v3(tl_min(lo.x, p.x), tl_min(lo.y, p.y), tl_min(lo.z, p.z));
+      hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
+    }
+    int near = 0;
+    for (size_t k = 0; k < n && !near; ++k) {
+      TlVec3 p = points[k];
+      near = p.x > lo.x - reach && p.x < hi.x + reach && p.y > lo.y - reach && p.y < hi.y + reach &&
+             p.z > lo.z - reach && p.z < hi.z + reach;
+    }
+    if (near) w->near[w->n_near++] = f;
+  }
+  TL_CHECK(s->ops->quadrature(s, w->n_near, w->near, s->xq, s->wq, s->Nq));
+  for (size_t k = 0; k < w->n_near; ++k) TL_CHECK(face_box(s, w->near[k]));
+  w->partial = 1;
   return TL_OK;
 }
 
@@ -411,6 +454,13 @@ static TlStatus bin_faces(TlCGSurface *s)
 static size_t candidates(const TlCGSurface *s, TlVec3 p, double c)
 {
   TlCGSurfaceScratch *w = scratch_of(s);
+  if (w->partial) {
+    /* after tl_cg_surface_update_near: the refreshed faces only */
+    size_t n = 0;
+    for (size_t k = 0; k < w->n_near; ++k)
+      if (face_near(s, w->near[k], p, c)) w->cand[n++] = w->near[k];
+    return n;
+  }
   int i0[3], i1[3];
   for (int d = 0; d < 3; ++d) {
     double reach = c + (&w->half_extent.x)[d], cell = (&w->bin_cell.x)[d];

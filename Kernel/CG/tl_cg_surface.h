@@ -51,10 +51,11 @@ typedef struct TlCGSurface TlCGSurface;
 
 typedef struct {
   TlOpsHeader header;
-  /* For every face f and its point q (slot f * qp_per_face + q): position,
-   * weight (with the area element) and the shape values of the face's
-   * nodes (Nq[slot * nodes_per_face + a]), from the node positions s->x. */
-  TlStatus (*quadrature)(const TlCGSurface *s, TlVec3 *xq, double *wq, double *Nq);
+  /* For the faces faces[k], k < n (NULL: faces 0 .. n-1), and each point q
+   * (slot f * qp_per_face + q): position, weight (with the area element)
+   * and the shape values of the face's nodes (Nq[slot * nodes_per_face +
+   * a]), from the node positions s->x. */
+  TlStatus (*quadrature)(const TlCGSurface *s, size_t n, const size_t *faces, TlVec3 *xq, double *wq, double *Nq);
   /* Shape values of the nodes of face[k] at point[k] (projected onto the
    * face), for k < n: N[k * nodes_per_face + a]. */
   TlStatus (*shape_at)(const TlCGSurface *s, size_t n, const size_t *face, const TlVec3 *point, double *N);
@@ -89,6 +90,13 @@ void tl_cg_surface_destroy(TlCGSurface **surface);
 /* New node positions (or NULL: same array, moved in place); recomputes the
  * quadrature.  Refuses non-finite positions and non-positive weights. */
 TlStatus tl_cg_surface_update(TlCGSurface *s, const TlVec3 *x);
+/* The same for the faces whose nodes' box lies within `reach` of one of n
+ * points (contact points; reach = the kernel's width plus the largest
+ * bulge of a face beyond its nodes' box), in place: the next evaluations
+ * for contacts at those points see only these faces, exactly as after a
+ * full update up to the order of summation.  A coupling whose particles
+ * touch a small part of a large surface pays O(faces near them). */
+TlStatus tl_cg_surface_update_near(TlCGSurface *s, size_t n, const TlVec3 *points, double reach);
 
 /* Normalised weights of one contact point: weight[k] = w_q W_G(x_q - x^c)
  * for the quadrature slots slot[k], k < *count, summing to 1.  Up to max
