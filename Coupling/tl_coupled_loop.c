@@ -26,6 +26,7 @@ void tl_coupled_loop_options_default(TlCoupledLoopOptions *o)
 {
   o->substeps = 1;
   o->one_way = 0;
+  o->scheme = TL_COUPLING_PREDICT;
 }
 
 static TlStatus hook(void *ctx, double t, double dt, const double *u, const double *v, double *f_hook)
@@ -64,6 +65,8 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   tl_coupled_loop_options_default(&o);
   if (options) o = *options;
   if (o.substeps < 1 || o.substeps > 100000) TL_ERROR(TL_ERR_ARG, "sub-steps %d outside [1, 100000]", o.substeps);
+  if (o.scheme != TL_COUPLING_PREDICT && o.scheme != TL_COUPLING_INTERPOLATE)
+    TL_ERROR(TL_ERR_ARG, "coupling scheme %d is neither PREDICT (0) nor INTERPOLATE (1)", o.scheme);
   const TlMesh *mesh = tl_solid_mesh(solid);
   if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "coupled loop needs a 3-D solid (dimension %d)", mesh->dim);
   TlCoupledLoop *L;
@@ -134,8 +137,43 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
   tl_free(pL);
 }
 
+/* Serial staggered macro step: the solid first under the last average
+ * force, then the DEM steps with the walls interpolated. */
+static TlStatus step_interpolate(TlCoupledLoop *L)
+{
+  const int k = L->o.substeps;
+  const double dt = tl_dem_timestep(L->dem), Dt = k * dt;
+  const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
+  tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
+  memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
+  TL_CHECK(tl_stepper_step(L->stepper, Dt));
+  tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
+  tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
+  /* Work of the applied loads (F_prev before this step, F_nodes in it). */
+  double w = 0.0;
+  for (size_t i = 0; i < nn; i++) w += 0.5 * (L->F_prev[i] + L->F_nodes[i]) * (L->u_nodes[i] - L->u_prev[i]);
+  L->work_on_solid += w;
+  memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
+  memset(L->F_acc, 0, nn * sizeof(double));
+  L->wall_acc = tl_v3(0, 0, 0);
+  for (size_t i = 0; i < nn; i++) L->v_mid[i] = (L->u_nodes[i] - L->u_prev[i]) / Dt;
+  for (int j = 1; j <= k; ++j) {
+    const double f = (double)j / (double)k;
+    for (size_t i = 0; i < nn; i++) L->u_mid[i] = L->u_prev[i] + f * (L->u_nodes[i] - L->u_prev[i]);
+    TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+    TL_CHECK(tl_dem_step(L->dem, 1));
+    TL_CHECK(gather(L, 1.0 / (double)k));
+  }
+  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
+  L->wall_force = L->wall_acc;
+  memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
+  L->t += Dt;
+  return TL_OK;
+}
+
 TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
 {
+  if (L->o.scheme == TL_COUPLING_INTERPOLATE && !L->o.one_way) return step_interpolate(L);
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem);
   const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
@@ -219,6 +257,7 @@ static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char 
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "time_work_wall_force", 5, misc));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme));
   return TL_OK;
 }
 
@@ -232,6 +271,10 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
   if (n != nn) TL_ERROR(TL_ERR_ARG, "checkpoint holds coupling forces for %zu node components, this solid has %zu", n, nn);
   TL_CHECK(tl_checkpoint_read_int64(r, group, "substeps", &k));
   TL_CHECK(tl_checkpoint_read_int64(r, group, "one_way", &one_way));
+  int64_t scheme = 0;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "scheme", &scheme));
+  if (scheme != L->o.scheme)
+    TL_ERROR(TL_ERR_ARG, "checkpoint was written with coupling scheme %lld, this run has %d", (long long)scheme, L->o.scheme);
   if (k != L->o.substeps || one_way != L->o.one_way)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld DEM steps per FEM step and one_way = %lld, this run has %d and %d",
              (long long)k, (long long)one_way, L->o.substeps, L->o.one_way);

@@ -13,6 +13,12 @@
  * solid reaches, so F is the force at t_{n+1} exactly where central
  * difference needs it (no lag: a lag of one step feeds energy into the
  * coupled system).  For Newmark the predictor is second-order accurate.
+ * That is the default scheme, TL_COUPLING_PREDICT.  TL_COUPLING_INTERPOLATE
+ * is the serial staggered one: the solid advances first under the average
+ * coupling force of the previous macro step (a lag of Dt), then the k DEM
+ * steps see the walls interpolated linearly between u_n and u_{n+1} (their
+ * velocity (u_{n+1} - u_n) / Dt), and their average force is applied in the
+ * next FE step.
  * One-way coupling keeps the solid rigid at its initial state (no FE step;
  * the particles see fixed walls).
  *
@@ -33,9 +39,13 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 
+enum { TL_COUPLING_PREDICT = 0, TL_COUPLING_INTERPOLATE = 1 };
+
 typedef struct {
   int substeps; /* k DEM steps per FEM step [1] */
   int one_way;  /* rigid solid: the FE model is not advanced [0] */
+  int scheme;   /* TL_COUPLING_PREDICT (walls on the solid's Taylor predictor, forces at t_{n+1}) or
+                 * TL_COUPLING_INTERPOLATE (FE first with the last forces, walls interpolated) [PREDICT] */
 } TlCoupledLoopOptions;
 
 typedef struct {

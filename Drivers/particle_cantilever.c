@@ -32,16 +32,17 @@
 
 typedef struct {
   TlCantileverParams beam;
-  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol;
+  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
-  int stepper, one_way, keep_factors;
+  int stepper, one_way, keep_factors, scheme;
   const char *kernel;
   char *output_dir;
   TlOptions *options;
 } Config;
 
 static const char *const steppers[] = {"newmark", "central_difference", NULL};
+static const char *const schemes[] = {"predict", "interpolate", NULL};
 static const char *const kernels[] = {"lucy", "gaussian", "heaviside", NULL};
 
 static TlStatus configure(int argc, char **argv, Config *c)
@@ -84,8 +85,14 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "newmark", steppers, "FEM time stepper", &c->stepper), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-substeps", 1, 1, 100000, "DEM steps per FEM step (1: lock-step)", &c->substeps), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-one_way", 0, "rigid beam (one-way coupling)", &c->one_way), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling", "predict", schemes,
+                                         "walls on the beam's predictor with forces at t_n+1, or FE first with the last "
+                                         "forces and walls interpolated (serial staggered)", &c->scheme), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1000, 1, 100000, "Newmark: refactorise every n Newton iterations", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-keep_factors", 1, "Newmark: keep the factors across steps", &c->keep_factors), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-energy_limit", 10.0, 0.0, 1e12, "",
+                                       "stop with a diagnosis when the total energy exceeds this multiple of its start (0: never)",
+                                       &c->energy_limit), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-newton_rtol", 1e-10, 1e-16, 1e-2, "", "Newmark: Newton stops at |R| <= rtol x force scale", &c->newton_rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.0, 0.0, 1e6, "s", "end time (0: when the particles leave the beam)", &c->t_end), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_max", 80.0, 0.0, 1e6, "s", "end time if the particles never leave", &c->t_max), done);
@@ -256,6 +263,7 @@ static TlStatus run(int argc, char **argv)
   tl_coupled_loop_options_default(&lo);
   lo.substeps = (int)c.substeps;
   lo.one_way = c.one_way;
+  lo.scheme = c.scheme;
   TL_CHECK_GOTO(s, tl_coupled_loop_create(dem, beam->solid, st, 1, &sc, &lo, &loop), done);
   /* Tables and the analytic path. */
   const double I = c.beam.b * pow(c.beam.h, 3) / 12.0, F = 2.0 * m * c.g;
@@ -307,8 +315,8 @@ static TlStatus run(int argc, char **argv)
   const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
   const long out_every = c.output_dt > 0.0 ? (long)fmax(1.0, floor(c.output_dt / Dt + 0.5)) : 1;
   const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
-  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step, %zu SCoupling elements\n", c.cg_width,
-         c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "", c.substeps,
+  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements\n", c.cg_width,
+         c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "", c.substeps, schemes[c.scheme],
          tl_scoupling_n_elements(sc));
   TlProgress bar;
   tl_progress_init(&bar, "coupled steps", (double)n_macro);
@@ -347,6 +355,16 @@ static TlStatus run(int argc, char **argv)
       const double grav = e.dem_gravitational - d.e0[2];
       const double total = e.dem_kinetic + e.dem_elastic + grav + e.fem_kinetic + e.fem_strain;
       if (on_beam) d.E_max = fmax(d.E_max, total);
+      /* The undamped coupled system conserves energy: growth far beyond
+       * the start is the coupling going unstable; stop before it runs away. */
+      if (c.energy_limit > 0.0 && !(total <= c.energy_limit * fmax(d.e0[5], 1e-300))) {
+        s = tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
+                         "coupled total energy %.4g J at t = %.4g s exceeds %g x its start %.4g J: the coupling is "
+                         "unstable with c = %g m, %s FEM, %ld DEM steps per FEM step (fewer sub-steps or lock-step "
+                         "keep it stable; -energy_limit 0 runs on)",
+                         total, t, c.energy_limit, d.e0[5], c.cg_width, steppers[c.stepper], c.substeps);
+        goto done;
+      }
       double erow[9] = {t, e.dem_kinetic, e.dem_elastic, grav, e.fem_kinetic, e.fem_strain, e.work_on_solid,
                         e.work_on_particles, total};
       TL_CHECK_GOTO(s, tl_timeseries_append(energy, erow), done);
