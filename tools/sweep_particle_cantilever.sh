@@ -2,7 +2,8 @@
 # Accuracy versus time for S1: particle_cantilever over the CG widths
 # c in {0, 2d, 4d, 6d, 10d, 15d} and over the stepping choices (implicit
 # Newmark or explicit central difference for the beam; 1, 5 or 20 DEM steps
-# per FEM step), each run until the particles leave the beam, one thread
+# per FEM step), each run until the particles leave the beam (or stop at
+# the energy limit: an unstable coupling), one thread
 # per run.  Writes <out>/sweep.md (a Markdown table: c, FEM stepper,
 # sub-steps, err_avg, sym_dev, E_max, t_off, CPU and wall seconds, or the
 # reason a run was refused) and <out>/sweep.csv, and keeps every run's
@@ -20,7 +21,7 @@ shift $(( $# > 2 ? 2 : $# )) || true
 driver=$build/bin/particle_cantilever
 widths=${WIDTHS:-"0 2d 4d 6d 10d 15d"}
 fems=${FEMS:-"newmark central_difference"}
-substeps=${SUBSTEPS:-"1 5 20"}
+substeps=${SUBSTEPS:-"1 2 5 20"}
 jobs=${JOBS:-1}
 mkdir -p "$out"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
