@@ -27,6 +27,7 @@ void tl_coupled_loop_options_default(TlCoupledLoopOptions *o)
   o->substeps = 1;
   o->one_way = 0;
   o->scheme = TL_COUPLING_PREDICT;
+  o->average_forces = 0;
 }
 
 static TlStatus hook(void *ctx, double t, double dt, const double *u, const double *v, double *f_hook)
@@ -46,6 +47,14 @@ static TlStatus gather(TlCoupledLoop *L, double scale)
     L->wall_acc = tl_v3_axpy(L->wall_acc, scale, w);
   }
   return TL_OK;
+}
+
+/* After DEM step j of k: accumulate the average, or keep the last step's. */
+static TlStatus take_forces(TlCoupledLoop *L, int j)
+{
+  const int k = L->o.substeps;
+  if (L->o.average_forces) return gather(L, 1.0 / (double)k);
+  return j == k ? gather(L, 1.0) : TL_OK;
 }
 
 static TlStatus move_walls(TlCoupledLoop *L, const double *u, const double *v)
@@ -162,7 +171,7 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
     for (size_t i = 0; i < nn; i++) L->u_mid[i] = L->u_prev[i] + f * (L->u_nodes[i] - L->u_prev[i]);
     TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
     TL_CHECK(tl_dem_step(L->dem, 1));
-    TL_CHECK(gather(L, 1.0 / (double)k));
+    TL_CHECK(take_forces(L, j));
   }
   memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
   L->wall_force = L->wall_acc;
@@ -193,10 +202,11 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
       TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
     }
     TL_CHECK(tl_dem_step(L->dem, 1));
-    TL_CHECK(gather(L, 1.0 / (double)k));
+    TL_CHECK(take_forces(L, j));
   }
-  /* 2. The solid to t_n + k dt under the forces of step 1 (their average over
-   *    the k DEM steps), which the steppers take as the load at t_{n+1}. */
+  /* 2. The solid to t_n + k dt under the forces of step 1 (the last DEM
+   *    step's, or their average), which the steppers take as the load at
+   *    t_{n+1}. */
   memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
   memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
   L->wall_force = L->wall_acc;
@@ -257,7 +267,7 @@ static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char 
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "time_work_wall_force", 5, misc));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
-  TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme + 2 * L->o.average_forces));
   return TL_OK;
 }
 
@@ -273,7 +283,7 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
   TL_CHECK(tl_checkpoint_read_int64(r, group, "one_way", &one_way));
   int64_t scheme = 0;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "scheme", &scheme));
-  if (scheme != L->o.scheme)
+  if (scheme != L->o.scheme + 2 * L->o.average_forces)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with coupling scheme %lld, this run has %d", (long long)scheme, L->o.scheme);
   if (k != L->o.substeps || one_way != L->o.one_way)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld DEM steps per FEM step and one_way = %lld, this run has %d and %d",

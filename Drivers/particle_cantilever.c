@@ -35,7 +35,7 @@ typedef struct {
   double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
-  int stepper, one_way, keep_factors, scheme;
+  int stepper, one_way, keep_factors, scheme, average_forces;
   const char *kernel;
   char *output_dir;
   TlOptions *options;
@@ -88,6 +88,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling", "predict", schemes,
                                          "walls on the beam's predictor with forces at t_n+1, or FE first with the last "
                                          "forces and walls interpolated (serial staggered)", &c->scheme), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-average_forces", 0,
+                                       "sub-cycling: load the beam with the average of the DEM steps' forces, not the "
+                                       "last step's (lags by half a step: unstable)", &c->average_forces), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1000, 1, 100000, "Newmark: refactorise every n Newton iterations", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-keep_factors", 1, "Newmark: keep the factors across steps", &c->keep_factors), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-energy_limit", 10.0, 0.0, 1e12, "",
@@ -264,6 +267,7 @@ static TlStatus run(int argc, char **argv)
   lo.substeps = (int)c.substeps;
   lo.one_way = c.one_way;
   lo.scheme = c.scheme;
+  lo.average_forces = c.average_forces;
   TL_CHECK_GOTO(s, tl_coupled_loop_create(dem, beam->solid, st, 1, &sc, &lo, &loop), done);
   /* Tables and the analytic path. */
   const double I = c.beam.b * pow(c.beam.h, 3) / 12.0, F = 2.0 * m * c.g;
