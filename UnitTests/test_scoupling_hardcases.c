@@ -31,7 +31,8 @@ typedef struct {
 } Scene;
 
 static void scene_create(Scene *S, double tip_load, double mu, double g, size_t n, const TlVec3 *x,
-                         const TlVec3 *v, int substeps, TlStatus expect_loop, int hold_load, double restitution)
+                         const TlVec3 *v, int substeps, TlStatus expect_loop, int hold_load, double restitution,
+                         int average_forces)
 {
   memset(S, 0, sizeof *S);
   TlCantileverParams p;
@@ -88,6 +89,7 @@ static void scene_create(Scene *S, double tip_load, double mu, double g, size_t 
   TlCoupledLoopOptions lo;
   tl_coupled_loop_options_default(&lo);
   lo.substeps = substeps;
+  lo.average_forces = average_forces;
   TlSCoupling *list[] = {S->sc};
   TL_TEST_STATUS(tl_coupled_loop_create(S->dem, S->beam->solid, S->st, 1, list, &lo, &S->loop), expect_loop);
 }
@@ -114,7 +116,7 @@ static void roll(const char *what, double tip_load, TlVec3 x, TlVec3 v, long ste
                  long *contact_steps, long *concave_steps, double *fn_jump, double *fn_peak)
 {
   Scene S;
-  scene_create(&S, tip_load, 0.5, 9.81, 1, &x, &v, 1, TL_OK, tip_load != 0.0, tip_load != 0.0 ? 0.3 : 1.0);
+  scene_create(&S, tip_load, 0.5, 9.81, 1, &x, &v, 1, TL_OK, tip_load != 0.0, tip_load != 0.0 ? 0.3 : 1.0, 0);
   const TlTriSurface *surf = tl_wall_trisurface_surface(tl_scoupling_wall(S.sc));
   if (tip_load != 0.0) {
     /* On a bent beam, start resting on the top face: its height under the
@@ -241,7 +243,7 @@ static void test_fast_corner(void)
   const double r = 0.1, s = 1.0 / sqrt(3.0);
   TlVec3 x = tl_v3(0.4 + 2 * r * s, 2.4 + 2 * r * s, 0.4 + 2 * r * s), v = tl_v3(-20 * s, -20 * s, -20 * s);
   Scene S;
-  scene_create(&S, 0.0, 0.0, 0.0, 1, &x, &v, 1, TL_OK, 0, 1.0);
+  scene_create(&S, 0.0, 0.0, 0.0, 1, &x, &v, 1, TL_OK, 0, 1.0, 0);
   TlCoupledEnergy e0;
   TL_TEST_STATUS(tl_coupled_loop_energy(S.loop, &e0), TL_OK);
   const double E0 = total_energy(&S, e0.dem_gravitational);
@@ -268,7 +270,7 @@ static void test_large_deflection(void)
   const double EI = 1e8 * pow(0.8, 4) / 12.0, P = 2.0 * EI / (2.4 * 2.4);
   TlVec3 x = tl_v3(0.0, 1.2, 0.9), v = tl_v3(0, 0.5, 0);
   Scene S;
-  scene_create(&S, P, 0.3, 9.81, 1, &x, &v, 1, TL_OK, 0, 1.0);
+  scene_create(&S, P, 0.3, 9.81, 1, &x, &v, 1, TL_OK, 0, 1.0, 0);
   const double *u = tl_coupled_loop_u_nodes(S.loop);
   double wmax = 0.0;
   for (size_t i = 0; i < S.beam->mesh->n_nodes; i++) wmax = fmax(wmax, fabs(u[3 * i + 2]));
@@ -290,12 +292,40 @@ static void test_large_deflection(void)
   scene_destroy(&S);
 }
 
+/* Sub-cycling, 5 DEM steps per explicit FEM step, a particle resting on
+ * the beam: with the last DEM step's force as the load at t_{n+1} the
+ * coupled energy holds; the average of the five (a load of t_{n+1/2}
+ * applied at t_{n+1}) feeds energy in. */
+static void test_subcycling(void)
+{
+  TlVec3 x = tl_v3(0.1, 1.8, 0.5 - 4e-5), v = tl_v3(0, 0, 0);
+  double ratio[2];
+  for (int avg = 0; avg < 2; avg++) {
+    Scene S;
+    scene_create(&S, 0.0, 0.0, 9.81, 1, &x, &v, 5, TL_OK, 0, 1.0, avg);
+    TlCoupledEnergy e0;
+    TL_TEST_STATUS(tl_coupled_loop_energy(S.loop, &e0), TL_OK);
+    const double E0 = total_energy(&S, e0.dem_gravitational);
+    double Emax = E0;
+    for (int k = 0; k < 3000; k++) {
+      TL_TEST_STATUS(tl_coupled_loop_step(S.loop), TL_OK);
+      if (k % 10 == 0) Emax = fmax(Emax, total_energy(&S, e0.dem_gravitational));
+    }
+    ratio[avg] = Emax / E0;
+    scene_destroy(&S);
+  }
+  printf("sub-cycling, 5 DEM steps per FEM step: peak energy / start %.6f with the last force, %.6f with the average\n",
+         ratio[0], ratio[1]);
+  TL_TEST_ASSERT(ratio[0] < 1.01, "sub-cycled coupling gains energy (peak / start %g)", ratio[0]);
+  TL_TEST_ASSERT(ratio[1] > ratio[0], "averaging should not hold energy better (%g vs %g)", ratio[1], ratio[0]);
+}
+
 static void test_beyond_critical(void)
 {
   TlVec3 x = tl_v3(0.0, 1.2, 0.5 - 1e-4), v = tl_v3(0, 0, 0);
   Scene S;
   /* 400 DEM steps per FEM step: far beyond the explicit critical step. */
-  scene_create(&S, 0.0, 0.0, 9.81, 1, &x, &v, 400, TL_OK, 0, 1.0);
+  scene_create(&S, 0.0, 0.0, 9.81, 1, &x, &v, 400, TL_OK, 0, 1.0, 0);
   TL_TEST_STATUS(tl_coupled_loop_step(S.loop), TL_ERR_UNSTABLE);
   printf("beyond the critical step: %s\n", tl_error_message());
   scene_destroy(&S);
@@ -308,6 +338,7 @@ int main(void)
   test_concave();
   test_fast_corner();
   test_large_deflection();
+  test_subcycling();
   test_beyond_critical();
   return tl_test_report();
 }
