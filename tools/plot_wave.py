@@ -110,7 +110,10 @@ def plot_sweep(table, out, paper=False):
                 errw = float(cells[10]) if len(cells) > 10 and cells[10] else float("nan")
             except ValueError:
                 continue
-            lines.setdefault(f"{case} {exc} {var}", []).append((cval, dis, err, wall, errw))
+            # "paper" is the default formulation: left out of the label, so
+            # that it is not read as the paper's data
+            label = f"{case} {exc}" + ("" if var == "paper" else f", {var}")
+            lines.setdefault(label, []).append((cval, dis, err, wall, errw))
     if not lines:
         sys.exit(f"{table}: no rows")
     fig, axs = plt.subplots(1, 3, figsize=(15, 4.2))
