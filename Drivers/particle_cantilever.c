@@ -35,7 +35,7 @@ typedef struct {
   double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
-  int stepper, one_way, keep_factors, scheme, average_forces;
+  int stepper, one_way, keep_factors, scheme, average_forces, predictor;
   const char *kernel;
   char *output_dir;
   TlOptions *options;
@@ -43,6 +43,7 @@ typedef struct {
 
 static const char *const steppers[] = {"newmark", "central_difference", NULL};
 static const char *const schemes[] = {"predict", "interpolate", NULL};
+static const char *const predictors[] = {"auto", "last", "taylor", NULL}; /* TL_PREDICTOR_* order */
 static const char *const kernels[] = {"lucy", "gaussian", "heaviside", NULL};
 
 static TlStatus configure(int argc, char **argv, Config *c)
@@ -93,6 +94,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                        "last step's (lags by half a step: unstable)", &c->average_forces), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1000, 1, 100000, "Newmark: refactorise every n Newton iterations", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-keep_factors", 1, "Newmark: keep the factors across steps", &c->keep_factors), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-predictor", "auto", predictors,
+                                         "Newmark: Newton's start (auto: Taylor when the beam's modes are resolved, last: u_n)",
+                                         &c->predictor), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-energy_limit", 10.0, 0.0, 1e12, "",
                                        "stop with a diagnosis when the total energy exceeds this multiple of its start (0: never)",
                                        &c->energy_limit), done);
@@ -251,6 +255,7 @@ static TlStatus run(int argc, char **argv)
   sto.reuse = c.reuse;
   sto.keep_factors = c.keep_factors;
   sto.rtol = c.newton_rtol;
+  sto.predictor = c.predictor;
   sto.max_iterations = c.reuse > 1 ? 200 : 30;
   TL_CHECK_GOTO(s, tl_stepper_create(steppers[c.stepper], tl_solid_system(beam->solid), &sto, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
