@@ -38,12 +38,12 @@ def main(argv):
         print(f"plot_sweep_particle_cantilever: {path} holds no runs", file=sys.stderr)
         return 1
     markers = {"newmark": "o", "central_difference": "s"}
-    colours = {"1": "tab:blue", "5": "tab:orange", "20": "tab:green"}
+    colours = {"1": "tab:blue", "2": "tab:purple", "5": "tab:orange", "20": "tab:green"}
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     refused, seen = [], set()
     for r in rows:
         if not r["cpu"]:
-            refused.append(f"c={r['c']} {r['fem']} k={r['substeps']}: {r['note'][:70]}")
+            refused.append(r["c"])
             continue
         key = (r["fem"], r["substeps"])
         label = None if key in seen else f"{r['fem']}, {r['substeps']} DEM steps per FEM step"
@@ -62,10 +62,10 @@ def main(argv):
         ax.set_yscale("log")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].axhline(0.01, color="grey", ls="--", lw=0.8)
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=7, loc="upper right")
     fig.suptitle("S1 particle-cantilever: accuracy against cost (labels: CG width c)")
     if refused:
-        fig.text(0.01, 0.01, "refused: " + "; ".join(refused[:4]) + (" ..." if len(refused) > 4 else ""), fontsize=7)
+        fig.text(0.01, 0.01, f"{len(refused)} runs not finished (refused or stopped as unstable): see sweep.csv", fontsize=8)
     fig.tight_layout(rect=(0, 0.04, 1, 0.95))
     tmp = out + ".tmp.png"
     fig.savefig(tmp, dpi=110)
