@@ -16,7 +16,7 @@ struct TlCoupledLoop {
   size_t n_nodes;
   double *u_nodes, *v_nodes, *a_nodes, *u_prev, *u_mid, *v_mid; /* 3 n_nodes */
   double *F_nodes, *F_prev, *F_acc;                             /* 3 n_nodes */
-  double *F_dof, *u_old;                                        /* ndof */
+  double *F_dof, *u_old;                                        /* ndof; u_old: scratch at creation */
   TlVec3 wall_force, wall_acc;
   double t;
   double work_on_solid;
@@ -152,9 +152,8 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
 {
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem), Dt = k * dt;
-  const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
+  const size_t nn = 3 * L->n_nodes;
   tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
-  memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
   TL_CHECK(tl_stepper_step(L->stepper, Dt));
   tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
@@ -185,7 +184,7 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
   if (L->o.scheme == TL_COUPLING_INTERPOLATE && !L->o.one_way) return step_interpolate(L);
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem);
-  const size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
+  const size_t nn = 3 * L->n_nodes;
   /* 1. k DEM steps with the walls on the solid's Taylor predictor
    *    u_n + s v_n + s^2/2 a_n, v_n + s a_n (s = j dt): second order, and for
    *    the explicit stepper with k = 1 the very position it will reach. */
@@ -212,7 +211,6 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
   L->wall_force = L->wall_acc;
   if (!L->o.one_way) {
     tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
-    memcpy(L->u_old, L->stepper->u, nd * sizeof(double));
     TL_CHECK(tl_stepper_step(L->stepper, k * dt));
     tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
     tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
