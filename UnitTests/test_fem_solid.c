@@ -558,6 +558,84 @@ static void term_test(void)
   tl_mesh_destroy(&mesh);
 }
 
+/* A block wrapper (what coupling element types do): calls through to the
+ * kernel it wrapped, then adds a spring between two nodes of element 0 and
+ * counts its calls.  Its tangent lies inside the element's pattern. */
+typedef struct {
+  Spring spring;
+  TlSolidBlockKernel inner;
+  int calls;
+  double t_seen;
+} Wrapper;
+
+static TlStatus wrapped_block(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
+                              TlSparse *K, double *W)
+{
+  Wrapper *w = ctx;
+  TL_CHECK(w->inner.fn(w->inner.ctx, solid, b, t, u, f, c_u, K, W));
+  w->calls++;
+  w->t_seen = t;
+  return spring_term(&w->spring, solid, t, u, f, c_u, K);
+}
+
+static void wrap_test(void)
+{
+  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  const size_t *conn = mesh->blocks[0].conn;
+  Wrapper w = {{conn[0], conn[6], 3e7}, {NULL, NULL}, 0, 0.0};
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp),
+         *rm = calloc(n, sizeof *rm), *Kd = calloc(n, sizeof *Kd), *f0 = calloc(n, sizeof *f0);
+  for (size_t i = 0; i < n; ++i) u[i] = 0.02 * urand(), d[i] = urand();
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
+  TlSolidBlockKernel mine = {wrapped_block, &w};
+  TL_TEST_STATUS(tl_solid_wrap_block(solid, 1, mine, NULL), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, mine, &w.inner), TL_OK);
+  TL_TEST_ASSERT(w.inner.fn != NULL && tl_solid_block_kernel(solid, 0).ctx == &w, "wrapper installed");
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 2.5, u, NULL, rp), TL_OK);
+  TL_TEST_ASSERT(w.calls == 1 && w.t_seen == 2.5, "wrapper called once with t = 2.5 (got %d, %g)", w.calls, w.t_seen);
+  /* The force added is the spring's, exactly where it acts. */
+  double worst = 0.0;
+  for (size_t node = 0; node < mesh->n_nodes; ++node)
+    for (int c = 0; c < 3; ++c) {
+      TlSparseIndex i = tl_solid_dof(solid, node, c);
+      if (i < 0) continue;
+      double dd = u[tl_solid_dof(solid, w.spring.a, c)] - u[tl_solid_dof(solid, w.spring.b, c)];
+      double expect = node == w.spring.a ? w.spring.k * dd : node == w.spring.b ? -w.spring.k * dd : 0.0;
+      worst = fmax(worst, fabs(rp[i] - f0[i] - expect));
+    }
+  TL_TEST_ASSERT(worst < 1e-12 * max_abs(f0, n), "wrapped block adds the spring force (off by %g)", worst);
+  /* Its tangent enters the system's through the element pattern. */
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 1, &K), TL_OK);
+  if (!K) return;
+  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  tl_sparse_matvec(K, d, Kd);
+  double h = 1e-7, err = 0.0;
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rp);
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
+  sys->ops->internal_force(sys, 0.0, up, NULL, rm);
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
+  TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "tangent of a wrapped block off by %g of %g", err, max_abs(Kd, n));
+  /* Unwrapping restores the solid's own kernel, bit for bit. */
+  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, w.inner, NULL), TL_OK);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, rp), TL_OK);
+  TL_TEST_ASSERT(memcmp(rp, f0, n * sizeof *rp) == 0, "unwrapped block gives the own kernel's force");
+  tl_sparse_destroy(&K);
+  free(u), free(d), free(up), free(rp), free(rm), free(Kd), free(f0);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 /* An isotropic eigenstrain e0 on a free body: the stress-free state
  * F = sqrt(1 + 2 e0) 1 has zero residual at every node. */
 static void eigenstrain_test(const TlElementType *t)
@@ -826,6 +904,7 @@ int main(void)
   system_test(&tl_element_quad8);
   reaction_test();
   term_test();
+  wrap_test();
   threads_test();
   state_test();
   load_test(&tl_element_hex27);

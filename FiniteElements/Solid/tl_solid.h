@@ -18,8 +18,10 @@
  * (tl_solid_prescribe) stay in the numbering as Dirichlet dofs.
  *
  * Couplings add forces through the system's step hook
- * (tl_mech_system_set_step_hook) or, per element block, by wrapping the
- * block kernel tl_solid_block_forces(), which is callable from outside. */
+ * (tl_mech_system_set_step_hook), through a term (tl_solid_add_term) or,
+ * per element block, by wrapping the block's kernel (tl_solid_wrap_block):
+ * the coupling element types of seeds/001 §5.3 hold the kernel they wrap,
+ * call through to it and add their residual terms. */
 #ifndef TL_SOLID_H
 #define TL_SOLID_H
 
@@ -106,6 +108,27 @@ void tl_solid_nodes_to_dofs(const TlSolid *solid, const double *f_nodes, double 
  * Material state: trial from committed. */
 TlStatus tl_solid_block_forces(TlSolid *solid, int b, const double *u_nodes, double *f_nodes,
                                double c_u, TlSparse *K, double *W);
+
+/* The kernel evaluating element block b inside every internal-force,
+ * tangent and stored-energy evaluation: tl_solid_block_forces() unless a
+ * coupling wrapped it.  Same contract as tl_solid_block_forces(), plus the
+ * time t of the evaluation (NAN when only the stored energy is asked).
+ * A wrapper (an SCoupling or VCoupling element type) keeps the kernel it
+ * replaced, calls through to it, then adds its own residual terms (same
+ * sign as f_int) and c_u times their tangent for its elements, within the
+ * element's matrix pattern; the finite-element code is not edited. */
+typedef TlStatus (*TlSolidBlockFn)(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes,
+                                   double *f_nodes, double c_u, TlSparse *K, double *W);
+typedef struct {
+  TlSolidBlockFn fn;
+  void *ctx;
+} TlSolidBlockKernel;
+/* Installs `kernel` for block b; *wrapped (may be NULL) receives the kernel
+ * it replaces, to call through to.  Unwrapping is installing *wrapped
+ * again (wrappers come off in the reverse order). */
+TlStatus tl_solid_wrap_block(TlSolid *solid, int b, TlSolidBlockKernel kernel, TlSolidBlockKernel *wrapped);
+/* The kernel evaluating block b now. */
+TlSolidBlockKernel tl_solid_block_kernel(const TlSolid *solid, int b);
 
 /* Energies: kinetic 1/2 v.M v with the consistent mass; strain energy
  * (integral of the stored energy density); external work of the loads over
