@@ -693,3 +693,27 @@ void tl_vcoupling_elements(const TlVCoupling *vc, size_t *n, const size_t **elem
   *n = vc->n_elem;
   *elements = vc->elem;
 }
+
+const TlMesh *tl_vcoupling_mesh(const TlVCoupling *vc, int *block)
+{
+  if (block) *block = vc->block;
+  return vc->mesh;
+}
+
+size_t tl_vcoupling_n_particles(const TlVCoupling *vc) { return vc->np; }
+
+TlStatus tl_vcoupling_force_derivative(const TlVCoupling *vc, size_t slot, double *Kab, size_t *nodes)
+{
+  if (!vc->updated) TL_ERROR(TL_ERR_STATE, "tl_vcoupling_update must run before the force derivative");
+  if (slot >= vc->n_elem) TL_ERROR(TL_ERR_ARG, "coupling element slot %zu outside [0, %zu)", slot, vc->n_elem);
+  const int nn = vc->nn;
+  const TlElementBlock *B = &vc->mesh->blocks[vc->block];
+  const double *M = vc->Me + slot * nn * nn;
+  const size_t *cn = vc->conn + slot * nn;
+  for (int a = 0; a < nn; ++a) {
+    nodes[a] = B->conn[vc->elem[slot] * nn + a];
+    for (int b = 0; b < nn; ++b)
+      Kab[a * nn + b] = vc->active[cn[a]] && vc->active[cn[b]] ? -vc->epsilon * M[a * nn + b] : 0.0;
+  }
+  return TL_OK;
+}

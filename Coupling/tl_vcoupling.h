@@ -157,4 +157,19 @@ void tl_vcoupling_operator(const TlVCoupling *vc, size_t *n, const size_t **node
 /* Coupling elements (indices into the block). */
 void tl_vcoupling_elements(const TlVCoupling *vc, size_t *n, const size_t **elements);
 
+/* The mesh and block the coupling was built on. */
+const TlMesh *tl_vcoupling_mesh(const TlVCoupling *vc, int *block);
+
+/* Particles of the last update (the length of du_p in tl_vcoupling_forces). */
+size_t tl_vcoupling_n_particles(const TlVCoupling *vc);
+
+/* The derivative of the nodal coupling forces with respect to the solid's
+ * displacements on coupling element `slot` (0 <= slot < n_elements of
+ * tl_vcoupling_elements): dF_a/du_b = -eps M_ab for rows and columns coupled
+ * at the last update, 0 elsewhere; Kab gets it as nn x nn (one component,
+ * the same for each) with the element's global nodes in nodes (nn).
+ * Summed over the slots it is the derivative of tl_vcoupling_forces'
+ * nodal forces. */
+TlStatus tl_vcoupling_force_derivative(const TlVCoupling *vc, size_t slot, double *Kab, size_t *nodes);
+
 #endif

@@ -638,6 +638,182 @@ static void wrap_test(void)
 
 /* An isotropic eigenstrain e0 on a free body: the stress-free state
  * F = sqrt(1 + 2 e0) 1 has zero residual at every node. */
+/* Weights of a block's equations (seeds/001 Eq. 26): weights 1 change
+ * nothing, bit for bit; weights 0.3 scale force, tangent, energy and both
+ * masses by 0.3, and the tangent still matches finite differences. */
+typedef struct {
+  TlSolid *solid;
+  TlMechSystem *sys;
+  size_t n;
+  double *f, *Kd, *ml, *Mo, W;
+} WeightedRun;
+
+static void weighted_run(TlMesh *mesh, TlMaterial *mat, int mode, double value, const double *u, const double *d,
+                         WeightedRun *r)
+{
+  memset(r, 0, sizeof *r);
+  TL_TEST_STATUS(tl_solid_create(mesh, &r->solid), TL_OK);
+  tl_solid_set_material(r->solid, NULL, mat);
+  int nq = 0, nqm = 0;
+  TL_TEST_STATUS(tl_solid_weight_points(r->solid, 0, &nq, &nqm), TL_OK);
+  size_t ne = mesh->blocks[0].n_elements;
+  double *w = calloc(ne * nq, sizeof *w), *wm = calloc(ne * nqm, sizeof *wm);
+  for (size_t k = 0; k < ne * nq; ++k) w[k] = value;
+  for (size_t k = 0; k < ne * nqm; ++k) wm[k] = value;
+  if (mode == 1) TL_TEST_STATUS(tl_solid_set_point_weights(r->solid, 0, w, wm), TL_OK);
+  free(w), free(wm);
+  TL_TEST_STATUS(tl_solid_setup(r->solid), TL_OK);
+  r->sys = tl_solid_system(r->solid);
+  r->n = (size_t)r->sys->ndof;
+  size_t n = r->n;
+  r->f = calloc(n, sizeof(double)), r->Kd = calloc(n, sizeof(double)), r->ml = calloc(n, sizeof(double)),
+  r->Mo = calloc(n, sizeof(double));
+  TL_TEST_STATUS(r->sys->ops->internal_force(r->sys, 0.0, u, NULL, r->f), TL_OK);
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(r->sys->ops->create_matrix(r->sys, 0, &K), TL_OK);
+  if (!K) return;
+  TL_TEST_STATUS(r->sys->ops->internal_tangent(r->sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
+  tl_sparse_matvec(K, d, r->Kd);
+  tl_sparse_zero(K);
+  TL_TEST_STATUS(r->sys->ops->consistent_mass(r->sys, 1.0, K), TL_OK);
+  tl_sparse_matvec(K, d, r->Mo);
+  r->sys->ops->lumped_mass(r->sys, r->ml);
+  TL_TEST_STATUS(tl_solid_strain_energy(r->solid, u, &r->W), TL_OK);
+  tl_sparse_destroy(&K);
+}
+
+static void weighted_free(WeightedRun *r)
+{
+  free(r->f), free(r->Kd), free(r->ml), free(r->Mo);
+  tl_solid_destroy(&r->solid);
+}
+
+static double max_diff_scaled(const double *a, const double *b, double s, size_t n)
+{
+  double m = 0.0;
+  for (size_t i = 0; i < n; ++i) m = fmax(m, fabs(a[i] - s * b[i]));
+  return m;
+}
+
+static void weights_test(const TlElementType *t)
+{
+  TlMesh *mesh = distorted_mesh(t);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  WeightedRun plain, one, part;
+  size_t n = mesh->n_nodes * t->dim;
+  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d);
+  for (size_t i = 0; i < n; ++i) u[i] = 0.03 * urand(), d[i] = urand();
+  weighted_run(mesh, mat, 0, 1.0, u, d, &plain);
+  weighted_run(mesh, mat, 1, 1.0, u, d, &one);
+  weighted_run(mesh, mat, 1, 0.3, u, d, &part);
+  n = plain.n;
+  TL_TEST_ASSERT(memcmp(plain.f, one.f, n * sizeof(double)) == 0 && memcmp(plain.Kd, one.Kd, n * sizeof(double)) == 0 &&
+                     memcmp(plain.ml, one.ml, n * sizeof(double)) == 0 &&
+                     memcmp(plain.Mo, one.Mo, n * sizeof(double)) == 0 && plain.W == one.W,
+                 "%s: weights 1 give the unweighted force, tangent, masses and energy bit for bit", t->header.name);
+  double ef = max_diff_scaled(part.f, plain.f, 0.3, n) / max_abs(plain.f, n);
+  double ek = max_diff_scaled(part.Kd, plain.Kd, 0.3, n) / max_abs(plain.Kd, n);
+  double el = max_diff_scaled(part.ml, plain.ml, 0.3, n) / max_abs(plain.ml, n);
+  double em = max_diff_scaled(part.Mo, plain.Mo, 0.3, n) / max_abs(plain.Mo, n);
+  TL_TEST_ASSERT(ef < 1e-14 && ek < 1e-14 && el < 1e-14 && em < 1e-14,
+                 "%s: weights 0.3 scale force (%g), tangent (%g), lumped (%g) and consistent mass (%g) by 0.3",
+                 t->header.name, ef, ek, el, em);
+  TL_TEST_CLOSE(part.W / plain.W, 0.3, 1e-14);
+  TL_TEST_CLOSE(tl_solid_total_mass(part.solid) / tl_solid_total_mass(plain.solid), 0.3, 1e-14);
+  /* the weighted tangent against central differences of the weighted force */
+  double h = 1e-7, err = 0.0, *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp), *rm = calloc(n, sizeof *rm);
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
+  part.sys->ops->internal_force(part.sys, 0.0, up, NULL, rp);
+  for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
+  part.sys->ops->internal_force(part.sys, 0.0, up, NULL, rm);
+  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - part.Kd[i]));
+  TL_TEST_ASSERT(err < 1e-6 * max_abs(part.Kd, n), "%s: weighted tangent off finite differences by %g of %g",
+                 t->header.name, err, max_abs(part.Kd, n));
+  /* bad weights are refused with the value */
+  TlSolid *bad = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &bad), TL_OK);
+  double *wn = calloc(mesh->n_nodes, sizeof *wn);
+  wn[1] = -0.5;
+  TL_TEST_STATUS(tl_solid_set_node_weights(bad, 0, wn), TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "-0.5") != NULL, "message names the weight: %s", tl_error_message());
+  tl_solid_destroy(&bad);
+  free(wn), free(up), free(rp), free(rm), free(u), free(d);
+  weighted_free(&plain), weighted_free(&one), weighted_free(&part);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
+/* A nodal weight w = 0.2 + 0.5 x / Lx on a box of hex8: the consistent
+ * mass rows are int rho w N_a dV and the HRZ masses the diagonal
+ * int rho w N_a^2 dV scaled to the element's int rho w dV, both in closed
+ * form per element (w is linear in x, the shape functions tensor
+ * products). */
+static void weights_linear_test(void)
+{
+  size_t nc[3] = {3, 2, 2};
+  double lo[3] = {0, 0, 0}, hi[3] = {1.2, 1.0, 0.8}, rho = 1309.0;
+  TlMesh *mesh = NULL;
+  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, nc, lo, hi, &mesh), TL_OK);
+  TlMaterial *mat = make_law("hooke", 0.25);
+  if (!mesh || !mat) return;
+  size_t nn = mesh->n_nodes;
+  double *wn = calloc(nn, sizeof *wn), *row = calloc(nn, sizeof *row), *hrz = calloc(nn, sizeof *hrz);
+  for (size_t i = 0; i < nn; ++i) wn[i] = 0.2 + 0.5 * mesh->x[3 * i] / hi[0];
+  const TlElementBlock *B = &mesh->blocks[0];
+  for (size_t e = 0; e < B->n_elements; ++e) {
+    double x0 = INFINITY, x1 = -INFINITY, h[3];
+    double lo3[3] = {INFINITY, INFINITY, INFINITY}, hi3[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int a = 0; a < 8; ++a)
+      for (int c = 0; c < 3; ++c) {
+        lo3[c] = fmin(lo3[c], mesh->x[3 * B->conn[8 * e + a] + c]);
+        hi3[c] = fmax(hi3[c], mesh->x[3 * B->conn[8 * e + a] + c]);
+      }
+    for (int c = 0; c < 3; ++c) h[c] = hi3[c] - lo3[c];
+    x0 = lo3[0], x1 = hi3[0];
+    double w0 = 0.2 + 0.5 * x0 / hi[0], w1 = 0.2 + 0.5 * x1 / hi[0];
+    double diag[8], dsum = 0.0, total = rho * h[0] * h[1] * h[2] * 0.5 * (w0 + w1);
+    for (int a = 0; a < 8; ++a) {
+      int left = fabs(mesh->x[3 * B->conn[8 * e + a]] - x0) < 1e-12;
+      double wa = left ? w0 : w1, wb = left ? w1 : w0;
+      row[B->conn[8 * e + a]] += rho * h[0] * (2 * wa + wb) / 6.0 * h[1] * h[2] / 4.0;
+      diag[a] = rho * h[0] * (3 * wa + wb) / 12.0 * h[1] / 3.0 * h[2] / 3.0;
+      dsum += diag[a];
+    }
+    for (int a = 0; a < 8; ++a) hrz[B->conn[8 * e + a]] += diag[a] * total / dsum;
+  }
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_set_node_weights(solid, 0, wn), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  size_t n = (size_t)sys->ndof;
+  double *ml = calloc(n, sizeof *ml), *ones = calloc(n, sizeof *ones), *Mo = calloc(n, sizeof *Mo);
+  sys->ops->lumped_mass(sys, ml);
+  TlSparse *M = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 0, &M), TL_OK);
+  if (!M) return;
+  TL_TEST_STATUS(sys->ops->consistent_mass(sys, 1.0, M), TL_OK);
+  for (size_t i = 0; i < nn; ++i) ones[tl_solid_dof(solid, i, 1)] = 1.0;
+  tl_sparse_matvec(M, ones, Mo);
+  double er = 0.0, eh = 0.0, scale = 0.0;
+  for (size_t i = 0; i < nn; ++i) {
+    er = fmax(er, fabs(Mo[tl_solid_dof(solid, i, 1)] - row[i]));
+    eh = fmax(eh, fabs(ml[tl_solid_dof(solid, i, 1)] - hrz[i]));
+    scale = fmax(scale, row[i]);
+  }
+  TL_TEST_ASSERT(er < 1e-13 * scale && eh < 1e-13 * scale,
+                 "linear weight: consistent rows off by %g, HRZ masses by %g (of %g)", er, eh, scale);
+  double V = hi[0] * hi[1] * hi[2];
+  TL_TEST_CLOSE(tl_solid_total_mass(solid) / (rho * V * (0.2 + 0.25)), 1.0, 1e-13);
+  tl_sparse_destroy(&M);
+  free(ml), free(ones), free(Mo), free(wn), free(row), free(hrz);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 static void eigenstrain_test(const TlElementType *t)
 {
   TlMesh *mesh = distorted_mesh(t);
@@ -905,6 +1081,10 @@ int main(void)
   reaction_test();
   term_test();
   wrap_test();
+  weights_test(&tl_element_hex8);
+  weights_test(&tl_element_tet10);
+  weights_test(&tl_element_quad8);
+  weights_linear_test();
   threads_test();
   state_test();
   load_test(&tl_element_hex27);

@@ -30,6 +30,13 @@ typedef struct {
   size_t *colour_elements;
   size_t offset; /* index of the block's first element in the global list */
   TlSolidBlockKernel kernel; /* what evaluates the block (own_block unless wrapped) */
+  /* Weights of the block's equations (seeds/001 Eq. 26), NULL when unset.
+   * They multiply wdet and wdetm once at setup, so the element kernel
+   * carries them without a single extra operation. */
+  double *pw;         /* n_el x nq at the stiffness points */
+  double *pw_mass;    /* n_el x qm.n at the mass points */
+  double *w_nodes;    /* n_nodes: a nodal field interpolated at setup instead */
+  double *wdet_plain; /* n_el x nq: unweighted weight x det J0 (volume averages) */
 } SolidBlock;
 
 typedef struct {
@@ -208,6 +215,10 @@ static void solid_destroy_content(TlMechSystem *sys)
     tl_free(&B->state_new);
     tl_free(&B->colour_ptr);
     tl_free(&B->colour_elements);
+    tl_free(&B->pw);
+    tl_free(&B->pw_mass);
+    tl_free(&B->w_nodes);
+    tl_free(&B->wdet_plain);
   }
   for (int i = 0; i < s->n_dead; ++i) tl_free(&s->dead[i].f);
   for (int t = 0; t < s->n_threads && s->scratch; ++t) {
@@ -452,6 +463,100 @@ done:
   return st;
 }
 
+/* ------------------------------------------------------------ weights */
+
+static TlStatus check_weights(const TlSolid *s, int b, const char *where, size_t n, int per, const double *w)
+{
+  for (size_t k = 0; k < n; ++k)
+    if (!(w[k] >= 0.0) || !isfinite(w[k]))
+      TL_ERROR(TL_ERR_ARG, "solid: block %s weight %g at element %zu, %s point %d: weights must be finite and >= 0",
+               s->mesh->blocks[b].name, w[k], k / (size_t)per, where, (int)(k % (size_t)per));
+  return TL_OK;
+}
+
+static TlStatus weights_block(TlSolid *s, int b, const char *what)
+{
+  TL_CHECK(not_after_setup(s, what));
+  if (b < 0 || b >= s->mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "solid: block %d outside [0, %d)", b, s->mesh->n_blocks);
+  SolidBlock *B = &s->blocks[b];
+  tl_free(&B->pw);
+  tl_free(&B->pw_mass);
+  tl_free(&B->w_nodes);
+  return TL_OK;
+}
+
+TlStatus tl_solid_weight_points(const TlSolid *s, int b, int *nq, int *nq_mass)
+{
+  if (b < 0 || b >= s->mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "solid: block %d outside [0, %d)", b, s->mesh->n_blocks);
+  const TlElementType *t = s->mesh->blocks[b].type;
+  TlQuadrature q;
+  TL_CHECK(tl_element_quadrature(t, t->order_stiffness, &q));
+  if (nq) *nq = q.n;
+  TL_CHECK(tl_element_quadrature(t, t->order_mass, &q));
+  if (nq_mass) *nq_mass = q.n;
+  return TL_OK;
+}
+
+TlStatus tl_solid_set_point_weights(TlSolid *s, int b, const double *w, const double *w_mass)
+{
+  TL_CHECK(weights_block(s, b, "set_point_weights"));
+  if (!w && !w_mass) return TL_OK;
+  if (!w || !w_mass)
+    TL_ERROR(TL_ERR_ARG, "solid: block %s needs weights at both the stiffness and the mass points (or neither)",
+             s->mesh->blocks[b].name);
+  int nq, nqm;
+  TL_CHECK(tl_solid_weight_points(s, b, &nq, &nqm));
+  size_t ne = s->mesh->blocks[b].n_elements;
+  TL_CHECK(check_weights(s, b, "stiffness", ne * nq, nq, w));
+  TL_CHECK(check_weights(s, b, "mass", ne * nqm, nqm, w_mass));
+  SolidBlock *B = &s->blocks[b];
+  TL_CHECK(tl_calloc(&B->pw, ne ? ne * nq : 1, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->pw_mass, ne ? ne * nqm : 1, sizeof(double)));
+  memcpy(B->pw, w, ne * nq * sizeof(double));
+  memcpy(B->pw_mass, w_mass, ne * nqm * sizeof(double));
+  return TL_OK;
+}
+
+TlStatus tl_solid_set_node_weights(TlSolid *s, int b, const double *w_nodes)
+{
+  TL_CHECK(weights_block(s, b, "set_node_weights"));
+  if (!w_nodes) return TL_OK;
+  for (size_t i = 0; i < s->n_nodes; ++i)
+    if (!(w_nodes[i] >= 0.0) || !isfinite(w_nodes[i]))
+      TL_ERROR(TL_ERR_ARG, "solid: block %s nodal weight %g at node %zu: weights must be finite and >= 0",
+               s->mesh->blocks[b].name, w_nodes[i], i);
+  SolidBlock *B = &s->blocks[b];
+  TL_CHECK(tl_calloc(&B->w_nodes, s->n_nodes ? s->n_nodes : 1, sizeof(double)));
+  memcpy(B->w_nodes, w_nodes, s->n_nodes * sizeof(double));
+  return TL_OK;
+}
+
+/* The nodal weight field at the stiffness points (shape values Nq) and the
+ * mass points (B->Nm), at setup. */
+static TlStatus interpolate_weights(TlSolid *s, int b, const double *Nq)
+{
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  int nn = B->nn, nq = B->q.n, nqm = B->qm.n;
+  size_t ne = blk->n_elements ? blk->n_elements : 1;
+  TL_CHECK(tl_calloc(&B->pw, ne * nq, sizeof(double)));
+  TL_CHECK(tl_calloc(&B->pw_mass, ne * nqm, sizeof(double)));
+  for (size_t e = 0; e < blk->n_elements; ++e)
+    for (int pass = 0; pass < 2; ++pass) {
+      int np = pass ? nqm : nq;
+      const double *N = pass ? B->Nm : Nq;
+      double *out = (pass ? B->pw_mass : B->pw) + e * np;
+      for (int p = 0; p < np; ++p) {
+        double v = 0.0;
+        for (int a = 0; a < nn; ++a) v += N[p * nn + a] * B->w_nodes[blk->conn[e * nn + a]];
+        /* shape functions that dip below zero (quadratic types) must not
+         * make a weight of a non-negative field negative */
+        out[p] = v > 0.0 ? v : 0.0;
+      }
+    }
+  return TL_OK;
+}
+
 /* Reference geometry of one block: gradients dN/dxi and weights at the
  * stiffness points, weights at the mass points, lumped masses. */
 static TlStatus setup_block_geometry(TlSolid *s, int b)
@@ -474,9 +579,12 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
   TL_CHECK(tl_calloc(&B->lumped, ne * nn, sizeof(double)));
   double dNq[TL_QUADRATURE_MAX * TL_ELEMENT_MAX_NODES * 3];
   double dNm[TL_QUADRATURE_MAX * TL_ELEMENT_MAX_NODES * 3];
-  t->eval(B->q.n, &B->q.xi[0][0], NULL, dNq);
+  double Nq[TL_QUADRATURE_MAX * TL_ELEMENT_MAX_NODES];
+  t->eval(B->q.n, &B->q.xi[0][0], Nq, dNq);
   t->eval(B->qm.n, &B->qm.xi[0][0], B->Nm, dNm);
   double rho = B->material->density;
+  if (B->w_nodes) TL_CHECK(interpolate_weights(s, b, Nq));
+  if (B->pw) TL_CHECK(tl_calloc(&B->wdet_plain, ne * B->nq, sizeof(double)));
   for (size_t e = 0; e < blk->n_elements; ++e) {
     double x[TL_ELEMENT_MAX_NODES * 3];
     tl_mesh_element_coords(s->mesh, b, e, x);
@@ -497,10 +605,14 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
           TL_ERROR(TL_ERR_NUMERIC, "block %s element %zu: Jacobian determinant %g at Gauss point %d",
                    blk->name, e, det, p);
         if (pass) {
-          B->wdetm[e * q->n + p] = q->w[p] * det;
+          B->wdetm[e * q->n + p] = q->w[p] * det * (B->pw_mass ? B->pw_mass[e * q->n + p] : 1.0);
           continue;
         }
         B->wdet[e * B->nq + p] = q->w[p] * det;
+        if (B->pw) {
+          B->wdet_plain[e * B->nq + p] = B->wdet[e * B->nq + p];
+          B->wdet[e * B->nq + p] *= B->pw[e * B->nq + p];
+        }
         double *g = B->grad + ((e * B->nq + p) * nn) * dim;
         for (int a = 0; a < nn; ++a)
           for (int d = 0; d < dim; ++d) {
@@ -520,7 +632,8 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
       for (int a = 0; a < nn; ++a) diag[a] += w * B->Nm[p * nn + a] * B->Nm[p * nn + a];
     }
     for (int a = 0; a < nn; ++a) dsum += diag[a];
-    for (int a = 0; a < nn; ++a) B->lumped[e * nn + a] = diag[a] * total / dsum;
+    /* an element weighted out entirely has no mass */
+    for (int a = 0; a < nn; ++a) B->lumped[e * nn + a] = dsum > 0.0 ? diag[a] * total / dsum : 0.0;
   }
   return TL_OK;
 }
@@ -670,7 +783,8 @@ TlStatus tl_solid_setup(TlSolid *s)
   }
   for (size_t i = 0; i < nc; ++i)
     if (!(s->lumped_nodes[i] > 0.0))
-      TL_ERROR(TL_ERR_ARG, "solid: node %zu belongs to no element (zero mass)", i / dim);
+      TL_ERROR(TL_ERR_ARG, "solid: node %zu has zero mass: it belongs to no element, or the weights of every "
+               "element around it vanish", i / dim);
   TL_CHECK(setup_dead_loads(s));
   TL_CHECK(tl_calloc(&s->un, nc, sizeof(double)));
   TL_CHECK(tl_calloc(&s->fn, nc, sizeof(double)));
@@ -1328,7 +1442,7 @@ TlStatus tl_solid_element_stress(TlSolid *s, int b, size_t e, const double *u_no
   TlMat3 Ssum = tl_m3_zero(), csum = tl_m3_zero();
   double V = 0.0;
   for (int p = 0; p < B->nq; ++p) {
-    double wv = B->wdet[e * B->nq + p];
+    double wv = (B->wdet_plain ? B->wdet_plain : B->wdet)[e * B->nq + p];
     TlMat3 F = w->F[p];
     for (int i = 0; i < 3; ++i) F.m[i][i] += 1.0;
     TlMat3 sigma = tl_m3_scale(tl_m3_mul(tl_m3_mul(F, w->S[p]), tl_m3_transpose(F)), 1.0 / tl_m3_det(F));
@@ -1360,6 +1474,9 @@ static TlStatus op_max_frequency_squared(TlMechSystem *sys, const double *u, dou
     for (size_t e = 0; e < blk->n_elements && st == TL_OK; ++e) {
       for (int a = 0; a < nn; ++a)
         for (int i = 0; i < dim; ++i) ue[a * dim + i] = s->un[blk->conn[e * nn + a] * dim + i];
+      int massless = 0;
+      for (int a = 0; a < nn; ++a) massless |= !(B->lumped[e * nn + a] > 0.0);
+      if (massless) continue; /* weighted out: no mass, no stiffness of its own */
       st = tl_solid_element_matrices(s, b, e, ue, NULL, Ke, NULL);
       if (st != TL_OK) break;
       /* A = M^-1/2 K M^-1/2 (similar to M^-1 K).  Gershgorin bounds its

@@ -85,6 +85,26 @@ TlStatus tl_solid_add_term(TlSolid *solid, TlSolidTerm fn, void *ctx, int symmet
  * major); clamped components are skipped. */
 TlStatus tl_solid_matrix_add_nodes(const TlSolid *solid, TlSparse *K, int n, const size_t *nodes,
                                    double scale, const double *Ke);
+/* Weights of a block's equations (the 1 - w of seeds/001 Eq. 26 for the
+ * solid side of an Arlequin overlap), set before tl_solid_setup: every
+ * integral over the block is taken with the weight as a factor of the
+ * quadrature weight, so the internal force, its tangent, the stored energy,
+ * the consistent and the lumped (HRZ) mass and the dead body loads of the
+ * block are all weighted.  The weights enter the quadrature weights once at
+ * setup; the element kernel is the same code with or without them.
+ *   tl_solid_set_point_weights: w at the stiffness points (n_el x nq) and
+ *     w_mass at the mass points (n_el x nq_mass), element major, in the
+ *     order of the type's rules (tl_solid_weight_points gives nq and
+ *     nq_mass); both NULL: unweighted (the default).
+ *   tl_solid_set_node_weights: a nodal field (n_nodes) interpolated with the
+ *     shape functions at both point sets (negative values of quadratic shape
+ *     functions clipped at 0); NULL: unweighted.
+ * Weights must be finite and >= 0; a node whose elements all weigh 0 has no
+ * mass and is refused at setup.  Volume averages of stress stay
+ * unweighted.  Each call replaces what the block had. */
+TlStatus tl_solid_weight_points(const TlSolid *solid, int b, int *nq, int *nq_mass);
+TlStatus tl_solid_set_point_weights(TlSolid *solid, int b, const double *w, const double *w_mass);
+TlStatus tl_solid_set_node_weights(TlSolid *solid, int b, const double *w_nodes);
 /* Numbers the dofs, checks materials and elements, precomputes geometry,
  * masses and dead loads.  After it, the loads and conditions are frozen. */
 TlStatus tl_solid_setup(TlSolid *solid);
