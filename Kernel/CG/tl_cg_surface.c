@@ -9,9 +9,11 @@ enum { TL_CG_SURFACE_BATCH = 64 };
 /* Scratch kept with the surface so that the per-step calls never allocate. */
 typedef struct {
   double *r2, *w;        /* qp_per_face */
-  double *g;             /* n_nodes: unnormalised nodal sums */
-  size_t *touched;       /* nodes with g != 0 */
-  unsigned char *mark;   /* n_nodes */
+  double *g;             /* n_faces x nodes_per_face: unnormalised sums of one contact's candidate faces */
+  double *part;          /* n_faces: sum_q w_q W of each candidate face */
+  TlVec3 *face_nodal;    /* n_faces x nodes_per_face: per-face forces of tl_cg_surface_nodal_forces */
+  unsigned char *face_mark; /* n_faces */
+  size_t *face_list;     /* n_faces: the faces marked */
   double *N;             /* TL_CG_SURFACE_BATCH x nodes_per_face */
   /* faces binned by the centre of their box, cells as wide as the widest
    * face, rebuilt at every update: a contact visits the faces near it */
@@ -229,8 +231,10 @@ void tl_cg_surface_destroy(TlCGSurface **surface)
   tl_free(&w->r2);
   tl_free(&w->w);
   tl_free(&w->g);
-  tl_free(&w->touched);
-  tl_free(&w->mark);
+  tl_free(&w->part);
+  tl_free(&w->face_nodal);
+  tl_free(&w->face_mark);
+  tl_free(&w->face_list);
   tl_free(&w->N);
   tl_free(&w->cand);
   tl_free(&w->bin_start);
@@ -277,9 +281,11 @@ TlStatus tl_cg_surface_create(const TlCGSurfaceOps *ops, size_t n_nodes, const T
   TL_CHECK_GOTO(st, tl_calloc(&s->face_hi, n_faces, sizeof(TlVec3)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->r2, (size_t)qp_per_face, sizeof(double)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->w, (size_t)qp_per_face, sizeof(double)), fail);
-  TL_CHECK_GOTO(st, tl_calloc(&w->g, n_nodes, sizeof(double)), fail);
-  TL_CHECK_GOTO(st, tl_calloc(&w->touched, n_nodes, sizeof(size_t)), fail);
-  TL_CHECK_GOTO(st, tl_calloc(&w->mark, n_nodes, 1), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->g, n_faces * (size_t)nodes_per_face, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->part, n_faces, sizeof(double)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->face_nodal, n_faces * (size_t)nodes_per_face, sizeof(TlVec3)), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->face_mark, n_faces, 1), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&w->face_list, n_faces, sizeof(size_t)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->N, TL_CG_SURFACE_BATCH * (size_t)nodes_per_face, sizeof(double)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->cand, n_faces, sizeof(size_t)), fail);
   TL_CHECK_GOTO(st, tl_calloc(&w->bin_index, n_faces, sizeof(size_t)), fail);
@@ -554,11 +560,22 @@ TlStatus tl_cg_surface_weights(const TlCGSurface *s, const TlCGKernel *k, TlVec3
   return TL_OK;
 }
 
-TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
-                                    const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *nodal)
+/* Marks face f touched (flag and list), if the caller asked for them. */
+static inline void mark_face(size_t f, unsigned char *flag, size_t *list, size_t *n_list)
+{
+  if (!flag || flag[f]) return;
+  flag[f] = 1;
+  if (list) list[(*n_list)++] = f;
+}
+
+TlStatus tl_cg_surface_face_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
+                                   const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *face_nodal,
+                                   unsigned char *face_touched, size_t *touched, size_t *n_touched)
 {
   TlCGSurfaceScratch *w = scratch_of(s);
-  int npf = s->nodes_per_face;
+  const size_t npf = (size_t)s->nodes_per_face;
+  if (touched && (!face_touched || !n_touched))
+    TL_ERROR(TL_ERR_ARG, "the list of touched faces needs the face flags and a count");
   if (tl_cg_kernel_is_dirac(k)) {
     /* Eq. 16: the shape functions of the contact's face at the contact point */
     if (n && !face) TL_ERROR(TL_ERR_ARG, "the dirac kernel needs the face of every contact");
@@ -569,8 +586,10 @@ TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, s
           TL_ERROR(TL_ERR_ARG, "contact %zu names face %zu, the surface has %zu", k0 + j, face[k0 + j], s->n_faces);
       TL_CHECK(s->ops->shape_at(s, m, face + k0, point + k0, w->N));
       for (size_t j = 0; j < m; ++j) {
-        const int *v = s->face_node + face[k0 + j] * (size_t)npf;
-        for (int a = 0; a < npf; ++a) nodal[v[a]] = tl_v3_axpy(nodal[v[a]], -w->N[j * (size_t)npf + (size_t)a], f_wall[k0 + j]);
+        const size_t f = face[k0 + j];
+        TlVec3 *out = face_nodal + f * npf;
+        for (size_t a = 0; a < npf; ++a) out[a] = tl_v3_axpy(out[a], -w->N[j * npf + a], f_wall[k0 + j]);
+        mark_face(f, face_touched, touched, n_touched);
       }
     }
     return TL_OK;
@@ -579,37 +598,64 @@ TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, s
     TlVec3 p = point[c];
     if (!tl_v3_isfinite(p) || !tl_v3_isfinite(f_wall[c]))
       TL_ERROR(TL_ERR_NUMERIC, "contact %zu has a non-finite point or force", c);
-    /* unnormalised nodal sums g_a = sum_q w_q W N_qa, then divided by S */
-    size_t n_touched = 0;
+    /* unnormalised face-node sums g_fa = sum_q w_q W N_qa, then divided by
+     * the surface total S once it is known */
     double S = 0.0;
     size_t nc = candidates(s, p, k->c);
     for (size_t qc = 0; qc < nc; ++qc) {
       size_t f = w->cand[qc];
       double part = 0.0;
       TL_CHECK(face_kernel(s, k, f, p, &part));
+      w->part[qc] = part;
       if (part == 0.0) continue;
       S += part;
-      const int *v = s->face_node + f * (size_t)npf;
-      const double *N = s->Nq + f * (size_t)s->qp_per_face * (size_t)npf;
-      for (int a = 0; a < npf; ++a) {
+      const double *N = s->Nq + f * (size_t)s->qp_per_face * npf;
+      for (size_t a = 0; a < npf; ++a) {
         double g = 0.0;
-        for (int q = 0; q < s->qp_per_face; ++q) g += w->w[q] * N[(size_t)q * (size_t)npf + (size_t)a];
-        size_t node = (size_t)v[a];
-        if (!w->mark[node]) {
-          w->mark[node] = 1;
-          w->touched[n_touched++] = node;
-        }
-        w->g[node] += g;
+        for (int q = 0; q < s->qp_per_face; ++q) g += w->w[q] * N[(size_t)q * npf + a];
+        w->g[qc * npf + a] = g;
       }
     }
     if (!(S > 0.0)) TL_CHECK(no_support_error(k, p));
-    for (size_t t = 0; t < n_touched; ++t) {
-      size_t node = w->touched[t];
-      nodal[node] = tl_v3_axpy(nodal[node], -w->g[node] / S, f_wall[c]);
-      w->g[node] = 0.0;
-      w->mark[node] = 0;
+    for (size_t qc = 0; qc < nc; ++qc) {
+      if (w->part[qc] == 0.0) continue;
+      const size_t f = w->cand[qc];
+      TlVec3 *out = face_nodal + f * npf;
+      for (size_t a = 0; a < npf; ++a) out[a] = tl_v3_axpy(out[a], -w->g[qc * npf + a] / S, f_wall[c]);
+      mark_face(f, face_touched, touched, n_touched);
     }
   }
+  return TL_OK;
+}
+
+void tl_cg_surface_assemble_faces(const TlCGSurface *s, size_t n, const size_t *faces, const TlVec3 *face_nodal,
+                                  TlVec3 *nodal)
+{
+  const size_t npf = (size_t)s->nodes_per_face;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t f = faces ? faces[k] : k;
+    const int *v = s->face_node + f * npf;
+    const TlVec3 *in = face_nodal + f * npf;
+    for (size_t a = 0; a < npf; ++a) nodal[v[a]] = tl_v3_add(nodal[v[a]], in[a]);
+  }
+}
+
+TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
+                                    const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *nodal)
+{
+  /* The per-face forces of the touched faces, assembled, then cleared for
+   * the next call. */
+  TlCGSurfaceScratch *w = scratch_of(s);
+  const size_t npf = (size_t)s->nodes_per_face;
+  size_t nt = 0;
+  TlStatus st = tl_cg_surface_face_forces(s, k, n, face, point, f_wall, w->face_nodal, w->face_mark, w->face_list, &nt);
+  if (st == TL_OK) tl_cg_surface_assemble_faces(s, nt, w->face_list, w->face_nodal, nodal);
+  for (size_t t = 0; t < nt; ++t) {
+    const size_t f = w->face_list[t];
+    memset(w->face_nodal + f * npf, 0, npf * sizeof(TlVec3));
+    w->face_mark[f] = 0;
+  }
+  if (st != TL_OK) return tl_error_trace(st, __FILE__, __LINE__);
   return TL_OK;
 }
 

@@ -104,10 +104,27 @@ TlStatus tl_cg_surface_update_near(TlCGSurface *s, size_t n, const TlVec3 *point
  * kernel (use tl_cg_surface_nodal_forces, which takes Eq. 16). */
 TlStatus tl_cg_surface_weights(const TlCGSurface *s, const TlCGKernel *k, TlVec3 point, size_t max,
                                size_t *count, size_t *slot, double *weight);
-/* Adds Eq. 15 (or Eq. 16 for the Dirac kernel) for n contacts to nodal
- * (n_nodes entries, not cleared): contact k on face[k] at point[k] with
- * force f_wall[k] on the particle.  face[] is needed by the Dirac kernel
- * only (may be NULL otherwise). */
+/* Eq. 15 (or Eq. 16 for the Dirac kernel) per face: for n contacts,
+ * contact k on face[k] at point[k] with force f_wall[k] on the particle,
+ * adds to face_nodal[f * nodes_per_face + a] (n_faces x nodes_per_face, not
+ * cleared) the integral over face f of N_a t dA, the face's share of the
+ * element residual of the SCoupling element owning it.  With c > 0 every
+ * face whose quadrature meets the kernel receives its share, for c = 0 the
+ * contact's face alone.  face_touched (n_faces flags, may be NULL) gets 1
+ * for every face that received a contribution; when touched is given too,
+ * each face flagged here for the first time is appended at
+ * touched[(*n_touched)++] (flags already set are the caller's: it clears
+ * them with the forces).  face[] is needed by the Dirac kernel only (may be
+ * NULL otherwise). */
+TlStatus tl_cg_surface_face_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
+                                   const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *face_nodal,
+                                   unsigned char *face_touched, size_t *touched, size_t *n_touched);
+/* Adds the per-face forces of faces[k], k < n (NULL: faces 0 .. n-1), to
+ * the nodes: nodal[face_node[f][a]] += face_nodal[f][a]. */
+void tl_cg_surface_assemble_faces(const TlCGSurface *s, size_t n, const size_t *faces, const TlVec3 *face_nodal,
+                                  TlVec3 *nodal);
+/* Adds Eq. 15 (or Eq. 16) for n contacts to nodal (n_nodes entries, not
+ * cleared): tl_cg_surface_face_forces assembled over the touched faces. */
 TlStatus tl_cg_surface_nodal_forces(const TlCGSurface *s, const TlCGKernel *k, size_t n, const size_t *face,
                                     const TlVec3 *point, const TlVec3 *f_wall, TlVec3 *nodal);
 /* Adds the traction of Eq. 14 at every quadrature point (n_faces *
