@@ -2,6 +2,7 @@
 #include "tl_coupled_loop.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include "tl_memory.h"
 
@@ -15,8 +16,10 @@ struct TlCoupledLoop {
   TlCoupledLoopOptions o;
   size_t n_nodes;
   double *u_nodes, *v_nodes, *a_nodes, *u_prev, *u_mid, *v_mid; /* 3 n_nodes */
-  double *F_nodes, *F_prev, *F_acc;                             /* 3 n_nodes */
-  double *F_dof, *u_old;                                        /* ndof; u_old: scratch at creation */
+  /* The couplings' accumulated per-face forces assembled node-wise: those
+   * applied in the last FE step and in the one before (work, energy and
+   * momentum diagnostics; the solid takes them through the wrappers). */
+  double *F_nodes, *F_prev; /* 3 n_nodes */
   TlVec3 wall_force, wall_acc;
   double t;
   double work_on_solid;
@@ -30,23 +33,31 @@ void tl_coupled_loop_options_default(TlCoupledLoopOptions *o)
   o->average_forces = 0;
 }
 
-static TlStatus hook(void *ctx, double t, double dt, const double *u, const double *v, double *f_hook)
+/* Starts a new accumulation of the couplings' forces. */
+static void clear_forces(TlCoupledLoop *L)
 {
-  (void)t, (void)dt, (void)u, (void)v;
-  TlCoupledLoop *L = ctx;
-  for (TlSparseIndex i = 0; i < L->sys->ndof; i++) f_hook[i] += L->F_dof[i];
-  return TL_OK;
+  for (int c = 0; c < L->n_couplings; c++) tl_scoupling_clear_forces(L->couplings[c]);
+  L->wall_acc = tl_v3(0, 0, 0);
 }
 
-/* Coupling forces of the current DEM contacts, scaled, into F_acc. */
+/* Per-face coupling forces of the current DEM contacts, scaled, into the
+ * couplings' accumulators. */
 static TlStatus gather(TlCoupledLoop *L, double scale)
 {
   for (int c = 0; c < L->n_couplings; c++) {
     TlVec3 w;
-    TL_CHECK(tl_scoupling_add_nodal_forces(L->couplings[c], scale, L->F_acc, &w));
+    TL_CHECK(tl_scoupling_accumulate_forces(L->couplings[c], scale, &w));
     L->wall_acc = tl_v3_axpy(L->wall_acc, scale, w);
   }
   return TL_OK;
+}
+
+/* The accumulated forces, node-wise, into F_nodes; their wall total. */
+static void assemble_forces(TlCoupledLoop *L)
+{
+  memset(L->F_nodes, 0, 3 * L->n_nodes * sizeof(double));
+  for (int c = 0; c < L->n_couplings; c++) tl_scoupling_assemble_forces(L->couplings[c], L->F_nodes);
+  L->wall_force = L->wall_acc;
 }
 
 /* After DEM step j of k: accumulate the average, or keep the last step's. */
@@ -76,6 +87,12 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   if (o.substeps < 1 || o.substeps > 100000) TL_ERROR(TL_ERR_ARG, "sub-steps %d outside [1, 100000]", o.substeps);
   if (o.scheme != TL_COUPLING_PREDICT && o.scheme != TL_COUPLING_INTERPOLATE)
     TL_ERROR(TL_ERR_ARG, "coupling scheme %d is neither PREDICT (0) nor INTERPOLATE (1)", o.scheme);
+  for (int c = 0; c < n_couplings; c++) {
+    if (!couplings[c]) TL_ERROR(TL_ERR_ARG, "coupling %d of %d is NULL", c, n_couplings);
+    if (tl_scoupling_solid(couplings[c]) != solid) TL_ERROR(TL_ERR_ARG, "coupling %d couples another solid", c);
+    for (int k = 0; k < c; k++)
+      if (couplings[k] == couplings[c]) TL_ERROR(TL_ERR_ARG, "coupling %d is listed twice (also as %d)", c, k);
+  }
   const TlMesh *mesh = tl_solid_mesh(solid);
   if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "coupled loop needs a 3-D solid (dimension %d)", mesh->dim);
   TlCoupledLoop *L;
@@ -91,11 +108,9 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
   if ((s = tl_calloc(&L->couplings, (size_t)n_couplings, sizeof *L->couplings)) != TL_OK) goto fail;
   for (int c = 0; c < n_couplings; c++) L->couplings[c] = couplings[c];
-  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->a_nodes, &L->u_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_prev, &L->F_acc};
+  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->a_nodes, &L->u_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_prev};
   for (size_t k = 0; k < sizeof node_arrays / sizeof *node_arrays; k++)
     if ((s = tl_calloc(node_arrays[k], nn, sizeof(double))) != TL_OK) goto fail;
-  if ((s = tl_calloc(&L->F_dof, nd ? nd : 1, sizeof(double))) != TL_OK) goto fail;
-  if ((s = tl_calloc(&L->u_old, nd ? nd : 1, sizeof(double))) != TL_OK) goto fail;
   L->t = tl_dem_time(dem);
   tl_solid_dofs_to_nodes(solid, stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(solid, stepper->v, L->v_nodes);
@@ -103,19 +118,19 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   tl_dem_track_energy(dem, 1);
   if ((s = move_walls(L, L->u_nodes, L->v_nodes)) != TL_OK) goto fail;
   if ((s = tl_dem_compute_forces(dem)) != TL_OK) goto fail;
+  clear_forces(L);
   if ((s = gather(L, 1.0)) != TL_OK) goto fail;
-  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
-  L->wall_force = L->wall_acc;
-  tl_mech_system_set_step_hook(L->sys, hook, L);
-  /* The solid's initial acceleration with the coupling forces of t_0 (the
-   * stepper's state was set before the hook existed). */
+  assemble_forces(L);
+  /* The solid's initial acceleration with the coupling forces of t_0, which
+   * the SCoupling elements now carry (the stepper's state was set before). */
   if (!o.one_way) {
-    tl_solid_nodes_to_dofs(solid, L->F_nodes, L->F_dof);
-    memcpy(L->u_old, stepper->u, nd * sizeof(double));
-    double *vcopy = NULL;
-    if ((s = tl_calloc(&vcopy, nd ? nd : 1, sizeof *vcopy)) != TL_OK) goto fail;
-    memcpy(vcopy, stepper->v, nd * sizeof(double));
-    s = tl_stepper_set_state(stepper, stepper->t, L->u_old, vcopy);
+    double *ucopy = NULL, *vcopy = NULL;
+    if ((s = tl_calloc(&ucopy, nd ? nd : 1, sizeof *ucopy)) == TL_OK && (s = tl_calloc(&vcopy, nd ? nd : 1, sizeof *vcopy)) == TL_OK) {
+      memcpy(ucopy, stepper->u, nd * sizeof(double));
+      memcpy(vcopy, stepper->v, nd * sizeof(double));
+      s = tl_stepper_set_state(stepper, stepper->t, ucopy, vcopy);
+    }
+    tl_free(&ucopy);
     tl_free(&vcopy);
     if (s != TL_OK) goto fail;
   }
@@ -130,7 +145,9 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
 {
   TlCoupledLoop *L = *pL;
   if (!L) return;
-  if (L->sys && L->sys->step_hook_ctx == L) tl_mech_system_set_step_hook(L->sys, NULL, NULL);
+  /* The load goes with the loop: the SCoupling elements carry none after it. */
+  for (int c = 0; c < L->n_couplings && L->couplings; c++)
+    if (L->couplings[c]) tl_scoupling_clear_forces(L->couplings[c]);
   tl_free(&L->couplings);
   tl_free(&L->u_nodes);
   tl_free(&L->v_nodes);
@@ -140,9 +157,6 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
   tl_free(&L->v_mid);
   tl_free(&L->F_nodes);
   tl_free(&L->F_prev);
-  tl_free(&L->F_acc);
-  tl_free(&L->F_dof);
-  tl_free(&L->u_old);
   tl_free(pL);
 }
 
@@ -153,7 +167,7 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem), Dt = k * dt;
   const size_t nn = 3 * L->n_nodes;
-  tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
+  /* The SCoupling elements carry the forces accumulated in the last macro step. */
   TL_CHECK(tl_stepper_step(L->stepper, Dt));
   tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
@@ -162,8 +176,7 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
   for (size_t i = 0; i < nn; i++) w += 0.5 * (L->F_prev[i] + L->F_nodes[i]) * (L->u_nodes[i] - L->u_prev[i]);
   L->work_on_solid += w;
   memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
-  memset(L->F_acc, 0, nn * sizeof(double));
-  L->wall_acc = tl_v3(0, 0, 0);
+  clear_forces(L);
   for (size_t i = 0; i < nn; i++) L->v_mid[i] = (L->u_nodes[i] - L->u_prev[i]) / Dt;
   for (int j = 1; j <= k; ++j) {
     const double f = (double)j / (double)k;
@@ -172,8 +185,7 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
     TL_CHECK(tl_dem_step(L->dem, 1));
     TL_CHECK(take_forces(L, j));
   }
-  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
-  L->wall_force = L->wall_acc;
+  assemble_forces(L);
   memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
   L->t += Dt;
   return TL_OK;
@@ -189,8 +201,7 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
    *    u_n + s v_n + s^2/2 a_n, v_n + s a_n (s = j dt): second order, and for
    *    the explicit stepper with k = 1 the very position it will reach. */
   if (!L->o.one_way) tl_solid_dofs_to_nodes(L->solid, L->stepper->a, L->a_nodes);
-  memset(L->F_acc, 0, nn * sizeof(double));
-  L->wall_acc = tl_v3(0, 0, 0);
+  clear_forces(L);
   for (int j = 1; j <= k; j++) {
     if (!L->o.one_way) {
       const double s = j * dt;
@@ -204,13 +215,11 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
     TL_CHECK(take_forces(L, j));
   }
   /* 2. The solid to t_n + k dt under the forces of step 1 (the last DEM
-   *    step's, or their average), which the steppers take as the load at
-   *    t_{n+1}. */
+   *    step's, or their average), which the SCoupling elements put into
+   *    its residual at every evaluation of the step: the load at t_{n+1}. */
   memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
-  memcpy(L->F_nodes, L->F_acc, nn * sizeof(double));
-  L->wall_force = L->wall_acc;
+  assemble_forces(L);
   if (!L->o.one_way) {
-    tl_solid_nodes_to_dofs(L->solid, L->F_nodes, L->F_dof);
     TL_CHECK(tl_stepper_step(L->stepper, k * dt));
     tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
     tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
@@ -251,9 +260,9 @@ const double *tl_coupled_loop_v_nodes(const TlCoupledLoop *L) { return L->v_node
 const double *tl_coupled_loop_forces(const TlCoupledLoop *L) { return L->F_nodes; }
 TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *L) { return L->wall_force; }
 
-/* ---- checkpoint: the coupling forces of the last step, their previous
- * value (the trapezoidal work), the work so far, the time and the wall
- * total; the solid's state comes from the stepper's section and the walls'
+/* ---- checkpoint: the couplings' per-face forces, the coupling forces of
+ * the last step node-wise and their previous value (the trapezoidal work),
+ * the work so far, the time and the wall total; the solid's state comes from the stepper's section and the walls'
  * from the world's, both restored before this one. */
 static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char *group)
 {
@@ -266,6 +275,14 @@ static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char 
   TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme + 2 * L->o.average_forces));
+  /* The per-face forces the SCoupling elements carry: the load of the next
+   * FE step in the interpolating scheme (which steps the solid first). */
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "couplings", L->n_couplings));
+  for (int c = 0; c < L->n_couplings; c++) {
+    char prefix[32];
+    snprintf(prefix, sizeof prefix, "coupling%d_", c);
+    TL_CHECK(tl_scoupling_save_forces(L->couplings[c], w, group, prefix));
+  }
   return TL_OK;
 }
 
@@ -286,6 +303,15 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
   if (k != L->o.substeps || one_way != L->o.one_way)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld DEM steps per FEM step and one_way = %lld, this run has %d and %d",
              (long long)k, (long long)one_way, L->o.substeps, L->o.one_way);
+  int64_t nc = 0;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "couplings", &nc));
+  if (nc != L->n_couplings)
+    TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld surface couplings, this run has %d", (long long)nc, L->n_couplings);
+  for (int c = 0; c < L->n_couplings; c++) {
+    char prefix[32];
+    snprintf(prefix, sizeof prefix, "coupling%d_", c);
+    TL_CHECK(tl_scoupling_load_forces(L->couplings[c], r, group, prefix));
+  }
   double misc[5];
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "forces", nn, L->F_nodes));
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "previous_forces", nn, L->F_prev));
@@ -301,7 +327,7 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
 }
 
 const TlCheckpointOps tl_coupled_loop_checkpoint_ops = {
-    .header = {"checkpoint", "coupled_loop_v1", "surface-coupling loop: coupling forces, work, time"},
+    .header = {"checkpoint", "coupled_loop_v2", "surface-coupling loop: per-face and nodal coupling forces, work, time"},
     .save = loop_save,
     .load = loop_load,
 };

@@ -8,8 +8,10 @@
  *      16) are taken: F = those of the last step, at t_{n+1} (default), or
  *      their average over the k steps (average_forces);
  *   2. the solid advances t_n -> t_n + Dt with F as the coupling load at
- *      t_{n+1} (through the system's step hook), and the walls are moved to
- *      the state it reached.
+ *      t_{n+1} (the SCoupling elements carry it in the solid's residual:
+ *      tl_scoupling.h), and the walls are moved to the state it reached.
+ * F is accumulated per (face, face node) in the couplings; the loop keeps
+ * it assembled node-wise for the work, energy and momentum diagnostics.
  * Why the last step's forces: Newmark's trapezoidal rule and central
  * difference both want the load at t_{n+1}; the average is the load near
  * t_{n+1/2}, and applying it at t_{n+1} lags the coupling by Dt/2, which
@@ -70,7 +72,9 @@ void tl_coupled_loop_options_default(TlCoupledLoopOptions *o);
 /* Couples a set-up DEM world (whose walls include those of the couplings)
  * and a solid driven by a stepper (its state set).  All are borrowed.
  * Sets the walls to the solid's current state, evaluates the DEM forces
- * there and takes the step hook of the solid's system. */
+ * there, puts their coupling forces on the SCoupling elements and sets the
+ * stepper's state again so that its initial acceleration balances them.
+ * Destroying the loop clears the couplings' forces. */
 TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, int n_couplings,
                                 TlSCoupling *const *couplings, const TlCoupledLoopOptions *options,
                                 TlCoupledLoop **loop);
@@ -83,7 +87,8 @@ double tl_coupled_loop_time(const TlCoupledLoop *loop);
 const double *tl_coupled_loop_u_nodes(const TlCoupledLoop *loop);
 const double *tl_coupled_loop_v_nodes(const TlCoupledLoop *loop);
 /* Coupling forces on the solid's nodes (n_nodes x 3) applied in the last FE
- * step, and the particle–wall force total they balance. */
+ * step (the couplings' per-face forces assembled), and the particle–wall
+ * force total they balance. */
 const double *tl_coupled_loop_forces(const TlCoupledLoop *loop);
 TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *loop);
 

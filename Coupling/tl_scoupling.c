@@ -2,10 +2,24 @@
 #include "tl_scoupling.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include "tl_log.h"
 #include "tl_memory.h"
 #include "tl_scoupling_faces.h"
+
+/* The SCoupling element type on one element block: the block kernel it
+ * wraps and the coupling whose elements it completes.  Allocated on its
+ * own so that a wrapper another coupling stacked above can keep calling
+ * through it after the coupling is gone (see tl_scoupling_destroy). */
+typedef struct {
+  TlSCoupling *sc; /* NULL: pass-through */
+  int block;
+  TlSolidBlockKernel inner;
+} SCouplingBlock;
+
+_Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 arrays are checkpointed as doubles");
 
 struct TlSCoupling {
   TlSolid *solid;
@@ -27,11 +41,23 @@ struct TlSCoupling {
   TlCGSurface *cg;
   int cg_stale;      /* the nodes moved since the last quadrature update */
   double face_size;  /* largest corner-to-corner edge of a face at creation */
-  /* SCoupling elements and the element of each face */
+  /* SCoupling elements, the element of each face and the faces of each
+   * element (elem_face[elem_face_ptr[e] .. elem_face_ptr[e + 1] - 1]) */
   size_t n_elements, n_active;
   TlFaceRef *elements, *active;
+  size_t *active_index;  /* n_active: element numbers (into elements) of the active ones */
   size_t *face_element;
-  unsigned char *touched;
+  size_t *elem_face_ptr, *elem_face;
+  unsigned char *elem_active;
+  /* accumulated per-face coupling forces (Eq. 15/16, n_faces x nf): the
+   * load the wrappers put on the next FE step; the faces holding them, in
+   * the order first touched */
+  TlVec3 *face_F;
+  unsigned char *face_touched;
+  size_t *touched_faces, n_touched;
+  /* the block wrappers */
+  int n_blocks;
+  SCouplingBlock **blocks;
   /* per-contact scratch */
   size_t capacity, n_contacts;
   size_t *c_face;
@@ -76,8 +102,14 @@ static TlStatus build_topology(TlSCoupling *sc)
   /* SCoupling elements: distinct (block, element) owners of the faces. */
   if ((s = tl_calloc(&sc->elements, sc->n_faces, sizeof *sc->elements)) != TL_OK) goto done;
   if ((s = tl_calloc(&sc->active, sc->n_faces, sizeof *sc->active)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->active_index, sc->n_faces, sizeof *sc->active_index)) != TL_OK) goto done;
   if ((s = tl_calloc(&sc->face_element, sc->n_faces, sizeof *sc->face_element)) != TL_OK) goto done;
-  if ((s = tl_calloc(&sc->touched, sc->n_faces, 1)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->elem_active, sc->n_faces, 1)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->elem_face_ptr, sc->n_faces + 1, sizeof *sc->elem_face_ptr)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->elem_face, sc->n_faces, sizeof *sc->elem_face)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->face_F, sc->n_faces * (size_t)sc->nf, sizeof *sc->face_F)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->face_touched, sc->n_faces, 1)) != TL_OK) goto done;
+  if ((s = tl_calloc(&sc->touched_faces, sc->n_faces, sizeof *sc->touched_faces)) != TL_OK) goto done;
   for (size_t f = 0; f < sc->n_faces; f++) {
     size_t k = 0;
     for (; k < sc->n_elements; k++)
@@ -89,9 +121,94 @@ static TlStatus build_topology(TlSCoupling *sc)
     }
     sc->face_element[f] = k;
   }
+  for (size_t f = 0; f < sc->n_faces; f++) sc->elem_face_ptr[sc->face_element[f] + 1]++;
+  for (size_t e = 0; e < sc->n_elements; e++) sc->elem_face_ptr[e + 1] += sc->elem_face_ptr[e];
+  for (size_t f = 0; f < sc->n_faces; f++) sc->elem_face[sc->elem_face_ptr[sc->face_element[f]]++] = f;
+  for (size_t e = sc->n_elements; e > 0; e--) sc->elem_face_ptr[e] = sc->elem_face_ptr[e - 1];
+  sc->elem_face_ptr[0] = 0;
 done:
   tl_free(&map);
   return s;
+}
+
+/* The SCoupling element type's residual (§5.3.1): the wrapped element
+ * kernel's, then for every active SCoupling element of the block its
+ * faces' share of the coupling load subtracted,
+ *   R_a = f_int,a - f_ext,a - int_{Gamma_e} N_a t dA   (Eq. 15; Eq. 16 for c = 0).
+ * Within an FE step the load is dead: the DEM forces of the step are fixed
+ * before it and do not depend on the solid's trial state, so there is no
+ * tangent term and no stored energy. */
+static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+                                double c_u, TlSparse *K, double *W)
+{
+  const SCouplingBlock *w = ctx;
+  TL_CHECK(w->inner.fn(w->inner.ctx, solid, b, t, u_nodes, f_nodes, c_u, K, W));
+  const TlSCoupling *sc = w->sc;
+  if (!sc || !f_nodes) return TL_OK;
+  const size_t nf = (size_t)sc->nf;
+  for (size_t k = 0; k < sc->n_active; k++) {
+    const size_t e = sc->active_index[k];
+    if (sc->elements[e].block != b) continue;
+    for (size_t j = sc->elem_face_ptr[e]; j < sc->elem_face_ptr[e + 1]; j++) {
+      const size_t face = sc->elem_face[j];
+      if (!sc->face_touched[face]) continue;
+      const int *q = sc->face_local + face * nf;
+      const TlVec3 *F = sc->face_F + face * nf;
+      for (size_t a = 0; a < nf; a++) {
+        double *f = f_nodes + 3 * sc->node[q[a]];
+        f[0] -= F[a].x;
+        f[1] -= F[a].y;
+        f[2] -= F[a].z;
+      }
+    }
+  }
+  return TL_OK;
+}
+
+/* Wraps the kernel of every block holding SCoupling elements. */
+static TlStatus install_wrappers(TlSCoupling *sc)
+{
+  const int nb = sc->mesh->n_blocks;
+  TL_CHECK(tl_calloc(&sc->blocks, (size_t)nb, sizeof *sc->blocks));
+  for (int b = 0; b < nb; b++) {
+    int holds = 0;
+    for (size_t e = 0; e < sc->n_elements && !holds; e++) holds = sc->elements[e].block == b;
+    if (!holds) continue;
+    SCouplingBlock *w = NULL;
+    TL_CHECK(TL_NEW(w));
+    w->sc = sc;
+    w->block = b;
+    TlSolidBlockKernel mine = {scoupling_block, w};
+    TlStatus s = tl_solid_wrap_block(sc->solid, b, mine, &w->inner);
+    if (s != TL_OK) {
+      tl_free(&w);
+      return tl_error_trace(s, __FILE__, __LINE__);
+    }
+    sc->blocks[sc->n_blocks++] = w;
+  }
+  return TL_OK;
+}
+
+/* Unwraps in the reverse order.  A wrapper that another one now wraps
+ * cannot be taken out of the chain: it stays as a pass-through (and its
+ * few bytes stay allocated) so that the chain keeps working. */
+static void remove_wrappers(TlSCoupling *sc)
+{
+  for (int k = sc->n_blocks - 1; k >= 0; k--) {
+    SCouplingBlock *w = sc->blocks[k];
+    TlSolidBlockKernel now = tl_solid_block_kernel(sc->solid, w->block);
+    if (now.fn == scoupling_block && now.ctx == w) {
+      (void)tl_solid_wrap_block(sc->solid, w->block, w->inner, NULL);
+      tl_free(&w);
+    } else {
+      tl_warn("surface coupling destroyed under another wrapper of block %d: its kernel stays as a pass-through "
+              "(destroy couplings in the reverse order of creation)", w->block);
+      w->sc = NULL;
+    }
+    sc->blocks[k] = NULL;
+  }
+  sc->n_blocks = 0;
+  tl_free(&sc->blocks);
 }
 
 TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *faces,
@@ -196,6 +313,8 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   else
     s = tl_cg_surface_create_element_faces(sc->ft, sc->n_local, sc->xs, n_faces, sc->face_local, &sc->cg);
   if (s != TL_OK) goto fail;
+  /* The SCoupling element type on every block holding coupled faces. */
+  if ((s = install_wrappers(sc)) != TL_OK) goto fail;
   *out = sc;
   return TL_OK;
 fail:
@@ -231,6 +350,7 @@ void tl_scoupling_destroy(TlSCoupling **psc)
 {
   TlSCoupling *sc = *psc;
   if (!sc) return;
+  if (sc->blocks) remove_wrappers(sc);
   if (!sc->wall_given) tl_wall_destroy(&sc->wall);
   tl_cg_surface_destroy(&sc->cg);
   tl_scoupling_face_type_destroy(&sc->ft);
@@ -244,8 +364,14 @@ void tl_scoupling_destroy(TlSCoupling **psc)
   tl_free(&sc->vv);
   tl_free(&sc->elements);
   tl_free(&sc->active);
+  tl_free(&sc->active_index);
   tl_free(&sc->face_element);
-  tl_free(&sc->touched);
+  tl_free(&sc->elem_active);
+  tl_free(&sc->elem_face_ptr);
+  tl_free(&sc->elem_face);
+  tl_free(&sc->face_F);
+  tl_free(&sc->face_touched);
+  tl_free(&sc->touched_faces);
   tl_free(&sc->c_face);
   tl_free(&sc->c_point);
   tl_free(&sc->c_force);
@@ -304,7 +430,9 @@ TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const dou
   return TL_OK;
 }
 
-TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_nodes, TlVec3 *total_wall)
+/* The wall's active contacts into the per-contact arrays (forces times
+ * scale); their total (unscaled) into *total. */
+static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wall)
 {
   const TlTriContactSet *set = tl_wall_trisurface_contacts(sc->wall);
   size_t n = set ? set->count : 0;
@@ -315,33 +443,93 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
     TL_CHECK(tl_realloc(&sc->c_force, cap, sizeof *sc->c_force));
     sc->capacity = cap;
   }
-  /* Step 1 of §5.3.1: the SCoupling elements touched now. */
-  memset(sc->touched, 0, sc->n_elements);
-  sc->n_active = 0;
   size_t m = 0;
   TlVec3 total = tl_v3(0, 0, 0);
   for (size_t k = 0; k < n; k++) {
     const TlTriContactRecord *r = &set->c[k];
     if (!r->active) continue;
-    size_t face = (size_t)r->triangle / (size_t)sc->ft->n_pieces;
-    sc->c_face[m] = face;
+    sc->c_face[m] = (size_t)r->triangle / (size_t)sc->ft->n_pieces;
     sc->c_point[m] = r->point;
-    sc->c_force[m] = r->force;
+    sc->c_force[m] = scale == 1.0 ? r->force : tl_v3_scale(r->force, scale);
     total = tl_v3_add(total, r->force);
-    size_t e = sc->face_element[face];
-    if (!sc->touched[e]) {
-      sc->touched[e] = 1;
-      sc->active[sc->n_active++] = sc->elements[e];
-    }
     m++;
   }
   sc->n_contacts = m;
   if (total_wall) *total_wall = total;
-  if (m == 0) return TL_OK;
   /* The quadrature of the faces within reach of the contacts only (a face
    * bulges beyond its nodes' box by far less than its size). */
-  if (sc->cg_stale && sc->width > 0.0) TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
-  sc->cg_stale = 0;
+  if (m && sc->cg_stale && sc->width > 0.0)
+    TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
+  if (m) sc->cg_stale = 0;
+  return TL_OK;
+}
+
+/* Step 1 of §5.3.1: the owners of the faces touched since position n0 of
+ * the list become active (in the order their faces were first touched). */
+static void activate(TlSCoupling *sc, size_t n0)
+{
+  for (size_t t = n0; t < sc->n_touched; t++) {
+    const size_t e = sc->face_element[sc->touched_faces[t]];
+    if (sc->elem_active[e]) continue;
+    sc->elem_active[e] = 1;
+    sc->active_index[sc->n_active] = e;
+    sc->active[sc->n_active++] = sc->elements[e];
+  }
+}
+
+TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *total_wall)
+{
+  if (!isfinite(scale)) TL_ERROR(TL_ERR_ARG, "coupling force scale %g is not finite", scale);
+  TL_CHECK(collect_contacts(sc, scale, total_wall));
+  if (sc->n_contacts == 0) return TL_OK;
+  const size_t n0 = sc->n_touched;
+  TL_CHECK(tl_cg_surface_face_forces(sc->cg, sc->kernel, sc->n_contacts, sc->c_face, sc->c_point, sc->c_force,
+                                     sc->face_F, sc->face_touched, sc->touched_faces, &sc->n_touched));
+  activate(sc, n0);
+  return TL_OK;
+}
+
+void tl_scoupling_clear_forces(TlSCoupling *sc)
+{
+  const size_t nf = (size_t)sc->nf;
+  for (size_t t = 0; t < sc->n_touched; t++) {
+    const size_t f = sc->touched_faces[t];
+    memset(sc->face_F + f * nf, 0, nf * sizeof *sc->face_F);
+    sc->face_touched[f] = 0;
+  }
+  for (size_t k = 0; k < sc->n_active; k++) sc->elem_active[sc->active_index[k]] = 0;
+  sc->n_touched = 0;
+  sc->n_active = 0;
+}
+
+void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes)
+{
+  const size_t nf = (size_t)sc->nf;
+  for (size_t t = 0; t < sc->n_touched; t++) {
+    const size_t f = sc->touched_faces[t];
+    const int *q = sc->face_local + f * nf;
+    const TlVec3 *F = sc->face_F + f * nf;
+    for (size_t a = 0; a < nf; a++) {
+      double *out = f_nodes + 3 * sc->node[q[a]];
+      out[0] += F[a].x;
+      out[1] += F[a].y;
+      out[2] += F[a].z;
+    }
+  }
+}
+
+size_t tl_scoupling_n_faces(const TlSCoupling *sc) { return sc->n_faces; }
+const TlFaceRef *tl_scoupling_faces(const TlSCoupling *sc) { return sc->faces; }
+int tl_scoupling_nodes_per_face(const TlSCoupling *sc) { return sc->nf; }
+const TlVec3 *tl_scoupling_face_forces(const TlSCoupling *sc) { return sc->face_F; }
+size_t tl_scoupling_n_touched_faces(const TlSCoupling *sc) { return sc->n_touched; }
+const size_t *tl_scoupling_touched_faces(const TlSCoupling *sc) { return sc->touched_faces; }
+
+TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_nodes, TlVec3 *total_wall)
+{
+  TL_CHECK(collect_contacts(sc, 1.0, total_wall));
+  const size_t m = sc->n_contacts;
+  if (m == 0) return TL_OK;
   memset(sc->nodal, 0, sc->n_local * sizeof *sc->nodal);
   TL_CHECK(tl_cg_surface_nodal_forces(sc->cg, sc->kernel, m, sc->c_face, sc->c_point, sc->c_force, sc->nodal));
   for (size_t i = 0; i < sc->n_local; i++) {
@@ -353,10 +541,65 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   return TL_OK;
 }
 
+TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix)
+{
+  char name[128];
+  int64_t *list = NULL;
+  TL_CHECK(tl_calloc(&list, sc->n_touched ? sc->n_touched : 1, sizeof *list));
+  for (size_t t = 0; t < sc->n_touched; t++) list[t] = (int64_t)sc->touched_faces[t];
+  snprintf(name, sizeof name, "%stouched_faces", prefix);
+  TlStatus s = tl_checkpoint_write_int64s(w, group, name, sc->n_touched, list);
+  tl_free(&list);
+  TL_CHECK(s);
+  snprintf(name, sizeof name, "%sface_forces", prefix);
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * sc->n_faces * (size_t)sc->nf, (const double *)sc->face_F));
+  return TL_OK;
+}
+
+TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
+{
+  char name[128];
+  size_t n = 0;
+  snprintf(name, sizeof name, "%sface_forces", prefix);
+  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
+  if (n != 3 * sc->n_faces * (size_t)sc->nf)
+    TL_ERROR(TL_ERR_ARG, "checkpoint holds %zu per-face force components in %s, this coupling has %zu faces x %d nodes x 3",
+             n, name, sc->n_faces, sc->nf);
+  snprintf(name, sizeof name, "%stouched_faces", prefix);
+  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
+  if (n > sc->n_faces) TL_ERROR(TL_ERR_ARG, "checkpoint lists %zu touched faces in %s, this coupling has %zu", n, name, sc->n_faces);
+  int64_t *list = NULL;
+  TL_CHECK(tl_calloc(&list, n ? n : 1, sizeof *list));
+  TlStatus s = tl_checkpoint_read_int64s(r, group, name, n, list);
+  for (size_t t = 0; s == TL_OK && t < n; t++)
+    if (list[t] < 0 || (uint64_t)list[t] >= sc->n_faces) {
+      const long long bad = (long long)list[t];
+      tl_free(&list);
+      TL_ERROR(TL_ERR_ARG, "checkpoint names touched face %lld in %s, outside [0, %zu)", bad, name, sc->n_faces);
+    }
+  if (s == TL_OK) {
+    /* The same faces, element list and order as when saved. */
+    tl_scoupling_clear_forces(sc);
+    for (size_t t = 0; t < n; t++) {
+      const size_t f = (size_t)list[t];
+      if (sc->face_touched[f]) continue;
+      sc->face_touched[f] = 1;
+      sc->touched_faces[sc->n_touched++] = f;
+    }
+    activate(sc, 0);
+    snprintf(name, sizeof name, "%sface_forces", prefix);
+    s = tl_checkpoint_read_doubles(r, group, name, 3 * sc->n_faces * (size_t)sc->nf, (double *)sc->face_F);
+  }
+  tl_free(&list);
+  TL_CHECK(s);
+  return TL_OK;
+}
+
 size_t tl_scoupling_n_elements(const TlSCoupling *sc) { return sc->n_elements; }
 size_t tl_scoupling_n_active_elements(const TlSCoupling *sc) { return sc->n_active; }
 const TlFaceRef *tl_scoupling_elements(const TlSCoupling *sc) { return sc->elements; }
 const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc) { return sc->active; }
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc) { return sc->n_contacts; }
 double tl_scoupling_width(const TlSCoupling *sc) { return sc->width; }
+TlSolid *tl_scoupling_solid(const TlSCoupling *sc) { return sc->solid; }
 const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg; }

@@ -13,18 +13,27 @@
  *   - builds the CG surface (Eq. 15 quadrature) over the same faces.
  * Every DEM step the owner moves the wall from the FE state
  * (tl_scoupling_set_kinematics: vertices = X + u, velocities v, centres
- * interpolated with the face shape functions), and after the step adds the
- * coupling forces to the FE nodes (tl_scoupling_add_nodal_forces): the
- * particle–wall forces f^w coarse-grained with width c (Eq. 15) or, for
- * c = 0, the point-source limit of Eq. 16 in closed form.  The nodal forces
- * sum to minus the particle–wall forces to round-off (momentum balance).
+ * interpolated with the face shape functions), and after the step
+ * accumulates the coupling forces per (face, face node)
+ * (tl_scoupling_accumulate_forces): the integral over the face of N_a t dA
+ * with the traction t of the particle–wall forces f^w coarse-grained with
+ * width c (Eqs. 14-15) or, for c = 0, the point-source limit of Eq. 16 in
+ * closed form.  They sum to minus the particle–wall forces to round-off
+ * (momentum balance).
  *
- * The solid's residual receives the nodal forces through the mechanical
- * system's step hook (the coupled loop does this), which is how the
- * SCoupling element's residual contribution enters without editing the
- * element types: R_a -= F_a on the nodes of the SCoupling elements.  The
- * list of SCoupling elements currently touched by particles (step 1 of
- * §5.3.1) is refreshed at every force evaluation.
+ * The SCoupling element type (§5.3.1, Fig. 7): at creation the coupling
+ * wraps the element kernel of every block holding coupled faces
+ * (tl_solid_wrap_block; any 3-D element type, FiniteElements/ untouched).
+ * The wrapper calls through to the wrapped kernel, then for each ACTIVE
+ * SCoupling element subtracts its faces' accumulated coupling forces at the
+ * element's nodes: R_a = f_int - f_ext - int_{Gamma_e} N_a t dA.  The active
+ * elements (step 1 of §5.3.1) are the owners of the faces that received a
+ * contribution since the forces were last cleared: the contacts' faces, and
+ * with c > 0 every face within the kernel's reach of a contact.  Within an
+ * FE step the load is dead (the DEM forces of the step are fixed before
+ * it), so the wrapper adds no tangent and no stored energy.  Destroying the
+ * coupling restores the wrapped kernels (couplings on the same block come
+ * off in the reverse order of creation).
  */
 #ifndef TL_SCOUPLING_H
 #define TL_SCOUPLING_H
@@ -32,6 +41,7 @@
 #include <stddef.h>
 #include "tl_cg_kernel.h"
 #include "tl_cg_surface.h"
+#include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_error.h"
 #include "tl_mesh.h"
@@ -68,14 +78,42 @@ TlWall *tl_scoupling_wall(TlSCoupling *sc);
 /* Moves the wall: node-space displacements and velocities of the solid
  * (n_nodes x 3; v may be NULL for a wall at rest). */
 TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u_nodes, const double *v_nodes);
-/* Adds scale times the coupling forces of the wall's current contacts to
- * f_nodes (n_nodes x 3, forces acting on the solid); *total_wall (may be
- * NULL) receives the sum of the particle–wall forces (on the particles).
- * Refreshes the list of touched SCoupling elements. */
+/* Adds scale times the per-face coupling forces of the wall's current
+ * contacts to the accumulated ones, the load the SCoupling elements put on
+ * the solid's residual (scale 1 once per FE step: the last DEM step's
+ * forces; 1/k after each of k sub-steps: their average).  *total_wall (may
+ * be NULL) receives the sum of the particle–wall forces (on the particles,
+ * unscaled).  The owners of the faces reached become active. */
+TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *total_wall);
+/* Zeroes the accumulated forces; no SCoupling element is active after it. */
+void tl_scoupling_clear_forces(TlSCoupling *sc);
+/* Adds the accumulated forces, assembled node-wise, to f_nodes (n_nodes x 3,
+ * forces acting on the solid): for work, energy and momentum diagnostics.
+ * Equals what the wrappers subtract from the internal force. */
+void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes);
+/* The accumulated per-face forces (n_faces x nodes_per_face, in the order
+ * of tl_scoupling_faces) and the faces holding them, in the order first
+ * reached. */
+size_t tl_scoupling_n_faces(const TlSCoupling *sc);
+const TlFaceRef *tl_scoupling_faces(const TlSCoupling *sc);
+int tl_scoupling_nodes_per_face(const TlSCoupling *sc);
+const TlVec3 *tl_scoupling_face_forces(const TlSCoupling *sc);
+size_t tl_scoupling_n_touched_faces(const TlSCoupling *sc);
+const size_t *tl_scoupling_touched_faces(const TlSCoupling *sc);
+/* The accumulated forces and their faces into / from a checkpoint group,
+ * datasets named <prefix>face_forces and <prefix>touched_faces; loading
+ * restores the active elements in the same order (bit-for-bit restarts). */
+TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix);
+TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix);
+
+/* Adds scale times the coupling forces of the wall's current contacts,
+ * assembled node-wise, to f_nodes (n_nodes x 3, forces acting on the
+ * solid), without touching the accumulated forces; *total_wall (may be
+ * NULL) receives the sum of the particle–wall forces (on the particles). */
 TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_nodes, TlVec3 *total_wall);
 
-/* SCoupling elements: all of them, and those touched at the last force
- * evaluation (block, element pairs as TlFaceRef with face = -1). */
+/* SCoupling elements: all of them, and the active ones (block, element
+ * pairs as TlFaceRef with face = -1). */
 size_t tl_scoupling_n_elements(const TlSCoupling *sc);
 size_t tl_scoupling_n_active_elements(const TlSCoupling *sc);
 const TlFaceRef *tl_scoupling_elements(const TlSCoupling *sc);
@@ -83,6 +121,8 @@ const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc);
 /* Number of wall contacts at the last force evaluation. */
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc);
 double tl_scoupling_width(const TlSCoupling *sc);
+/* The solid coupled. */
+TlSolid *tl_scoupling_solid(const TlSCoupling *sc);
 /* The CG surface over the coupled faces (quadrature of Eq. 15), as of the
  * last force evaluation. */
 const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc);
