@@ -24,6 +24,7 @@
  * step). */
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "tl_material.h"
 
@@ -90,21 +91,58 @@ static double potential_energy(const TlHooke *h, TlMat3 gamma)
   return 0.5 * h->mu * tl_material_trace_series(tl_m3_mul(gi, A), 0);
 }
 
+/* The stress alone (no tangent), the residual's hot path: C, its inverse
+ * and M gamma M formed with their symmetry (about half the flops of the
+ * general products).  Returns 0 if C is singular. */
+static int stress_only(const TlHooke *h, const TlMat3 *F, const TlMat3 *g, TlMat3 *S)
+{
+  double c[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) c[i][j] = F->m[0][i] * F->m[0][j] + F->m[1][i] * F->m[1][j] + F->m[2][i] * F->m[2][j];
+  c[1][0] = c[0][1], c[2][0] = c[0][2], c[2][1] = c[1][2];
+  double M[3][3];
+  if (h->covariant) {
+    memcpy(M, c, sizeof M);
+  } else {
+    const double a00 = c[1][1] * c[2][2] - c[1][2] * c[1][2], a01 = c[0][2] * c[1][2] - c[0][1] * c[2][2],
+                 a02 = c[0][1] * c[1][2] - c[0][2] * c[1][1];
+    const double det = c[0][0] * a00 + c[0][1] * a01 + c[0][2] * a02;
+    if (!(det > 0.0)) return 0;
+    const double r = 1.0 / det;
+    M[0][0] = a00 * r, M[0][1] = M[1][0] = a01 * r, M[0][2] = M[2][0] = a02 * r;
+    M[1][1] = (c[0][0] * c[2][2] - c[0][2] * c[0][2]) * r;
+    M[1][2] = M[2][1] = (c[0][1] * c[0][2] - c[0][0] * c[1][2]) * r;
+    M[2][2] = (c[0][0] * c[1][1] - c[0][1] * c[0][1]) * r;
+  }
+  double P[3][3], tr = 0.0; /* P = M gamma */
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      P[i][j] = M[i][0] * g->m[0][j] + M[i][1] * g->m[1][j] + M[i][2] * g->m[2][j];
+      tr += M[i][j] * g->m[i][j];
+    }
+  const double a = 2.0 * h->mu, b = h->mu * h->c2 * tr;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j)
+      S->m[i][j] = S->m[j][i] = a * (P[i][0] * M[0][j] + P[i][1] * M[1][j] + P[i][2] * M[2][j]) + b * M[i][j];
+  return 1;
+}
+
 static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
                          const double *state_old, double *state_new, TlMat3 *S, double *D,
                          double *W)
 {
   const TlHooke *h = (const TlHooke *)m;
   for (size_t p = 0; p < npts; ++p) {
-    TlMat3 C = tl_m3_mul(tl_m3_transpose(F[p]), F[p]), Ci;
-    if (!tl_m3_inverse(C, &Ci))
-      TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
-    TlMat3 M = h->covariant ? C : Ci;
     TlMat3 g = gamma[p];
-    S[p] = stress(h, M, g);
-    if (D) {
-      TlMat3 MgM_tr = tl_m3_zero();
-      (void)MgM_tr;
+    if (!D) {
+      if (!stress_only(h, &F[p], &g, &S[p]))
+        TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
+    } else {
+      TlMat3 C = tl_m3_mul(tl_m3_transpose(F[p]), F[p]), Ci;
+      if (!tl_m3_inverse(C, &Ci))
+        TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
+      TlMat3 M = h->covariant ? C : Ci;
+      S[p] = stress(h, M, g);
       for (int J = 0; J < 6; ++J) {
         TlMat3 dg = tl_voigt_unit_strain(J);
         /* dC = 2 dgamma; dM = 2 dgamma (covariant) or -2 C^-1 dgamma C^-1. */
