@@ -95,6 +95,30 @@ int main(void)
   }
   TL_TEST_ASSERT(e1 < 1e-13 && e2 < 1e-13 && e3 < 1e-13,
                  "matvec errors full %g upper %g mixed %g", e1, e2, e3);
+  /* Compressing drops exact zeros (not the diagonal) and keeps the product. */
+  {
+    TlSparse *Z = NULL, *C = NULL;
+    TL_TEST_STATUS(tl_sparse_duplicate(U, &Z), TL_OK);
+    memcpy(Z->values, U->values, (size_t)U->nnz * sizeof *U->values);
+    TlSparseIndex zeros = 0;
+    for (TlSparseIndex j = 0; j < Z->n; ++j)
+      for (TlSparseIndex p = Z->colptr[j]; p < Z->colptr[j + 1]; ++p)
+        if ((p + j) % 3 == 0) Z->values[p] = 0.0, zeros += Z->rowind[p] != j;
+    TL_TEST_STATUS(tl_sparse_compress(Z, &C), TL_OK);
+    TL_TEST_ASSERT(C && C->nnz == Z->nnz - zeros, "compressed %lld entries, expected %lld",
+                   C ? (long long)C->nnz : -1LL, (long long)(Z->nnz - zeros));
+    double *zc = calloc((size_t)n, sizeof *zc), *zz = calloc((size_t)n, sizeof *zz), ec = 0.0;
+    tl_sparse_matvec(Z, x, zz);
+    tl_sparse_matvec(C, x, zc);
+    for (TlSparseIndex i = 0; i < n; ++i) {
+      ec = fmax(ec, fabs(zc[i] - zz[i]));
+      TL_TEST_ASSERT(C->rowind[C->diag[i]] == i, "diagonal of column %lld kept", (long long)i);
+    }
+    TL_TEST_ASSERT(ec == 0.0, "compressed product differs by %g", ec);
+    free(zc), free(zz);
+    tl_sparse_destroy(&Z);
+    tl_sparse_destroy(&C);
+  }
   /* The SUNMatrix view multiplies like the matrix, shares its arrays, and
    * is refused for upper-triangle storage. */
   {

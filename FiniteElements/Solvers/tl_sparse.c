@@ -168,6 +168,42 @@ fail:
   return st;
 }
 
+TlStatus tl_sparse_compress(const TlSparse *A, TlSparse **Bout)
+{
+  TlStatus st = TL_OK;
+  TlSparse *B = NULL;
+  *Bout = NULL;
+  TlSparseIndex nnz = 0;
+  for (TlSparseIndex j = 0; j < A->n; ++j)
+    for (TlSparseIndex p = A->colptr[j]; p < A->colptr[j + 1]; ++p) nnz += A->values[p] != 0.0 || A->rowind[p] == j;
+  TL_CHECK_GOTO(st, TL_NEW(B), fail);
+  B->n = A->n;
+  B->nnz = nnz;
+  B->symmetric = A->symmetric;
+  TL_CHECK_GOTO(st, tl_calloc(&B->colptr, (size_t)A->n + 1, sizeof *B->colptr), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&B->rowind, (size_t)(nnz ? nnz : 1), sizeof *B->rowind), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&B->values, (size_t)(nnz ? nnz : 1), sizeof *B->values), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&B->diag, (size_t)(A->n ? A->n : 1), sizeof *B->diag), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&B->mark, (size_t)(A->n ? A->n : 1), sizeof *B->mark), fail);
+  TlSparseIndex k = 0;
+  for (TlSparseIndex j = 0; j < A->n; ++j) {
+    B->colptr[j] = k;
+    B->diag[j] = -1;
+    for (TlSparseIndex p = A->colptr[j]; p < A->colptr[j + 1]; ++p) {
+      if (A->values[p] == 0.0 && A->rowind[p] != j) continue;
+      if (A->rowind[p] == j) B->diag[j] = k;
+      B->rowind[k] = A->rowind[p];
+      B->values[k++] = A->values[p];
+    }
+  }
+  B->colptr[A->n] = k;
+  *Bout = B;
+  return TL_OK;
+fail:
+  tl_sparse_destroy(&B);
+  return st;
+}
+
 void tl_sparse_destroy(TlSparse **A)
 {
   if (!A || !*A) return;

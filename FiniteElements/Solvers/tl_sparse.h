@@ -62,6 +62,10 @@ TlStatus tl_sparse_create_from_elements(TlSparseIndex n, int symmetric, TlSparse
  * value, i.e. copied). */
 TlStatus tl_sparse_duplicate(const TlSparse *A, TlSparse **B);
 void tl_sparse_destroy(TlSparse **A);
+/* A copy of A without its exact zeros (the diagonal is always kept): for
+ * products with a matrix whose element pattern is wider than its values,
+ * such as a mass matrix that couples no two components.  No position map. */
+TlStatus tl_sparse_compress(const TlSparse *A, TlSparse **B);
 
 void tl_sparse_zero(TlSparse *A);
 /* A(dofs, dofs) += scale * Ke (nd x nd row-major); O(log) search per entry. */

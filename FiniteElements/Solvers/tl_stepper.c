@@ -103,7 +103,7 @@ fail:
 void tl_stepper_mass_times(const TlStepper *st, const double *x, double *y)
 {
   if (st->M) {
-    tl_sparse_matvec(st->M, x, y);
+    tl_sparse_matvec(st->M_apply ? st->M_apply : st->M, x, y);
     return;
   }
   for (TlSparseIndex i = 0; i < st->n; ++i) y[i] = st->m[i] * x[i];
@@ -185,6 +185,7 @@ void tl_stepper_destroy(TlStepper **stp)
   tl_newton_destroy(&st->newton);
   tl_sparse_destroy(&st->J);
   tl_sparse_destroy(&st->M);
+  tl_sparse_destroy(&st->M_apply);
   double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
                      &st->f_ext, &st->f_ext0, &st->f_hook, &st->f_int, &st->work};
   for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k) tl_free(vecs[k]);
@@ -215,6 +216,7 @@ TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
   if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops == &tl_stepper_newmark_ops) {
     TL_CHECK(tl_sparse_duplicate(st->J, &st->M));
     TL_CHECK(st->sys->ops->consistent_mass(st->sys, 1.0, st->M));
+    TL_CHECK(tl_sparse_compress(st->M, &st->M_apply));
   }
   TlNewtonOptions no;
   tl_newton_options_default(&no);

@@ -89,6 +89,7 @@ struct TlStepper {
   double *m;                     /* lumped mass */
   double *f_ext, *f_ext0, *f_hook, *f_int, *work;
   TlSparse *M;                   /* consistent mass, NULL when lumped */
+  TlSparse *M_apply;             /* M without its structural zeros, for products */
   TlSparse *J;                   /* Jacobian (implicit) */
   TlNewton *newton;              /* implicit */
   double W_ext;
