@@ -32,7 +32,7 @@
 
 typedef struct {
   TlCantileverParams beam;
-  double d, rho_g, kn, g, vy, x0, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
+  double d, rho_g, kn, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
   int stepper, one_way, keep_factors, scheme, average_forces, predictor;
@@ -73,6 +73,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-g", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-vy", 0.1, -1e3, 1e3, "m/s", "initial particle velocity along y", &c->vy), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-x0", 0.2, 0.0, 1e3, "m", "particles at x = +-x0", &c->x0), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-perturb", 0.0, -1.0, 1.0, "m",
+                                       "shift of the second particle along x (seeds a symmetry break)", &c->perturb), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-y0", 0.2, 0.0, 1e6, "m", "particles' initial y", &c->y0), done);
   /* -cg_width needs d first */
   TlScale scale = {"d", c->d, "particle diameter"};
@@ -243,7 +245,7 @@ static TlStatus run(int argc, char **argv)
   size_t idx;
   int64_t id[2];
   for (int k = 0; k < 2; k++) {
-    TL_CHECK_GOTO(s, tl_dem_add_particle(dem, tl_v3(k ? -c.x0 : c.x0, c.y0, z0), tl_v3(0, c.vy, 0), r, sp, &idx), done);
+    TL_CHECK_GOTO(s, tl_dem_add_particle(dem, tl_v3(k ? -c.x0 + c.perturb : c.x0, c.y0, z0), tl_v3(0, c.vy, 0), r, sp, &idx), done);
     id[k] = tl_dem_particles(dem)->id[idx];
   }
   tl_dem_set_gravity(dem, tl_v3(0, 0, -c.g));
