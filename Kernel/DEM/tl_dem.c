@@ -76,6 +76,17 @@ struct TlDem {
   double elastic_pp, contact_work_pp, work_ext;
   double *scratch;
   size_t scratch_cap;
+  /* weights of the equations (volume coupling), all unused without a field */
+  TlDemWeightFn weight_fn;
+  void *weight_ctx;
+  double *cw_list, *cw_bonds; /* per-contact weights of the last evaluation */
+  size_t cw_list_cap, cw_bonds_cap;
+  TlVec3 *cpoint;             /* contact points, scratch */
+  size_t cpoint_cap;
+  double *im_w, *ii_w;        /* 1 / (w m), 1 / (w I): the kicks of a weighted world */
+  size_t im_w_cap, ii_w_cap;
+  TlDemStepHook hook;
+  void *hook_ctx;
 };
 
 TlStatus tl_dem_create(TlDem **out)
@@ -130,6 +141,11 @@ void tl_dem_destroy(TlDem **dp)
   }
   tl_free(&d->presc);
   tl_free(&d->scratch);
+  tl_free(&d->cw_list);
+  tl_free(&d->cw_bonds);
+  tl_free(&d->cpoint);
+  tl_free(&d->im_w);
+  tl_free(&d->ii_w);
   tl_free(dp);
 }
 
@@ -147,6 +163,18 @@ void tl_dem_set_threads(TlDem *d, int threads)
   if (threads > 0) omp_set_num_threads(threads); /* walls follow the OpenMP default */
   if (d->setup_done) d->nt = threads > 0 ? threads : omp_get_max_threads();
 }
+void tl_dem_set_weight_field(TlDem *d, TlDemWeightFn fn, void *ctx)
+{
+  d->weight_fn = fn;
+  d->weight_ctx = ctx;
+}
+
+void tl_dem_set_step_hook(TlDem *d, TlDemStepHook hook, void *ctx)
+{
+  d->hook = hook;
+  d->hook_ctx = ctx;
+}
+
 void tl_dem_skip_fixed_pairs(TlDem *d, int skip) { d->skip_fixed = skip; d->need_rebuild = 1; }
 void tl_dem_track_energy(TlDem *d, int on) { d->track_energy = on; }
 void tl_dem_track_orientation(TlDem *d, int on) { d->orientation = on; }
@@ -555,6 +583,7 @@ typedef struct {
   const TlVec3 *x, *v, *w;
   const double *radius, *inv_mass, *mass;
   const double (*xr)[4];
+  const double *cw; /* per-contact weights, NULL: unweighted */
   TlVec3 *F, *T;
   double len[3], half[3];
   int bonded, want_energy;
@@ -588,7 +617,7 @@ static inline void release_contact(TlContactList *L, size_t k, size_t hd)
  * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
  * and on rotation, so the common cases carry no dead branches. */
 static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chunk ch, const int ORTHO,
-                                                                const int GENERAL, const int ROT)
+                                                                const int GENERAL, const int ROT, const int WEIGHTED)
 {
   TlDem *d = c->d;
   TlContactList *L = c->L;
@@ -653,21 +682,27 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chu
     const size_t k = idx[q];
     const uint32_t i = L->i[k], j = L->j[k];
     const TlVec3 f = r[q].force;
+    /* a weighted contact (seeds/001 Eq. 24) acts with w_ab f on both
+     * particles and stores w_ab of its energy; its history is the law's */
+    const double wk = WEIGHTED ? c->cw[k] : 1.0;
     if (c->want_energy) {
       /* work of the contact over the step by the trapezoidal rule on the
        * relative displacement dt vrel (vrel is the half-step velocity), so
        * the dissipation booked is second-order accurate */
       const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
-      c->el += r[q].elastic_energy;
-      c->pw += 0.5 * (tl_v3_dot(tl_v3_add(fo, f), g[q].vrel)) + tl_v3_dot(r[q].couple, g[q].spin_rel);
+      double e = r[q].elastic_energy, p = 0.5 * (tl_v3_dot(tl_v3_add(fo, f), g[q].vrel)) + tl_v3_dot(r[q].couple, g[q].spin_rel);
+      c->el += WEIGHTED ? wk * e : e;
+      c->pw += WEIGHTED ? wk * p : p;
     }
     L->force[k] = f;
     L->touching[k] = 1;
-    F[i] = tl_v3_add(F[i], f);
-    F[j] = tl_v3_sub(F[j], f);
+    const TlVec3 fs = WEIGHTED ? tl_v3_scale(f, wk) : f;
+    const TlVec3 cs = WEIGHTED ? tl_v3_scale(r[q].couple, wk) : r[q].couple;
+    F[i] = tl_v3_add(F[i], fs);
+    F[j] = tl_v3_sub(F[j], fs);
     if (ROT) {
-      T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, f), r[q].couple));
-      T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, f), r[q].couple));
+      T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, fs), cs));
+      T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, fs), cs));
     }
   }
   c->touching += m;
@@ -677,7 +712,8 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chu
  * evaluated in place: no staging of the geometry, forces scattered at once.
  * Same arithmetic as the batch ops (tl_contact_kernels.h). */
 static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *c, Chunk ch, const int ORTHO,
-                                                                      const int GENERAL, const int ROT, const int LAW)
+                                                                      const int GENERAL, const int ROT, const int LAW,
+                                                                      const int WEIGHTED)
 {
   TlDem *d = c->d;
   TlContactList *L = c->L;
@@ -745,13 +781,19 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
       }
       continue;
     }
+    const double wk = WEIGHTED ? c->cw[k] : 1.0;
     if (want) {
       const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
-      c->el += e;
-      c->pw += 0.5 * tl_v3_dot(tl_v3_add(fo, f), vr) + tl_v3_dot(cpl, spin_rel);
+      const double p = 0.5 * tl_v3_dot(tl_v3_add(fo, f), vr) + tl_v3_dot(cpl, spin_rel);
+      c->el += WEIGHTED ? wk * e : e;
+      c->pw += WEIGHTED ? wk * p : p;
     }
     L->force[k] = f;
     L->touching[k] = 1;
+    if (WEIGHTED) {
+      f = tl_v3_scale(f, wk);
+      cpl = tl_v3_scale(cpl, wk);
+    }
     F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
     F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
     if (ROT) {
@@ -787,6 +829,9 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
 #define TL_HOT_CLONES
 #endif
 
+/* The contact loop of a range of chunks, unweighted: the plain world's
+ * loop, compiled on its own so that the weighted variants below do not
+ * touch its code. */
 TL_HOT_CLONES static void process_range(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
 {
   const TlDomain *dom = &c->d->domain;
@@ -799,16 +844,36 @@ TL_HOT_CLONES static void process_range(ChunkCtx *c, const Chunk *chunks, size_t
   for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;
   const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;
   if (uniform && ops == &tl_contact_linear_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1);
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, 0);
   } else if (uniform && ops == &tl_contact_hertz_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2);
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, 0);
   } else {
-    TL_DISPATCH_CHUNKS(process_chunk);
+    TL_DISPATCH_CHUNKS(process_chunk, , 0);
+  }
+}
+
+/* The same with per-contact weights (a volume coupling's overlap), compiled
+ * for the same processors (the same arithmetic as the plain loop). */
+TL_HOT_CLONES static void process_range_weighted(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
+{
+  const TlDomain *dom = &c->d->domain;
+  const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);
+  const int ortho = dom->any_periodic && !general;
+  const int rot = c->w != NULL;
+  int uniform = 1;
+  for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;
+  const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;
+  if (uniform && ops == &tl_contact_linear_ops) {
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, 1);
+  } else if (uniform && ops == &tl_contact_hertz_ops) {
+    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, 1);
+  } else {
+    TL_DISPATCH_CHUNKS(process_chunk, , 1);
   }
 }
 
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
-                              int want_energy, Accum *acc)
+                              int want_energy, const double *cw, Accum *acc)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
@@ -830,6 +895,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     c.w = rot ? P->w : NULL;
     c.radius = P->radius;
     c.xr = (const double(*)[4])d->xr;
+    c.cw = cw;
     c.inv_mass = P->inv_mass;
     c.mass = P->mass;
     c.F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
@@ -843,7 +909,8 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     c.hd = L->history_doubles;
     /* static contiguous ranges: each thread walks its own part of the list */
     size_t lo = n_chunks * (size_t)tid / (size_t)nt, hi = n_chunks * (size_t)(tid + 1) / (size_t)nt;
-    process_range(&c, chunks, lo, hi);
+    if (cw) process_range_weighted(&c, chunks, lo, hi);
+    else process_range(&c, chunks, lo, hi);
     el += c.el;
     pw += c.pw;
     touching += c.touching;
@@ -856,6 +923,65 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   acc->elastic += el;
   acc->power += pw;
   acc->touching += touching;
+  return TL_OK;
+}
+
+/* 1 / (w m) and 1 / (w I) from the particle weights (also after particles
+ * came or went between evaluations; capacity kept, so the arrays stay put
+ * within a step). */
+static TlStatus weighted_inverses(TlDem *d)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  TL_CHECK(tl_particles_enable_weights(P));
+  TL_CHECK(tl_array_reserve(&d->im_w, &d->im_w_cap, P->capacity ? P->capacity : 1, sizeof *d->im_w));
+  for (size_t i = 0; i < n; ++i) d->im_w[i] = P->inv_mass[i] / P->weight[i];
+  if (P->inv_inertia) {
+    TL_CHECK(tl_array_reserve(&d->ii_w, &d->ii_w_cap, P->capacity ? P->capacity : 1, sizeof *d->ii_w));
+    for (size_t i = 0; i < n; ++i) d->ii_w[i] = P->inv_inertia[i] / P->weight[i];
+  }
+  return TL_OK;
+}
+
+/* Weights at the particle centres (seeds/001 Eq. 25) and 1 / (w m) for
+ * the kicks. */
+static TlStatus particle_weights(TlDem *d)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  TL_CHECK(tl_particles_enable_weights(P));
+  TL_CHECK(d->weight_fn(d->weight_ctx, n, P->x, P->weight));
+  for (size_t i = 0; i < n; ++i) {
+    double w = P->weight[i];
+    if (!(w > 0.0) || !isfinite(w))
+      TL_ERROR(TL_ERR_NUMERIC, "step %ld: particle id %lld at (%g, %g, %g) has weight %g; a weighted particle "
+               "needs 0 < w (it has left the particle side of the overlap)", d->steps, (long long)P->id[i],
+               P->x[i].x, P->x[i].y, P->x[i].z, w);
+  }
+  return weighted_inverses(d);
+}
+
+/* Weights of the contacts of a list at their contact points (seeds/001
+ * Eq. 24): x_i + n (r_i - delta/2), on the line of centres. */
+static TlStatus contact_weights(TlDem *d, const TlContactList *L, double **cw, size_t *cap)
+{
+  const TlParticles *P = d->P;
+  const size_t n = L->n;
+  TL_CHECK(tl_array_reserve(cw, cap, n ? n : 1, sizeof **cw));
+  TL_CHECK(tl_array_reserve(&d->cpoint, &d->cpoint_cap, n ? n : 1, sizeof *d->cpoint));
+  for (size_t k = 0; k < n; ++k) {
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 b = d->domain.any_periodic ? tl_domain_branch(&d->domain, P->x[i], P->x[j]) : tl_v3_sub(P->x[j], P->x[i]);
+    double dist = tl_v3_norm(b), ri = P->radius[i];
+    double li = ri - 0.5 * (ri + P->radius[j] - dist);
+    d->cpoint[k] = dist > 0.0 ? tl_v3_axpy(P->x[i], li / dist, b) : P->x[i];
+  }
+  TL_CHECK(d->weight_fn(d->weight_ctx, n, d->cpoint, *cw));
+  for (size_t k = 0; k < n; ++k)
+    if (!((*cw)[k] >= 0.0) || !isfinite((*cw)[k]))
+      TL_ERROR(TL_ERR_NUMERIC, "step %ld: contact of particles id %lld and id %lld at (%g, %g, %g) has weight %g; "
+               "weights must be finite and >= 0", d->steps, (long long)P->id[L->i[k]], (long long)P->id[L->j[k]],
+               d->cpoint[k].x, d->cpoint[k].y, d->cpoint[k].z, (*cw)[k]);
   return TL_OK;
 }
 
@@ -883,6 +1009,17 @@ static TlStatus compute_forces(TlDem *d)
   }
   if (P->f_ext)
     for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
+  /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
+  const int weighted = d->weight_fn != NULL;
+  if (weighted) {
+    if (d->n_walls)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "a weighted world (tl_dem_set_weight_field) with %zu walls: wall contacts are not "
+               "weighted; remove the walls or the weight field", d->n_walls);
+    TL_CHECK(particle_weights(d));
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(P->f[i], P->weight[i]);
+  }
+  if (P->f_coupling)
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_coupling[i]);
   if (rot) memset(P->torque, 0, n * sizeof *P->torque);
   /* threads only pay for themselves on large contact lists */
   d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
@@ -905,9 +1042,15 @@ static TlStatus compute_forces(TlDem *d)
       }
   }
   Accum acc = {0, 0, 0};
-  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, &acc));
-  if (d->bonds.n && d->bonds.n != (size_t)-1)
-    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, &acc));
+  const int has_bonds = d->bonds.n && d->bonds.n != (size_t)-1;
+  if (weighted) {
+    TL_CHECK(contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
+    if (has_bonds) TL_CHECK(contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
+  }
+  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, weighted ? d->cw_list : NULL, &acc));
+  if (has_bonds)
+    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, weighted ? d->cw_bonds : NULL,
+                           &acc));
   if (d->nt_now > 1) {
     const int nt = d->nt_now;
 #pragma omp parallel for num_threads(nt) schedule(static)
@@ -1035,7 +1178,8 @@ static TlStatus prescribe(TlDem *d, double t)
       size_t i = p->idx[k];
       if (d->track_energy) {
         TlVec3 dx = tl_v3_sub(p->xs[k], P->x[i]);
-        d->work_ext -= tl_v3_dot(P->f[i], dx) - tl_v3_dot(tl_v3_scale(d->gravity, P->mass[i]), dx);
+        double mg = P->mass[i] * (d->weight_fn && P->weight ? P->weight[i] : 1.0);
+        d->work_ext -= tl_v3_dot(P->f[i], dx) - tl_v3_dot(tl_v3_scale(d->gravity, mg), dx);
       }
       P->x[i] = p->xs[k];
       P->v[i] = p->vs[k];
@@ -1069,7 +1213,10 @@ static TlStatus one_step(TlDem *d)
   const int rot = P->w != NULL;
   TlVec3 *restrict x = P->x, *restrict v = P->v;
   const TlVec3 *restrict f = P->f;
-  const double *restrict im = P->inv_mass;
+  /* a weighted world kicks with 1 / (w m) and 1 / (w I), refreshed by
+   * every force evaluation in place (the same arrays all step long) */
+  if (d->weight_fn) TL_CHECK(weighted_inverses(d));
+  const double *restrict im = d->weight_fn ? d->im_w : P->inv_mass;
   const uint8_t *restrict motion = P->motion;
   /* first half kick and drift; the largest step and the largest distance
    * from the build positions are tracked in the same pass */
@@ -1079,11 +1226,14 @@ static TlStatus one_step(TlDem *d)
   const TlVec3 o = d->domain.origin;
   double v2max = 0.0, disp2max = 0.0;
   const TlVec3 *restrict xb = d->x_build;
-  if (d->track_energy && P->f_ext)
+  if (d->track_energy && (P->f_ext || P->f_coupling))
     for (size_t i = 0; i < n; ++i)
       if (motion[i] == TL_MOTION_FREE) {
         TlVec3 vv = tl_v3_axpy(v[i], h * im[i], f[i]);
-        d->work_ext += dt * tl_v3_dot(P->f_ext[i], vv);
+        TlVec3 fe = tl_v3(0, 0, 0);
+        if (P->f_ext) fe = d->weight_fn ? tl_v3_scale(P->f_ext[i], P->weight[i]) : P->f_ext[i];
+        if (P->f_coupling) fe = tl_v3_add(fe, P->f_coupling[i]);
+        d->work_ext += dt * tl_v3_dot(fe, vv);
       }
   const int nt = n >= 8192 ? d->nt : 1;
 #pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(max : v2max, disp2max)
@@ -1109,7 +1259,7 @@ static TlStatus one_step(TlDem *d)
   if (rot) {
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
-    const double *restrict ii = P->inv_inertia;
+    const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
     const int orient = d->orientation;
 #pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
     for (size_t i = 0; i < n; ++i) {
@@ -1132,6 +1282,7 @@ static TlStatus one_step(TlDem *d)
   d->t += dt;
   TL_CHECK(prescribe(d, d->t));
   if (needs_rebuild(d)) TL_CHECK(rebuild(d));
+  if (d->hook) TL_CHECK(d->hook(d->hook_ctx, d));
   TL_CHECK(compute_forces(d));
   /* second half kick; a NaN anywhere poisons the sum and is then located */
   double sum = 0.0;
@@ -1145,7 +1296,7 @@ static TlStatus one_step(TlDem *d)
   if (rot) {
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
-    const double *restrict ii = P->inv_inertia;
+    const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
 #pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
     for (size_t i = 0; i < n; ++i) {
       const double hi = h * ii[i];
@@ -1222,14 +1373,15 @@ TlStatus tl_dem_energy(TlDem *d, TlDemEnergy *e)
   memset(e, 0, sizeof *e);
   for (size_t i = 0; i < P->n; ++i) {
     if (P->motion[i] != TL_MOTION_FREE) continue;
-    double m = P->mass[i];
+    /* a weighted world: its energies are the weighted ones (Eq. 25) */
+    double m = P->mass[i] * (d->weight_fn ? P->weight[i] : 1.0);
     TlVec3 v = P->v[i];
     e->kinetic_translational += 0.5 * m * tl_v3_norm2(v);
     e->gravitational -= m * tl_v3_dot(d->gravity, P->x[i]);
     e->momentum = tl_v3_axpy(e->momentum, m, v);
     TlVec3 L = tl_v3_scale(tl_v3_cross(P->x[i], v), m);
     if (P->w) {
-      double I = 1.0 / P->inv_inertia[i];
+      double I = (d->weight_fn ? P->weight[i] : 1.0) / P->inv_inertia[i];
       e->kinetic_rotational += 0.5 * I * tl_v3_norm2(P->w[i]);
       L = tl_v3_axpy(L, I, P->w[i]);
     }
@@ -1492,6 +1644,9 @@ static TlStatus dem_save(const void *object, TlCheckpointWriter *w, const char *
     TL_CHECK(tl_checkpoint_write_doubles(w, sub, "inv_inertia", n, P->inv_inertia));
   }
   if (P->f_ext) TL_CHECK(tl_checkpoint_write_doubles(w, sub, "f_ext", 3 * n, (const double *)P->f_ext));
+  if (P->f_coupling)
+    TL_CHECK(tl_checkpoint_write_doubles(w, sub, "f_coupling", 3 * n, (const double *)P->f_coupling));
+  if (P->weight) TL_CHECK(tl_checkpoint_write_doubles(w, sub, "weight", n, P->weight));
   /* neighbour list as it stands, and its build state */
   snprintf(sub, sizeof sub, "%s/contacts", group ? group : "");
   TL_CHECK(save_list(&d->list, w, sub));
@@ -1561,6 +1716,8 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
   if (P->q && !tl_checkpoint_has(r, sub, "q")) TL_ERROR(TL_ERR_ARG, "%s: no rotational state saved; this scene rotates", path);
   if (P->f_ext && !tl_checkpoint_has(r, sub, "f_ext")) TL_ERROR(TL_ERR_ARG, "%s: no external forces saved; this scene has them", path);
   if (!P->f_ext && tl_checkpoint_has(r, sub, "f_ext")) TL_CHECK(tl_particles_enable_external_force(P));
+  if (tl_checkpoint_has(r, sub, "f_coupling")) TL_CHECK(tl_particles_enable_coupling_force(P));
+  if (tl_checkpoint_has(r, sub, "weight")) TL_CHECK(tl_particles_enable_weights(P));
   TL_CHECK(tl_particles_reserve(P, n));
   TL_CHECK(tl_checkpoint_read_int64(r, sub, "next_id", &P->next_id));
   TL_CHECK(tl_checkpoint_read_doubles(r, sub, "x", 3 * n, (double *)P->x));
@@ -1579,6 +1736,10 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
     TL_CHECK(tl_checkpoint_read_doubles(r, sub, "inv_inertia", n, P->inv_inertia));
   }
   if (P->f_ext) TL_CHECK(tl_checkpoint_read_doubles(r, sub, "f_ext", 3 * n, (double *)P->f_ext));
+  if (P->f_coupling && tl_checkpoint_has(r, sub, "f_coupling"))
+    TL_CHECK(tl_checkpoint_read_doubles(r, sub, "f_coupling", 3 * n, (double *)P->f_coupling));
+  if (P->weight && tl_checkpoint_has(r, sub, "weight"))
+    TL_CHECK(tl_checkpoint_read_doubles(r, sub, "weight", n, P->weight));
   for (size_t i = 0; i < n; ++i)
     if (P->species[i] < 0 || (size_t)P->species[i] >= P->n_species)
       TL_ERROR(TL_ERR_ARG, "%s: particle %zu has species %d; this scene has %zu", path, i, P->species[i], P->n_species);

@@ -108,6 +108,29 @@ TlWall *tl_dem_wall(TlDem *dem, size_t k);
 /* A permanent bond between particles with ids a and b (its contact is kept
  * and evaluated whatever the distance; the law decides about tension). */
 TlStatus tl_dem_add_bond(TlDem *dem, int64_t id_a, int64_t id_b);
+/* Weighted equations (seeds/001 Eqs. 24-25, the particle side of a volume
+ * coupling):  w_a m_a dv_a/dt = sum_b w_ab f_ab + w_a (m_a g + f_ext,a)
+ * + f^C_a, with the spins likewise (w_a I_a, w_ab on the contact's torque).
+ * `fn` evaluates the weight field at n points; the world calls it at every
+ * force evaluation, once with the particle centres (into P->weight) and
+ * once per contact list with the contact points x_i + n (r_i - delta/2)
+ * (w_ab: Eq. 24 evaluated where the contact acts).  Particle weights must
+ * be > 0, contact weights >= 0 (the error names the particle or pair).  The
+ * contact laws see the plain kinematics and keep the plain force and
+ * history; the weight scales what the contact gives the two particles and
+ * the energy it stores and dissipates; tl_dem_energy then reports the
+ * weighted energies and momenta.  Walls are not weighted: a weighted world
+ * with walls is refused.  NULL fn: unweighted (the default; no cost).
+ * f^C_a is P->f_coupling (tl_particles_enable_coupling_force), added as it
+ * is; a coupling fills it in the step hook. */
+typedef TlStatus (*TlDemWeightFn)(void *ctx, size_t n, const TlVec3 *x, double *w);
+void tl_dem_set_weight_field(TlDem *dem, TlDemWeightFn fn, void *ctx);
+/* Called in every step after the drift (positions at t + dt, velocities
+ * at the half step, the neighbour list rebuilt if due, particles possibly
+ * renumbered) and before the forces at t + dt are evaluated: where a
+ * coupling advances its other model and sets P->f_coupling.  NULL: none. */
+typedef TlStatus (*TlDemStepHook)(void *ctx, TlDem *dem);
+void tl_dem_set_step_hook(TlDem *dem, TlDemStepHook hook, void *ctx);
 /* Pairs where both particles are fixed are never evaluated (default on). */
 void tl_dem_skip_fixed_pairs(TlDem *dem, int skip);
 

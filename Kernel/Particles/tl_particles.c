@@ -19,7 +19,7 @@ void tl_particles_destroy(TlParticles **pp)
   tl_free(&p->radius); tl_free(&p->mass); tl_free(&p->inv_mass);
   tl_free(&p->species); tl_free(&p->motion); tl_free(&p->id);
   tl_free(&p->q); tl_free(&p->w); tl_free(&p->torque); tl_free(&p->inv_inertia);
-  tl_free(&p->f_ext); tl_free(&p->species_table);
+  tl_free(&p->f_ext); tl_free(&p->f_coupling); tl_free(&p->weight); tl_free(&p->species_table);
   tl_free(pp);
 }
 
@@ -79,6 +79,8 @@ static TlStatus grow(TlParticles *p, size_t need)
     TL_CHECK(tl_realloc(&p->inv_inertia, cap, sizeof *p->inv_inertia));
   }
   if (p->f_ext) TL_CHECK(tl_realloc(&p->f_ext, cap, sizeof *p->f_ext));
+  if (p->f_coupling) TL_CHECK(tl_realloc(&p->f_coupling, cap, sizeof *p->f_coupling));
+  if (p->weight) TL_CHECK(tl_realloc(&p->weight, cap, sizeof *p->weight));
   p->capacity = cap;
   return TL_OK;
 }
@@ -115,6 +117,8 @@ TlStatus tl_particles_add(TlParticles *p, TlVec3 x, TlVec3 v, double radius, int
     p->inv_inertia[k] = sphere_inv_inertia(p->mass[k], radius);
   }
   if (p->f_ext) p->f_ext[k] = tl_v3(0, 0, 0);
+  if (p->f_coupling) p->f_coupling[k] = tl_v3(0, 0, 0);
+  if (p->weight) p->weight[k] = 1.0;
   if (index) *index = k;
   return TL_OK;
 }
@@ -135,7 +139,8 @@ TlStatus tl_particles_remove(TlParticles *p, size_t index)
     MOVE_FIELD(p->motion, index, last); MOVE_FIELD(p->id, index, last);
     MOVE_FIELD(p->q, index, last); MOVE_FIELD(p->w, index, last);
     MOVE_FIELD(p->torque, index, last); MOVE_FIELD(p->inv_inertia, index, last);
-    MOVE_FIELD(p->f_ext, index, last);
+    MOVE_FIELD(p->f_ext, index, last); MOVE_FIELD(p->f_coupling, index, last);
+    MOVE_FIELD(p->weight, index, last);
   }
   p->n--;
   return TL_OK;
@@ -177,6 +182,21 @@ TlStatus tl_particles_enable_external_force(TlParticles *p)
   return TL_OK;
 }
 
+TlStatus tl_particles_enable_coupling_force(TlParticles *p)
+{
+  if (p->f_coupling) return TL_OK;
+  TL_CHECK(tl_calloc(&p->f_coupling, p->capacity ? p->capacity : 1, sizeof *p->f_coupling));
+  return TL_OK;
+}
+
+TlStatus tl_particles_enable_weights(TlParticles *p)
+{
+  if (p->weight) return TL_OK;
+  TL_CHECK(tl_calloc(&p->weight, p->capacity ? p->capacity : 1, sizeof *p->weight));
+  for (size_t k = 0; k < p->n; ++k) p->weight[k] = 1.0;
+  return TL_OK;
+}
+
 /* Gathers one array through the permutation using a scratch buffer. */
 static TlStatus permute_array(void *arr, size_t elem, size_t n, const size_t *perm, void *scratch)
 {
@@ -205,6 +225,8 @@ TlStatus tl_particles_permute(TlParticles *p, const size_t *perm)
   permute_array(p->torque, sizeof *p->torque, p->n, perm, scratch);
   permute_array(p->inv_inertia, sizeof *p->inv_inertia, p->n, perm, scratch);
   permute_array(p->f_ext, sizeof *p->f_ext, p->n, perm, scratch);
+  permute_array(p->f_coupling, sizeof *p->f_coupling, p->n, perm, scratch);
+  permute_array(p->weight, sizeof *p->weight, p->n, perm, scratch);
   tl_free(&scratch);
   return TL_OK;
 }

@@ -71,6 +71,15 @@ typedef struct {
   /* optional per-particle external force (besides gravity), NULL until
    * tl_particles_enable_external_force() */
   TlVec3 *f_ext;
+  /* optional per-particle coupling force, added to the force as it is
+   * (never weighted), NULL until tl_particles_enable_coupling_force(): the
+   * f^C_a of a volume coupling (seeds/001 Eq. 32) */
+  TlVec3 *f_coupling;
+  /* optional weight w_a of each particle's equation (seeds/001 Eq. 25: the
+   * Arlequin partition of unity; 1 outside an overlap), NULL until
+   * tl_particles_enable_weights() (unweighted); the world evaluates it
+   * (tl_dem_set_weight_field) */
+  double *weight;
   /* species table */
   TlSpecies *species_table;
   size_t n_species, species_capacity;
@@ -105,6 +114,9 @@ TlStatus tl_particles_set_motion(TlParticles *p, size_t index, int motion);
 /* Allocates the rotational arrays (identity orientation, zero spin). */
 TlStatus tl_particles_enable_rotation(TlParticles *p);
 TlStatus tl_particles_enable_external_force(TlParticles *p);
+/* Allocates f_coupling (zero) / weight (one); no-ops when present. */
+TlStatus tl_particles_enable_coupling_force(TlParticles *p);
+TlStatus tl_particles_enable_weights(TlParticles *p);
 /* Reserves room for n particles so that insertion does not reallocate. */
 TlStatus tl_particles_reserve(TlParticles *p, size_t n);
 /* Applies a permutation: the particle at old index perm[k] moves to index k. */
