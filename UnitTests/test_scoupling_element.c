@@ -11,7 +11,8 @@
  *     (c = 0) or of every face with a quadrature point within c of a
  *     contact (c > 0: the contacted faces' owners and their neighbours);
  *   - accumulating twice with scale 1/2 equals once with scale 1;
- *   - destroying the coupling restores the wrapped kernel. */
+ *   - destroying the coupling restores the wrapped kernel;
+ *   - two couplings on one block chain their wrappers. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -192,6 +193,92 @@ static void test_element(const TlElementType *type, double width)
   tl_mesh_destroy(&mesh);
 }
 
+/* Two couplings on the same block (top and bottom faces): the wrappers
+ * chain, the residual carries both loads, and destroying them in the
+ * reverse order of creation restores the solid's own kernel. */
+static void test_two_couplings(void)
+{
+  TlMesh *mesh = NULL;
+  const size_t nc[3] = {2, 6, 2};
+  const double lo[3] = {-0.4, 0.0, -0.4}, hi[3] = {0.4, 2.4, 0.4};
+  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, nc, lo, hi, &mesh), TL_OK);
+  TlMaterial *mat = NULL;
+  TL_TEST_STATUS(tl_material_create_hooke(1e8, 0.2, 1309.0, &mat), TL_OK);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_set_material(solid, NULL, mat), TL_OK);
+  TL_TEST_STATUS(tl_solid_fix(solid, "ymin", 7), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  const TlSolidBlockKernel own = tl_solid_block_kernel(solid, 0);
+  const char *sets[2] = {"zmax", "zmin"};
+  TlSCoupling *sc[2] = {NULL, NULL};
+  const double r = 0.1;
+  TlDem *dem = NULL;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  int sp;
+  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, &sp), TL_OK);
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 2e7;
+  TlContactLaw *law = NULL;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  for (int k = 0; k < 2; ++k) {
+    const TlFaceSet *set = NULL;
+    TL_TEST_STATUS(tl_mesh_find_face_set(mesh, sets[k], &set), TL_OK);
+    if (!set) return;
+    TlSCouplingOptions so;
+    tl_scoupling_options_default(&so);
+    so.width = 0.3 * k;
+    TL_TEST_STATUS(tl_scoupling_create(solid, set->n, set->faces, &so, &sc[k]), TL_OK);
+    if (!sc[k]) return;
+    TL_TEST_STATUS(tl_scoupling_add_to_dem(sc[k], dem, 0), TL_OK);
+  }
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.1, 1.1, 0.4 + r - 1e-3), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(-0.2, 1.7, -0.4 - r + 2e-3), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-5, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_STATUS(tl_dem_compute_forces(dem), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  const size_t nd = (size_t)sys->ndof, nn = 3 * mesh->n_nodes;
+  double *u = calloc(nd, sizeof *u), *f0 = calloc(nd, sizeof *f0), *f1 = calloc(nd, sizeof *f1);
+  double *F_nodes = calloc(nn, sizeof *F_nodes), *F = calloc(nd, sizeof *F);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
+  size_t contacts = 0;
+  for (int k = 0; k < 2; ++k) {
+    TL_TEST_STATUS(tl_scoupling_accumulate_forces(sc[k], 1.0, NULL), TL_OK);
+    tl_scoupling_assemble_forces(sc[k], F_nodes);
+    contacts += tl_scoupling_n_contacts(sc[k]) > 0;
+  }
+  tl_solid_nodes_to_dofs(solid, F_nodes, F);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  double diff = 0.0;
+  for (size_t i = 0; i < nd; ++i) diff = fmax(diff, fabs(f1[i] - f0[i] + F[i]));
+  printf("two couplings on one block: residual change vs -(F_top + F_bottom) %.3g (|F| %.3g N)\n", diff, max_abs(F, nd));
+  TL_TEST_ASSERT(contacts == 2 && max_abs(F, nd) > 100.0, "both couplings are loaded (%zu)", contacts);
+  TL_TEST_ASSERT(diff <= 1e-14 * max_abs(F, nd), "two wrappers: residual off by %g", diff);
+  tl_dem_destroy(&dem);
+  tl_scoupling_destroy(&sc[1]);
+  tl_scoupling_destroy(&sc[0]);
+  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "the solid's own kernel after both couplings");
+  /* Destroyed in the creation order: the first cannot leave the chain and
+   * stays as a pass-through (with a warning); the residual is the own one. */
+  for (int k = 0; k < 2; ++k) {
+    const TlFaceSet *set = NULL;
+    TL_TEST_STATUS(tl_mesh_find_face_set(mesh, sets[k], &set), TL_OK);
+    if (set) TL_TEST_STATUS(tl_scoupling_create(solid, set->n, set->faces, NULL, &sc[k]), TL_OK);
+  }
+  tl_scoupling_destroy(&sc[0]);
+  tl_scoupling_destroy(&sc[1]);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  TL_TEST_ASSERT(memcmp(f1, f0, nd * sizeof *f0) == 0 && tl_solid_block_kernel(solid, 0).fn != own.fn,
+                 "destroyed out of order: a pass-through wrapper, the own residual bit for bit");
+  free(u), free(f0), free(f1), free(F_nodes), free(F);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -200,5 +287,6 @@ int main(void)
     test_element(types[k], 0.0);
     test_element(types[k], 0.4);
   }
+  test_two_couplings();
   return tl_test_report();
 }
