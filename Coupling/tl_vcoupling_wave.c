@@ -1,109 +1,248 @@
-/* The wave-propagation scene of seeds/001 §6.2 with the volume coupling. */
+/* The wave-propagation scene of seeds/001 §6.2 with the volume coupling,
+ * on the library's models: TlDem (bonded lattice, weighted equations), the
+ * finite-strain TlSolid with the VCoupling element type, and a library
+ * stepper for the solid. */
 #include "tl_vcoupling_wave.h"
 
 #include <math.h>
 #include <string.h>
 
+#include "tl_dem.h"
 #include "tl_element.h"
 #include "tl_math.h"
 #include "tl_memory.h"
-#include "tl_progress.h"
-#include "tl_timer.h"
 #include "tl_mesh.h"
+#include "tl_progress.h"
+#include "tl_solid.h"
+#include "tl_stepper.h"
+#include "tl_timer.h"
 #include "tl_vcoupling.h"
+#include "tl_vcoupling_element.h"
 
 struct TlWave {
   TlWaveParams p;
   double d, m, k, dt, t;
   long step;
-  /* particles: layer j along y, (i, k) across */
-  size_t np, nb;
+  /* particles: layer j along y, (i, k) across; never renumbered */
+  TlDem *dem;
+  TlParticles *P;
+  size_t np;
   int nxp, nyp, nyp_full;
-  double *x, *x0, *v, *f, *w, *du, *mass, *xb, *wb;
-  size_t *ba, *bb;
+  double *x0;        /* initial positions (spring variant), 3 np */
+  double *xp, *mp;   /* positions and masses handed to the coupling */
+  double *dup;       /* the particles' step displacements (or total, spring) */
+  double *ones;      /* unit weights of the full-DEM reference (snapshots) */
+  int64_t *driven_ids;
+  size_t n_driven;
   /* solid */
   TlMesh *mesh;
+  TlMaterial *mat;
+  TlSolid *solid;
+  TlStepper *st;
   size_t nn;
-  double *u, *vn, *an, *fn, *dun, *Mw, *Ke;
+  double *u, *vn;    /* node-space displacement and velocity (3 nn) */
+  double *Mw;        /* weighted lumped mass per node (nn) */
+  double *mdof;      /* lumped mass per dof (scratch) */
+  double *Mv;        /* M v with the stepper's mass (scratch for the state) */
   char *fixed;
   TlVCoupling *vc;
+  TlVCouplingElement *el;
   double eq41, residual, work, spring;
   double vmax_allowed, eps;
   /* snapshots */
-  double *radius;
   int *conn_int;
   /* penalty stability estimate: power-iteration vectors */
   double *pi_xp, *pi_xn, *pi_fp, *pi_fn;
 };
-
-/* Snapshots hand the IO module the scene's 3-per-point arrays as TlVec3. */
-_Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
 
 void tl_wave_params_default(TlWaveParams *p)
 {
   *p = (TlWaveParams){.n = 1, .dx = 0.4, .width = 0.8, .length = 20.0, .dem_end = 12.0, .fem_start = 8.0,
                       .E = 100e6, .nu = 0.0, .rho = 1309.0, .v0 = 0.1, .excitation = TL_WAVE_PULSE,
                       .omega = 1950.0, .cycles = 1, .dt_over_tc = 0.01, .c = 0.0, .kernel = "lucy",
-                      .epsilon = 0.0, .quad_order = 4, .full_dem = 0, .variant = TL_WAVE_PAPER};
+                      .epsilon = 0.0, .quad_order = 4, .full_dem = 0, .variant = TL_WAVE_PAPER,
+                      .fem = "central_difference"};
 }
 
 static TlStatus check_penalty(TlWave *w);
 
 /* The resolution check of Pi (tl_vcoupling_check_resolution). */
-static TlStatus check_resolution(TlWave *w)
+static TlStatus check_resolution(TlWave *w, long step)
 {
   if (w->p.resolution_limit < 0.0) return TL_OK;
   double lim = w->p.resolution_limit > 0.0 ? w->p.resolution_limit : TL_VCOUPLING_BIAS_LIMIT;
-  TL_CHECK(tl_vcoupling_check_resolution(w->vc, w->x, lim, w->step, NULL));
+  TL_CHECK(tl_vcoupling_check_resolution(w->vc, w->xp, lim, step, NULL));
   return TL_OK;
 }
 
 static size_t pid(const TlWave *w, int i, int j, int k) { return ((size_t)j * w->nxp + k) * w->nxp + i; }
 
-/* Weighted stiffness and lumped mass of the small-strain hex8 solid. */
+/* Prescribed velocity of the driven layer (Table 4); pulse: none.  The
+ * position is its exact integral. */
+static double driven_period(const TlWaveParams *p)
+{
+  return 2.0 * TL_PI * (p->excitation == TL_WAVE_CYCLES ? p->cycles : 1) / p->omega;
+}
+
+static TlStatus driven_motion(void *ctx, double t, size_t n, const int64_t *id, const TlVec3 *x0, TlVec3 *x, TlVec3 *v)
+{
+  (void)id;
+  const TlWaveParams *p = ctx;
+  double t0 = driven_period(p), tt = t < t0 ? t : t0;
+  double vy = t <= t0 ? p->v0 * (cos(p->omega * t) - 1.0) : 0.0;
+  double dy = p->v0 * (sin(p->omega * tt) / p->omega - tt);
+  for (size_t k = 0; k < n; ++k) {
+    x[k] = tl_v3(x0[k].x, x0[k].y + dy, x0[k].z);
+    v[k] = tl_v3(0.0, vy, 0.0);
+  }
+  return TL_OK;
+}
+
+/* The weight field of the particle equations: w of the coupling
+ * (interpolated from the nodes inside a coupling element). */
+static TlStatus particle_weight_field(void *ctx, size_t n, const TlVec3 *x, double *wt)
+{
+  TlWave *w = ctx;
+  return tl_vcoupling_point_weights(w->vc, n, (const double *)x, wt);
+}
+
+static void gather_particles(TlWave *w)
+{
+  const TlParticles *P = w->P;
+  for (size_t a = 0; a < w->np; ++a) {
+    w->xp[3 * a] = P->x[a].x;
+    w->xp[3 * a + 1] = P->x[a].y;
+    w->xp[3 * a + 2] = P->x[a].z;
+  }
+}
+
+/* One coupled step, inside the DEM's: the particles have drifted to
+ * t + dt (velocities at the half step); Pi at the new positions, the
+ * solid's step with the coupling force of Eq. 31 (the VCoupling element),
+ * then the particles' share of Eq. 32 as f^C before their forces at
+ * t + dt are completed. */
+static TlStatus coupled_step(void *ctx, TlDem *dem)
+{
+  TlWave *w = ctx;
+  (void)dem;
+  const TlParticles *P = w->P;
+  const double dt = w->dt;
+  gather_particles(w);
+  if (w->p.variant == TL_WAVE_SPRING)
+    for (size_t k = 0; k < 3 * w->np; ++k) w->dup[k] = w->xp[k] - w->x0[k];
+  else
+    for (size_t a = 0; a < w->np; ++a) {
+      w->dup[3 * a] = dt * P->v[a].x;
+      w->dup[3 * a + 1] = dt * P->v[a].y;
+      w->dup[3 * a + 2] = dt * P->v[a].z;
+    }
+  TL_CHECK(tl_vcoupling_update(w->vc, w->u, w->np, w->xp, w->mp));
+  if ((w->step + 1) % 100 == 0) TL_CHECK(check_resolution(w, w->step + 1));
+  TL_CHECK(tl_vcoupling_element_set_step(w->el, w->dup, w->p.variant == TL_WAVE_SPRING ? NULL : w->u));
+  TL_CHECK(tl_stepper_step(w->st, dt));
+  tl_solid_dofs_to_nodes(w->solid, w->st->u, w->u);
+  tl_solid_dofs_to_nodes(w->solid, w->st->v, w->vn);
+  memset(P->f_coupling, 0, w->np * sizeof *P->f_coupling);
+  TlVCouplingDiag dg;
+  TL_CHECK(tl_vcoupling_element_particle_forces(w->el, w->u, (double *)P->f_coupling, &dg));
+  w->eq41 = dg.eq41;
+  w->residual = dg.residual_max;
+  if (w->p.variant == TL_WAVE_SPRING)
+    w->spring = -0.5 * (dg.work_fem + dg.work_dem);
+  else
+    w->work += dg.work_fem + dg.work_dem;
+  return TL_OK;
+}
+
+/* The solid: hex8 bar with the finite-strain Hooke law, the far end
+ * clamped, the coupling block wrapped by the VCoupling element (weights
+ * 1 - w, coupling force), and its stepper. */
 static TlStatus build_solid(TlWave *w)
 {
   const TlWaveParams *p = &w->p;
-  const TlElementBlock *B = &w->mesh->blocks[0];
-  const TlElementType *T = B->type;
-  TlQuadrature q;
-  TL_CHECK(tl_element_quadrature(T, 3, &q));
-  double lam = p->E * p->nu / ((1 + p->nu) * (1 - 2 * p->nu)), mu = p->E / (2 * (1 + p->nu));
-  double N[TL_QUADRATURE_MAX * 8], dN[TL_QUADRATURE_MAX * 8 * 3];
-  T->eval(q.n, &q.xi[0][0], N, dN);
-  for (size_t e = 0; e < B->n_elements; ++e) {
-    double xe[8 * 3], *K = w->Ke + e * 576;
-    tl_mesh_element_coords(w->mesh, 0, e, xe);
-    for (int g = 0; g < q.n; ++g) {
-      double J[3][3], detJ;
-      TL_CHECK(tl_element_jacobian(T, 3, xe, q.xi[g], J, &detJ));
-      TlMat3 Jm, Ji;
-      memcpy(Jm.m, J, sizeof Jm.m);
-      if (!tl_m3_inverse(Jm, &Ji) || !(detJ > 0.0))
-        TL_ERROR(TL_ERR_NUMERIC, "element %zu has det J = %g at Gauss point %d", e, detJ, g);
-      double G[8][3]; /* dN_a/dX_i = sum_r dN_a/dxi_r (J^-1)_ri */
-      for (int a = 0; a < 8; ++a)
-        for (int i = 0; i < 3; ++i) {
-          G[a][i] = 0.0;
-          for (int r = 0; r < 3; ++r) G[a][i] += dN[(g * 8 + a) * 3 + r] * Ji.m[r][i];
-        }
-      double sw = w->vc ? tl_vcoupling_solid_weight(w->vc, e, q.xi[g]) : 1.0;
-      double dv = q.w[g] * detJ * sw;
-      /* K_ai,bj = lam G_ai G_bj + mu (G_aj G_bi + delta_ij G_a.G_b) */
-      for (int a = 0; a < 8; ++a)
-        for (int b = 0; b < 8; ++b) {
-          double gg = G[a][0] * G[b][0] + G[a][1] * G[b][1] + G[a][2] * G[b][2];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-              K[(3 * a + i) * 24 + 3 * b + j] +=
-                  dv * (lam * G[a][i] * G[b][j] + mu * (G[a][j] * G[b][i] + (i == j ? gg : 0.0)));
-        }
-      for (int a = 0; a < 8; ++a) w->Mw[B->conn[8 * e + a]] += dv * p->rho * N[g * 8 + a];
-    }
+  TL_CHECK(tl_material_create("hooke", &w->mat));
+  TL_CHECK(tl_material_set(w->mat, "E", p->E));
+  TL_CHECK(tl_material_set(w->mat, "nu", p->nu));
+  TL_CHECK(tl_material_set(w->mat, "density", p->rho));
+  TL_CHECK(tl_material_setup(w->mat));
+  TL_CHECK(tl_solid_create(w->mesh, &w->solid));
+  TL_CHECK(tl_solid_set_material(w->solid, NULL, w->mat));
+  TL_CHECK(tl_solid_fix(w->solid, "ymax", 7));
+  TL_CHECK(tl_vcoupling_element_create(w->vc, w->solid, &w->el));
+  TL_CHECK(tl_solid_setup(w->solid));
+  TlMechSystem *sys = tl_solid_system(w->solid);
+  TL_CHECK(tl_calloc(&w->mdof, (size_t)sys->ndof, sizeof *w->mdof));
+  TL_CHECK(tl_calloc(&w->Mv, (size_t)sys->ndof, sizeof *w->Mv));
+  TL_CHECK(sys->ops->lumped_mass(sys, w->mdof));
+  /* node masses, clamped nodes included (the bar's mass), from the weighted
+   * solid's lumped mass */
+  double *mn = NULL;
+  TL_CHECK(tl_calloc(&mn, 3 * w->nn, sizeof *mn));
+  tl_solid_dofs_to_nodes(w->solid, w->mdof, mn);
+  double total = tl_solid_total_mass(w->solid), free_sum = 0.0;
+  for (size_t i = 0; i < w->nn; ++i) {
+    w->fixed[i] = tl_solid_dof(w->solid, i, 1) < 0;
+    w->Mw[i] = mn[3 * i + 1];
+    free_sum += w->Mw[i];
   }
+  tl_free(&mn);
+  /* the clamped layer's share (not a dof): the total less the free nodes',
+   * spread evenly over its nodes (uniform mesh) */
+  size_t n_fixed = 0;
+  for (size_t i = 0; i < w->nn; ++i) n_fixed += w->fixed[i] != 0;
   for (size_t i = 0; i < w->nn; ++i)
-    if (!w->fixed[i] && !(w->Mw[i] > 0.0))
-      TL_ERROR(TL_ERR_NUMERIC, "node %zu has weighted mass %g: the zone leaves it no solid", i, w->Mw[i]);
+    if (w->fixed[i]) w->Mw[i] = n_fixed ? (total - free_sum) / (double)n_fixed : 0.0;
+  TlStepperOptions so;
+  tl_stepper_options_default(&so);
+  TL_CHECK(tl_stepper_create(p->fem, sys, &so, &w->st));
+  TL_CHECK(tl_stepper_set_state(w->st, 0.0, NULL, NULL));
+  return TL_OK;
+}
+
+static TlStatus build_particles(TlWave *w)
+{
+  const TlWaveParams *p = &w->p;
+  TL_CHECK(tl_dem_create(&w->dem));
+  w->P = tl_dem_particles(w->dem);
+  TlParticles *P = w->P;
+  int sp;
+  TL_CHECK(tl_particles_add_species(P, "grains", 6.0 * p->rho / TL_PI, 0.5 * w->d, 0.5 * w->d, &sp));
+  TL_CHECK(tl_particles_reserve(P, w->np));
+  for (int j = 0; j < w->nyp; ++j)
+    for (int k = 0; k < w->nxp; ++k)
+      for (int i = 0; i < w->nxp; ++i) {
+        double vy = j == 0 && p->excitation == TL_WAVE_PULSE ? -p->v0 : 0.0;
+        TL_CHECK(tl_dem_add_particle(w->dem, tl_v3((i + 0.5) * w->d, (j + 0.5) * w->d, (k + 0.5) * w->d),
+                                     tl_v3(0, vy, 0), 0.5 * w->d, sp, NULL));
+      }
+  /* bonds to the +x, +y, +z neighbours (ids are the lattice indices) */
+  for (int j = 0; j < w->nyp; ++j)
+    for (int k = 0; k < w->nxp; ++k)
+      for (int i = 0; i < w->nxp; ++i) {
+        int64_t a = (int64_t)pid(w, i, j, k);
+        if (i + 1 < w->nxp) TL_CHECK(tl_dem_add_bond(w->dem, a, (int64_t)pid(w, i + 1, j, k)));
+        if (j + 1 < w->nyp) TL_CHECK(tl_dem_add_bond(w->dem, a, (int64_t)pid(w, i, j + 1, k)));
+        if (k + 1 < w->nxp) TL_CHECK(tl_dem_add_bond(w->dem, a, (int64_t)pid(w, i, j, k + 1)));
+      }
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = w->k;
+  cp.bonded = 1;
+  TlContactLaw *law;
+  TL_CHECK(tl_contact_law_create_linear(&cp, &law));
+  TL_CHECK(tl_dem_add_law(w->dem, law, NULL));
+  /* the lattice keeps its numbering: the layers are index ranges */
+  tl_dem_set_sort_interval(w->dem, 0);
+  size_t per = (size_t)w->nxp * w->nxp;
+  if (p->excitation != TL_WAVE_PULSE) {
+    w->n_driven = per;
+    TL_CHECK(tl_calloc(&w->driven_ids, per, sizeof *w->driven_ids));
+    for (size_t q = 0; q < per; ++q) w->driven_ids[q] = (int64_t)q;
+    TL_CHECK(tl_dem_prescribe(w->dem, per, w->driven_ids, driven_motion, &w->p));
+  }
+  if (p->full_dem) /* the reference bar's far end is clamped */
+    for (size_t q = 0; q < per; ++q) TL_CHECK(tl_particles_set_motion(P, (size_t)(w->nyp - 1) * per + q, TL_MOTION_FIXED));
+  TL_CHECK(tl_dem_set_timestep(w->dem, w->dt, 0));
   return TL_OK;
 }
 
@@ -127,6 +266,7 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
   TL_CHECK(TL_NEW(w));
   TlStatus s = TL_OK;
   w->p = *p;
+  if (!w->p.fem) w->p.fem = "central_difference";
   w->d = p->dx / p->n;
   double rho_g = 6.0 * p->rho / TL_PI;
   w->m = rho_g * TL_PI * w->d * w->d * w->d / 6.0;
@@ -139,42 +279,16 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
   w->np = (size_t)w->nxp * w->nxp * w->nyp;
   w->vmax_allowed = 100.0 * fmax(p->v0, 1e-12) * 2.0;
   size_t np = w->np;
-  TL_CHECK_GOTO(s, tl_calloc(&w->x, 3 * np, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&w->x0, 3 * np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->v, 3 * np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->f, 3 * np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->du, 3 * np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->w, np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->mass, np, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->radius, np, sizeof(double)), fail);
-  for (size_t a = 0; a < np; ++a) w->radius[a] = 0.5 * w->d;
-  for (int j = 0; j < w->nyp; ++j)
-    for (int k = 0; k < w->nxp; ++k)
-      for (int i = 0; i < w->nxp; ++i) {
-        size_t a = pid(w, i, j, k);
-        w->x[3 * a] = (i + 0.5) * w->d;
-        w->x[3 * a + 1] = (j + 0.5) * w->d;
-        w->x[3 * a + 2] = (k + 0.5) * w->d;
-        w->mass[a] = w->m;
-        w->w[a] = 1.0;
-        if (j == 0 && p->excitation == TL_WAVE_PULSE) w->v[3 * a + 1] = -p->v0;
-      }
-  memcpy(w->x0, w->x, 3 * np * sizeof(double));
-  /* bonds to the +x, +y, +z neighbours */
-  size_t nbmax = 3 * np;
-  TL_CHECK_GOTO(s, tl_calloc(&w->ba, nbmax, sizeof(size_t)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->bb, nbmax, sizeof(size_t)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->wb, nbmax, sizeof(double)), fail);
-  TL_CHECK_GOTO(s, tl_calloc(&w->xb, 3 * nbmax, sizeof(double)), fail);
-  for (int j = 0; j < w->nyp; ++j)
-    for (int k = 0; k < w->nxp; ++k)
-      for (int i = 0; i < w->nxp; ++i) {
-        size_t a = pid(w, i, j, k);
-        if (i + 1 < w->nxp) w->ba[w->nb] = a, w->bb[w->nb++] = pid(w, i + 1, j, k);
-        if (j + 1 < w->nyp) w->ba[w->nb] = a, w->bb[w->nb++] = pid(w, i, j + 1, k);
-        if (k + 1 < w->nxp) w->ba[w->nb] = a, w->bb[w->nb++] = pid(w, i, j, k + 1);
-      }
-  for (size_t b = 0; b < w->nb; ++b) w->wb[b] = 1.0;
+  TL_CHECK_GOTO(s, tl_calloc(&w->xp, 3 * np, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&w->mp, np, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&w->dup, 3 * np, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&w->ones, np, sizeof(double)), fail);
+  for (size_t a = 0; a < np; ++a) w->ones[a] = 1.0;
+  TL_CHECK_GOTO(s, build_particles(w), fail);
+  gather_particles(w);
+  memcpy(w->x0, w->xp, 3 * np * sizeof(double));
+  for (size_t a = 0; a < np; ++a) w->mp[a] = w->P->mass[a];
   if (!p->full_dem) {
     size_t ncell[3] = {(size_t)lround(p->width / p->dx), (size_t)lround((p->length - p->fem_start) / p->dx),
                        (size_t)lround(p->width / p->dx)};
@@ -183,12 +297,8 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     w->nn = w->mesh->n_nodes;
     TL_CHECK_GOTO(s, tl_calloc(&w->u, 3 * w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->vn, 3 * w->nn, sizeof(double)), fail);
-    TL_CHECK_GOTO(s, tl_calloc(&w->an, 3 * w->nn, sizeof(double)), fail);
-    TL_CHECK_GOTO(s, tl_calloc(&w->fn, 3 * w->nn, sizeof(double)), fail);
-    TL_CHECK_GOTO(s, tl_calloc(&w->dun, 3 * w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->Mw, w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->fixed, w->nn, 1), fail);
-    TL_CHECK_GOTO(s, tl_calloc(&w->Ke, w->mesh->blocks[0].n_elements * 576, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_xp, 3 * np, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_fp, 3 * np, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_xn, 3 * w->nn, sizeof(double)), fail);
@@ -196,20 +306,20 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     /* hex8 node order is VTK's */
     TL_CHECK_GOTO(s, tl_calloc(&w->conn_int, w->mesh->blocks[0].n_elements * 8, sizeof(int)), fail);
     for (size_t k = 0; k < w->mesh->blocks[0].n_elements * 8; ++k) w->conn_int[k] = (int)w->mesh->blocks[0].conn[k];
-    for (size_t i = 0; i < w->nn; ++i) w->fixed[i] = fabs(w->mesh->x[3 * i + 1] - p->length) < 1e-9 * p->length;
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
     w->eps = eps;
     TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order, p->per_element};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
-    TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass), fail);
-    TL_CHECK_GOTO(s, check_resolution(w), fail);
-    TL_CHECK_GOTO(s, tl_vcoupling_point_weights(w->vc, np, w->x, w->w), fail);
-    for (size_t b = 0; b < w->nb; ++b)
-      for (int d = 0; d < 3; ++d) w->xb[3 * b + d] = 0.5 * (w->x[3 * w->ba[b] + d] + w->x[3 * w->bb[b] + d]);
-    TL_CHECK_GOTO(s, tl_vcoupling_point_weights(w->vc, w->nb, w->xb, w->wb), fail);
-    if (!p->no_penalty_check) TL_CHECK_GOTO(s, check_penalty(w), fail);
+    TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->xp, w->mp), fail);
+    TL_CHECK_GOTO(s, check_resolution(w, 0), fail);
+    /* the particle side: weighted equations and the coupling force */
+    TL_CHECK_GOTO(s, tl_particles_enable_coupling_force(w->P), fail);
+    tl_dem_set_weight_field(w->dem, particle_weight_field, w);
+    tl_dem_set_step_hook(w->dem, coupled_step, w);
   }
+  TL_CHECK_GOTO(s, tl_dem_setup(w->dem), fail);
+  if (!p->full_dem && !p->no_penalty_check) TL_CHECK_GOTO(s, check_penalty(w), fail);
   *out = w;
   return TL_OK;
 fail:
@@ -221,14 +331,17 @@ void tl_wave_destroy(TlWave **pw)
 {
   TlWave *w = *pw;
   if (!w) return;
-  double **arr[] = {&w->x, &w->x0, &w->v, &w->f, &w->w, &w->du, &w->mass, &w->xb, &w->wb,
-                    &w->u, &w->vn, &w->an, &w->fn, &w->dun, &w->Mw, &w->Ke, &w->radius,
+  double **arr[] = {&w->x0, &w->xp, &w->mp, &w->dup, &w->ones, &w->u, &w->vn, &w->Mw, &w->mdof, &w->Mv,
                     &w->pi_xp, &w->pi_xn, &w->pi_fp, &w->pi_fn};
   for (size_t k = 0; k < sizeof arr / sizeof arr[0]; ++k) tl_free(arr[k]);
-  tl_free(&w->ba);
-  tl_free(&w->bb);
   tl_free(&w->fixed);
   tl_free(&w->conn_int);
+  tl_free(&w->driven_ids);
+  tl_stepper_destroy(&w->st);
+  tl_vcoupling_element_destroy(&w->el);
+  tl_solid_destroy(&w->solid);
+  tl_material_destroy(&w->mat);
+  tl_dem_destroy(&w->dem);
   tl_vcoupling_destroy(&w->vc);
   tl_mesh_destroy(&w->mesh);
   tl_free(pw);
@@ -237,137 +350,24 @@ void tl_wave_destroy(TlWave **pw)
 double tl_wave_dt(const TlWave *w) { return w->dt; }
 size_t tl_wave_n_particles(const TlWave *w) { return w->np; }
 
-/* Prescribed velocity of the driven layer (Table 4); pulse: none. */
-static int driven(const TlWave *w, double t, double *vy)
-{
-  const TlWaveParams *p = &w->p;
-  if (p->excitation == TL_WAVE_PULSE) return 0;
-  double t0 = 2.0 * TL_PI * (p->excitation == TL_WAVE_CYCLES ? p->cycles : 1) / p->omega;
-  *vy = t <= t0 ? p->v0 * (cos(p->omega * t) - 1.0) : 0.0;
-  return 1;
-}
-
-static void forces(TlWave *w)
-{
-  size_t np = w->np;
-  memset(w->f, 0, 3 * np * sizeof(double));
-  for (size_t b = 0; b < w->nb; ++b) {
-    size_t a = w->ba[b], c = w->bb[b];
-    double dxv[3], r2 = 0.0;
-    for (int d = 0; d < 3; ++d) {
-      dxv[d] = w->x[3 * c + d] - w->x[3 * a + d];
-      r2 += dxv[d] * dxv[d];
-    }
-    double r = sqrt(r2), fmag = w->wb[b] * w->k * (r - w->d) / r; /* tension positive */
-    for (int d = 0; d < 3; ++d) {
-      w->f[3 * a + d] += fmag * dxv[d];
-      w->f[3 * c + d] -= fmag * dxv[d];
-    }
-  }
-  if (!w->mesh) return;
-  memset(w->fn, 0, 3 * w->nn * sizeof(double));
-  const TlElementBlock *B = &w->mesh->blocks[0];
-  for (size_t e = 0; e < B->n_elements; ++e) {
-    const double *K = w->Ke + e * 576;
-    const size_t *cn = B->conn + 8 * e;
-    double ue[24];
-    for (int a = 0; a < 8; ++a)
-      for (int d = 0; d < 3; ++d) ue[3 * a + d] = w->u[3 * cn[a] + d];
-    for (int r = 0; r < 24; ++r) {
-      double s = 0.0;
-      for (int c = 0; c < 24; ++c) s += K[r * 24 + c] * ue[c];
-      w->fn[3 * cn[r / 3] + r % 3] -= s;
-    }
-  }
-}
-
 TlStatus tl_wave_step(TlWave *w)
 {
-  const double dt = w->dt;
-  size_t np = w->np;
-  double vd;
-  for (size_t a = 0; a < np; ++a) {
-    int j = (int)(a / ((size_t)w->nxp * w->nxp));
-    double am[3];
-    for (int d = 0; d < 3; ++d) am[d] = w->f[3 * a + d] / (w->w[a] * w->mass[a]);
-    if (w->p.full_dem && j == w->nyp - 1) { /* fixed right end of the reference bar */
-      for (int d = 0; d < 3; ++d) w->v[3 * a + d] = w->du[3 * a + d] = 0.0;
-      continue;
-    }
-    if (j == 0 && driven(w, w->t + 0.5 * dt, &vd)) {
-      am[0] = am[1] = am[2] = 0.0;
-      w->v[3 * a] = w->v[3 * a + 2] = 0.0;
-      w->v[3 * a + 1] = vd;
-    } else {
-      for (int d = 0; d < 3; ++d) w->v[3 * a + d] += 0.5 * dt * am[d];
-    }
-    for (int d = 0; d < 3; ++d) {
-      w->du[3 * a + d] = dt * w->v[3 * a + d];
-      w->x[3 * a + d] += w->du[3 * a + d];
-    }
-  }
-  if (w->mesh)
-    for (size_t i = 0; i < w->nn; ++i)
-      for (int d = 0; d < 3; ++d) {
-        size_t k = 3 * i + d;
-        w->vn[k] = w->fixed[i] ? 0.0 : w->vn[k] + 0.5 * dt * w->an[k];
-        w->dun[k] = dt * w->vn[k];
-        w->u[k] += w->dun[k];
-      }
-  w->t += dt;
+  TL_CHECK(tl_dem_step(w->dem, 1));
+  w->t = tl_dem_time(w->dem);
   w->step++;
-  if (w->vc) {
-    TL_CHECK(tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass));
-    if (w->step % 100 == 0) TL_CHECK(check_resolution(w));
-    TL_CHECK(tl_vcoupling_point_weights(w->vc, np, w->x, w->w));
-    for (size_t b = 0; b < w->nb; ++b)
-      for (int d = 0; d < 3; ++d) w->xb[3 * b + d] = 0.5 * (w->x[3 * w->ba[b] + d] + w->x[3 * w->bb[b] + d]);
-    TL_CHECK(tl_vcoupling_point_weights(w->vc, w->nb, w->xb, w->wb));
-    for (size_t a = 0; a < np; ++a)
-      if (!(w->w[a] > 1e-12))
-        TL_ERROR(TL_ERR_NUMERIC, "particle %zu at y = %g has weight %g: it left the particle side of the zone", a,
-                 w->x[3 * a + 1], w->w[a]);
-  }
-  forces(w);
-  if (w->vc) {
-    TlVCouplingDiag dg;
-    const double *dp = w->du, *dn = w->dun;
-    if (w->p.variant == TL_WAVE_SPRING) {
-      /* total displacements since the start: reuse du / dun as scratch */
-      for (size_t k = 0; k < 3 * np; ++k) w->du[k] = w->x[k] - w->x0[k];
-      dn = w->u;
-    }
-    TL_CHECK(tl_vcoupling_forces(w->vc, dp, dn, w->fn, w->f, &dg));
-    w->eq41 = dg.eq41;
-    w->residual = dg.residual_max;
-    if (w->p.variant == TL_WAVE_SPRING)
-      w->spring = -0.5 * (dg.work_fem + dg.work_dem);
-    else
-      w->work += dg.work_fem + dg.work_dem;
-  }
   double vmax = 0.0;
-  for (size_t a = 0; a < np; ++a) {
-    int j = (int)(a / ((size_t)w->nxp * w->nxp));
-    if (j == 0 && driven(w, w->t, &vd)) {
-      w->v[3 * a + 1] = vd;
-      continue;
-    }
-    if (w->p.full_dem && j == w->nyp - 1) continue;
+  const TlParticles *P = w->P;
+  for (size_t a = 0; a < w->np; ++a) {
+    const double *v = &P->v[a].x;
     for (int d = 0; d < 3; ++d) {
-      w->v[3 * a + d] += 0.5 * dt * w->f[3 * a + d] / (w->w[a] * w->mass[a]);
-      double s = fabs(w->v[3 * a + d]);
+      double s = fabs(v[d]);
       vmax = s > vmax || s != s ? (s != s ? INFINITY : s) : vmax;
     }
   }
-  if (w->mesh)
-    for (size_t i = 0; i < w->nn; ++i)
-      for (int d = 0; d < 3; ++d) {
-        size_t k = 3 * i + d;
-        w->an[k] = w->fixed[i] ? 0.0 : w->fn[k] / w->Mw[i];
-        w->vn[k] += 0.5 * dt * w->an[k];
-        double s = fabs(w->vn[k]);
-        vmax = s > vmax || s != s ? (s != s ? INFINITY : s) : vmax;
-      }
+  for (size_t k = 0; k < 3 * w->nn; ++k) {
+    double s = fabs(w->vn[k]);
+    vmax = s > vmax || s != s ? (s != s ? INFINITY : s) : vmax;
+  }
   if (!(vmax <= w->vmax_allowed))
     TL_ERROR(TL_ERR_UNSTABLE,
              "the wave run diverged at t = %g s (step %ld): largest speed %g m/s, over 100 times the amplitude "
@@ -382,40 +382,31 @@ void tl_wave_state(const TlWave *w, TlWaveState *s)
 {
   memset(s, 0, sizeof *s);
   s->t = w->t;
+  const TlParticles *P = w->P;
+  const double *wt = P->weight ? P->weight : w->ones;
   for (size_t a = 0; a < w->np; ++a) {
-    double mw = w->w[a] * w->mass[a], v2 = 0.0;
-    for (int d = 0; d < 3; ++d) v2 += w->v[3 * a + d] * w->v[3 * a + d];
+    double mw = wt[a] * P->mass[a], v2 = tl_v3_norm2(P->v[a]);
     s->mass_dem += mw;
-    s->mom_dem += mw * w->v[3 * a + 1];
+    s->mom_dem += mw * P->v[a].y;
     s->kin_dem += 0.5 * mw * v2;
   }
-  for (size_t b = 0; b < w->nb; ++b) {
-    size_t a = w->ba[b], c = w->bb[b];
-    double r2 = 0.0;
-    for (int d = 0; d < 3; ++d) r2 += (w->x[3 * c + d] - w->x[3 * a + d]) * (w->x[3 * c + d] - w->x[3 * a + d]);
-    double dl = sqrt(r2) - w->d;
-    s->pot_dem += 0.5 * w->wb[b] * w->k * dl * dl;
-  }
+  /* the bonds' (weighted) stored energy of the last force evaluation */
+  TlDemEnergy e;
+  tl_dem_energy(w->dem, &e);
+  s->pot_dem = e.elastic;
   if (w->mesh) {
+    /* momentum and kinetic energy with the stepper's own mass (lumped for
+     * central differences, consistent for Newmark): the ones it conserves */
+    const TlStepper *st = w->st;
+    tl_stepper_mass_times(st, st->v, w->Mv);
+    for (TlSparseIndex k = 0; k < st->n; ++k) s->kin_fem += 0.5 * st->v[k] * w->Mv[k];
     for (size_t i = 0; i < w->nn; ++i) {
-      double v2 = 0.0;
-      for (int d = 0; d < 3; ++d) v2 += w->vn[3 * i + d] * w->vn[3 * i + d];
+      TlSparseIndex k = tl_solid_dof(w->solid, i, 1);
       s->mass_fem += w->Mw[i];
-      s->mom_fem += w->Mw[i] * w->vn[3 * i + 1];
-      s->kin_fem += 0.5 * w->Mw[i] * v2;
+      if (k >= 0) s->mom_fem += w->Mv[k];
     }
-    /* 1/2 u.K u = -1/2 u.f_int (f_int from the last force evaluation minus
-     * the coupling part is not kept, so recompute element-wise) */
-    const TlElementBlock *B = &w->mesh->blocks[0];
-    for (size_t e = 0; e < B->n_elements; ++e) {
-      const double *K = w->Ke + e * 576;
-      const size_t *cn = B->conn + 8 * e;
-      double ue[24];
-      for (int a = 0; a < 8; ++a)
-        for (int d = 0; d < 3; ++d) ue[3 * a + d] = w->u[3 * cn[a] + d];
-      for (int r = 0; r < 24; ++r)
-        for (int c = 0; c < 24; ++c) s->pot_fem += 0.5 * ue[r] * K[r * 24 + c] * ue[c];
-    }
+    double W = 0.0;
+    if (tl_solid_strain_energy(w->solid, w->st->u, &W) == TL_OK) s->pot_fem = W;
   }
   s->pot_coupling = w->spring;
   s->total = s->kin_dem + s->pot_dem + s->kin_fem + s->pot_fem + s->pot_coupling;
@@ -434,6 +425,8 @@ TlStatus tl_wave_penalty_ratio(TlWave *w, int iterations, double *ratio, size_t 
   if (node) *node = 0;
   if (!w->vc) return TL_OK;
   const size_t np = w->np, nn = w->nn;
+  const double *wt = w->P->weight, *mass = w->P->mass;
+  if (!wt) TL_ERROR(TL_ERR_STATE, "the particle weights are set at tl_dem_setup, before the penalty ratio");
   double *xp = w->pi_xp, *xn = w->pi_xn, *fp = w->pi_fp, *fn = w->pi_fn;
   unsigned seed = 2463534242u;
   for (size_t k = 0; k < 3 * np; ++k) {
@@ -452,7 +445,7 @@ TlStatus tl_wave_penalty_ratio(TlWave *w, int iterations, double *ratio, size_t 
     /* K x = -(f_p, f_n); Rayleigh quotient x.Kx / x.Wx, then x <- W^-1 K x */
     double xkx = 0.0, xwx = 0.0;
     for (size_t k = 0; k < 3 * np; ++k) {
-      double m = w->w[k / 3] * w->mass[k / 3];
+      double m = wt[k / 3] * mass[k / 3];
       xkx -= xp[k] * fp[k];
       xwx += xp[k] * m * xp[k];
     }
@@ -464,7 +457,7 @@ TlStatus tl_wave_penalty_ratio(TlWave *w, int iterations, double *ratio, size_t 
     lambda = xwx > 0.0 ? xkx / xwx : 0.0;
     double norm = 0.0;
     for (size_t k = 0; k < 3 * np; ++k) {
-      xp[k] = -fp[k] / (w->w[k / 3] * w->mass[k / 3]);
+      xp[k] = -fp[k] / (wt[k / 3] * mass[k / 3]);
       norm = fmax(norm, fabs(xp[k]));
     }
     for (size_t k = 0; k < 3 * nn; ++k) {
@@ -500,7 +493,7 @@ static TlStatus check_penalty(TlWave *w)
              "with w = %.3g and node %zu at y = %g m with 1 - w = %.3g). The largest stable penalty is about %.3g Pa/m^2",
              w->eps, w->eps * w->d * w->d, w->p.c, w->dt, w->step, ratio, lim,
              w->p.variant == TL_WAVE_SPRING ? "penalty spring under central differences" : "penalty damper eps M dt",
-             a, w->x[3 * a + 1], w->w[a], i, w->mesh->x[3 * i + 1], 1.0 - tl_vcoupling_node_weights(w->vc)[i],
+             a, w->xp[3 * a + 1], w->P->weight[a], i, w->mesh->x[3 * i + 1], 1.0 - tl_vcoupling_node_weights(w->vc)[i],
              w->eps * lim / ratio);
   return TL_OK;
 }
@@ -532,13 +525,15 @@ static double solid_vy(const TlWave *w, double y)
 static void profile(const TlWave *w, int blend, double *y, double *vy)
 {
   size_t per = (size_t)w->nxp * w->nxp;
+  const TlParticles *P = w->P;
+  const double *wt = P->weight ? P->weight : w->ones;
   for (int j = 0; j < w->nyp_full; ++j) {
     y[j] = (j + 0.5) * w->d;
     if (j < w->nyp) {
       double s = 0.0, sw = 0.0;
       for (size_t q = 0; q < per; ++q) {
-        s += w->v[3 * (j * per + q) + 1];
-        sw += w->w[j * per + q];
+        s += P->v[j * per + q].y;
+        sw += wt[j * per + q];
       }
       vy[j] = s / (double)per;
       /* the Arlequin field in the overlap: w v_particles + (1 - w) v_solid */
@@ -556,27 +551,22 @@ void tl_wave_profile(const TlWave *w, double *y, double *vy) { profile(w, 0, y, 
 void tl_wave_profile_weighted(const TlWave *w, double *y, double *vy) { profile(w, 1, y, vy); }
 
 /* ------------------------------------------------------------ checkpoint */
+/* The scene's own figures, then the DEM world and the solid's stepper
+ * through their checkpoint sections (Pi and the coupling force follow from
+ * them in the next step). */
 static TlStatus wave_save(const void *object, TlCheckpointWriter *cw, const char *g)
 {
   const TlWave *w = object;
-  size_t np = w->np, nb = w->nb, nn = w->nn;
+  char sub[512];
   TL_CHECK(tl_checkpoint_write_int64(cw, g, "step", w->step));
   TL_CHECK(tl_checkpoint_write_double(cw, g, "time", w->t));
   double sc[4] = {w->eq41, w->residual, w->work, w->spring};
   TL_CHECK(tl_checkpoint_write_doubles(cw, g, "diagnostics", 4, sc));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "position", 3 * np, w->x));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "velocity", 3 * np, w->v));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "force", 3 * np, w->f));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "step_displacement", 3 * np, w->du));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "weight", np, w->w));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "bond_midpoint", 3 * nb, w->xb));
-  TL_CHECK(tl_checkpoint_write_doubles(cw, g, "bond_weight", nb, w->wb));
+  snprintf(sub, sizeof sub, "%s/dem", g ? g : "");
+  TL_CHECK(tl_dem_checkpoint_ops.save(w->dem, cw, sub));
   if (w->mesh) {
-    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_displacement", 3 * nn, w->u));
-    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_velocity", 3 * nn, w->vn));
-    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_acceleration", 3 * nn, w->an));
-    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_force", 3 * nn, w->fn));
-    TL_CHECK(tl_checkpoint_write_doubles(cw, g, "solid_step_displacement", 3 * nn, w->dun));
+    snprintf(sub, sizeof sub, "%s/solid", g ? g : "");
+    TL_CHECK(tl_stepper_checkpoint_ops.save(w->st, cw, sub));
   }
   return TL_OK;
 }
@@ -584,7 +574,7 @@ static TlStatus wave_save(const void *object, TlCheckpointWriter *cw, const char
 static TlStatus wave_load(void *object, TlCheckpointReader *cr, const char *g)
 {
   TlWave *w = object;
-  size_t np = w->np, nb = w->nb, nn = w->nn;
+  char sub[512];
   int64_t step;
   double sc[4];
   TL_CHECK(tl_checkpoint_read_int64(cr, g, "step", &step));
@@ -595,27 +585,19 @@ static TlStatus wave_load(void *object, TlCheckpointReader *cr, const char *g)
   w->residual = sc[1];
   w->work = sc[2];
   w->spring = sc[3];
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "position", 3 * np, w->x));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "velocity", 3 * np, w->v));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "force", 3 * np, w->f));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "step_displacement", 3 * np, w->du));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "weight", np, w->w));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "bond_midpoint", 3 * nb, w->xb));
-  TL_CHECK(tl_checkpoint_read_doubles(cr, g, "bond_weight", nb, w->wb));
-  if (w->mesh != NULL) {
-    if (!tl_checkpoint_has(cr, g, "solid_displacement"))
-      TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a full-DEM scene, this one is coupled",
-               tl_checkpoint_reader_path(cr));
-    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_displacement", 3 * nn, w->u));
-    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_velocity", 3 * nn, w->vn));
-    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_acceleration", 3 * nn, w->an));
-    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_force", 3 * nn, w->fn));
-    TL_CHECK(tl_checkpoint_read_doubles(cr, g, "solid_step_displacement", 3 * nn, w->dun));
-    /* Pi and the weights follow from the restored geometry, as after a step */
-    TL_CHECK(tl_vcoupling_update(w->vc, w->u, np, w->x, w->mass));
-  } else if (tl_checkpoint_has(cr, g, "solid_displacement")) {
-    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a coupled scene, this one is full DEM",
-             tl_checkpoint_reader_path(cr));
+  snprintf(sub, sizeof sub, "%s/solid", g ? g : "");
+  int has_solid = tl_checkpoint_has(cr, sub, "t");
+  if (w->mesh && !has_solid)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a full-DEM scene, this one is coupled", tl_checkpoint_reader_path(cr));
+  if (!w->mesh && has_solid)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds a coupled scene, this one is full DEM", tl_checkpoint_reader_path(cr));
+  snprintf(sub, sizeof sub, "%s/dem", g ? g : "");
+  TL_CHECK(tl_dem_checkpoint_ops.load(w->dem, cr, sub));
+  if (w->mesh) {
+    snprintf(sub, sizeof sub, "%s/solid", g ? g : "");
+    TL_CHECK(tl_stepper_checkpoint_ops.load(w->st, cr, sub));
+    tl_solid_dofs_to_nodes(w->solid, w->st->u, w->u);
+    tl_solid_dofs_to_nodes(w->solid, w->st->v, w->vn);
   }
   return TL_OK;
 }
@@ -626,9 +608,10 @@ const TlCheckpointOps tl_wave_checkpoint_ops = {
 /* ------------------------------------------------------------- snapshots */
 TlStatus tl_wave_write_snapshot(const TlWave *w, TlParticleWriter *pw, TlMeshWriter *mw)
 {
-  TlField pf[1] = {{"weight", 1, w->w}};
-  TlParticleView pv = {.n = w->np, .position = (const TlVec3 *)w->x, .radius = w->radius,
-                       .velocity = (const TlVec3 *)w->v, .force = (const TlVec3 *)w->f, .n_fields = 1, .fields = pf};
+  const TlParticles *P = w->P;
+  TlField pf[1] = {{"weight", 1, P->weight ? P->weight : w->ones}};
+  TlParticleView pv = {.n = w->np, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f,
+                       .n_fields = 1, .fields = pf};
   if (pw) TL_CHECK(tl_particle_writer_write(pw, w->step, w->t, &pv));
   if (!mw || !w->mesh) return TL_OK;
   const TlElementBlock *B = &w->mesh->blocks[0];

@@ -3,17 +3,19 @@
  * [fem_start, length], coupled by TlVCoupling in the overlap; or the same
  * particles over the whole bar (the full-DEM reference).
  *
- * Both sub-models are weighted as Eqs. 25-26 require: particle mass and body
- * terms by w_a, bond forces by w_ab at the bond midpoint, the solid's mass
- * and stiffness by 1 - w at its quadrature points.  The weighted particle
- * equations and the weighted solid need per-particle and per-quadrature
- * weights, which the DEM world and the solid module do not offer, so the
- * scene carries its own compact explicit integrators: Velocity-Verlet for
- * the bonded lattice (linear springs k_n along the bond, tension and
- * compression) and the explicit Newmark member (beta = 0, gamma = 1/2, lumped
- * weighted mass) for small-strain hex8 elements with Hooke's law, both on
- * the same step dt as in the paper.  Element shape functions, quadrature and
- * the coupling go through the element ops and TlVCoupling. */
+ * Built from the library's models: the particles are a TlDem world (linear
+ * bonds k_n = E d along the bond, tension and compression; Velocity-Verlet)
+ * with the weighted equations of Eq. 25 (tl_dem_set_weight_field: w_a at
+ * the centres, w_ab at the contact points); the solid is a TlSolid
+ * (finite-strain total Lagrangian, Hooke's law of Appendix A, HRZ lumped
+ * mass) whose overlap block is wrapped by the VCoupling element type
+ * (weights 1 - w at its quadrature points, the coupling body force of
+ * Eq. 31 inside every evaluation), advanced by a library stepper (explicit
+ * central difference by default, or implicit Newmark) on the DEM's step.
+ * One coupled step: the particles drift to t + dt, then (the DEM's step
+ * hook) Pi is rebuilt at the new positions, the solid takes its step with
+ * the coupling force of the particles' step displacement, and the
+ * particles' share f^C (Eq. 32) completes their forces at t + dt. */
 #ifndef TL_VCOUPLING_WAVE_H
 #define TL_VCOUPLING_WAVE_H
 
@@ -60,6 +62,9 @@ typedef struct {
                               TL_VCOUPLING_BIAS_LIMIT (half an element), < 0: no check */
   int no_penalty_check;    /* 1: skip the penalty's stability check at creation
                               (tl_wave_penalty_ratio; for studies of the blow-up) */
+  const char *fem;         /* the solid's stepper: "central_difference" (the
+                              paper's explicit run; NULL: this) or "newmark"
+                              (implicit, beta = 1/4, gamma = 1/2) */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */

@@ -175,6 +175,11 @@ static TlStatus run(int argc, char **argv)
                                        "refuse a penalty beyond the explicit stable range (eps dt^2 lambda_max of the "
                                        "weighted coupling over 2, or 4 for the spring variant)", &penalty_check), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
+  static const char *const fems[] = {"central_difference", "newmark", NULL};
+  int ifem = 0;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "central_difference", fems,
+                                         "the solid's stepper: central_difference (explicit, the paper's run) or "
+                                         "newmark (implicit, beta = 1/4, gamma = 1/2)", &ifem), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length", &p.length), done);
@@ -218,6 +223,7 @@ static TlStatus run(int argc, char **argv)
   p.per_element = iscope;
   p.resolution_limit = res_limit > 0.0 ? res_limit : -1.0;
   p.no_penalty_check = !penalty_check;
+  p.fem = fems[ifem];
   ro.n_snap = n_snap;
   ro.output_dir = dir;
   ro.restart = restart;
@@ -319,6 +325,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_string(&sum, "case", cases[icase]);
   tl_summary_string(&sum, "excitation", excitations[iexc]);
   tl_summary_string(&sum, "variant", variants[ivar]);
+  tl_summary_string(&sum, "fem", fems[ifem]);
   tl_summary_real(&sum, "c", p.c);
   tl_summary_real(&sum, "dissipated", dissipated);
   tl_summary_real(&sum, "mass_err", mass_err);
