@@ -278,8 +278,9 @@ TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *L) { return L->wall_force
 
 /* ---- checkpoint: the couplings' per-face forces, the coupling forces of
  * the last step node-wise and their previous value (the trapezoidal work),
- * the work so far, the time and the wall total; the solid's state comes from the stepper's section and the walls'
- * from the world's, both restored before this one. */
+ * the work so far, the time and the wall total; the solid's state comes
+ * from the stepper's section and the walls' from the world's, both
+ * restored before this one. */
 static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char *group)
 {
   const TlCoupledLoop *L = object;
