@@ -189,20 +189,35 @@ static TlStatus install_wrappers(TlSCoupling *sc)
   return TL_OK;
 }
 
-/* Unwraps in the reverse order.  A wrapper that another one now wraps
- * cannot be taken out of the chain: it stays as a pass-through (and its
- * few bytes stay allocated) so that the chain keeps working. */
+/* Takes the coupling's wrappers out of the solid's chains: a wrapper on
+ * top is replaced by the kernel it wrapped; one below other SCoupling
+ * wrappers is spliced out of the chain (the one above it calls through to
+ * what it wrapped).  One below a wrapper of another kind cannot be reached:
+ * it stays as a pass-through, its few bytes allocated, so that the chain
+ * keeps working (destroy couplings in the reverse order of creation). */
 static void remove_wrappers(TlSCoupling *sc)
 {
   for (int k = sc->n_blocks - 1; k >= 0; k--) {
     SCouplingBlock *w = sc->blocks[k];
     TlSolidBlockKernel now = tl_solid_block_kernel(sc->solid, w->block);
+    int removed = 0;
     if (now.fn == scoupling_block && now.ctx == w) {
-      (void)tl_solid_wrap_block(sc->solid, w->block, w->inner, NULL);
+      removed = tl_solid_wrap_block(sc->solid, w->block, w->inner, NULL) == TL_OK;
+    } else {
+      for (TlSolidBlockKernel at = now; at.fn == scoupling_block && !removed;) {
+        SCouplingBlock *above = at.ctx;
+        if (above->inner.fn == scoupling_block && above->inner.ctx == w) {
+          above->inner = w->inner;
+          removed = 1;
+        }
+        at = above->inner;
+      }
+    }
+    if (removed) {
       tl_free(&w);
     } else {
-      tl_warn("surface coupling destroyed under another wrapper of block %d: its kernel stays as a pass-through "
-              "(destroy couplings in the reverse order of creation)", w->block);
+      tl_warn("surface coupling destroyed under another kind of wrapper of block %d: its kernel stays as a "
+              "pass-through (destroy couplings in the reverse order of creation)", w->block);
       w->sc = NULL;
     }
     sc->blocks[k] = NULL;

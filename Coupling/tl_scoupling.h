@@ -32,8 +32,9 @@
  * with c > 0 every face within the kernel's reach of a contact.  Within an
  * FE step the load is dead (the DEM forces of the step are fixed before
  * it), so the wrapper adds no tangent and no stored energy.  Destroying the
- * coupling restores the wrapped kernels (couplings on the same block come
- * off in the reverse order of creation).
+ * coupling restores the wrapped kernels (in any order among surface
+ * couplings; under another kind of wrapper, such as a volume coupling's,
+ * destroy in the reverse order of creation).
  */
 #ifndef TL_SCOUPLING_H
 #define TL_SCOUPLING_H

@@ -12,7 +12,8 @@
  *     contact (c > 0: the contacted faces' owners and their neighbours);
  *   - accumulating twice with scale 1/2 equals once with scale 1;
  *   - destroying the coupling restores the wrapped kernel;
- *   - two couplings on one block chain their wrappers. */
+ *   - two couplings on one block chain their wrappers, and come off in
+ *     either order. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -193,6 +194,21 @@ static void test_element(const TlElementType *type, double width)
   tl_mesh_destroy(&mesh);
 }
 
+/* A wrapper of another kind (as a volume coupling's would be): calls
+ * through and counts its calls. */
+typedef struct {
+  TlSolidBlockKernel inner;
+  int calls;
+} Foreign;
+
+static TlStatus foreign_block(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
+                              TlSparse *K, double *W)
+{
+  Foreign *w = ctx;
+  w->calls++;
+  return w->inner.fn(w->inner.ctx, solid, b, t, u, f, c_u, K, W);
+}
+
 /* Two couplings on the same block (top and bottom faces): the wrappers
  * chain, the residual carries both loads, and destroying them in the
  * reverse order of creation restores the solid's own kernel. */
@@ -261,18 +277,28 @@ static void test_two_couplings(void)
   tl_scoupling_destroy(&sc[1]);
   tl_scoupling_destroy(&sc[0]);
   TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "the solid's own kernel after both couplings");
-  /* Destroyed in the creation order: the first cannot leave the chain and
-   * stays as a pass-through (with a warning); the residual is the own one. */
+  /* Destroyed in the creation order: the first is spliced out from under
+   * the second, then the second restores the own kernel. */
   for (int k = 0; k < 2; ++k) {
     const TlFaceSet *set = NULL;
     TL_TEST_STATUS(tl_mesh_find_face_set(mesh, sets[k], &set), TL_OK);
     if (set) TL_TEST_STATUS(tl_scoupling_create(solid, set->n, set->faces, NULL, &sc[k]), TL_OK);
   }
   tl_scoupling_destroy(&sc[0]);
-  tl_scoupling_destroy(&sc[1]);
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
   TL_TEST_ASSERT(memcmp(f1, f0, nd * sizeof *f0) == 0 && tl_solid_block_kernel(solid, 0).fn != own.fn,
-                 "destroyed out of order: a pass-through wrapper, the own residual bit for bit");
+                 "first coupling destroyed: the second still wraps, the residual bit for bit");
+  tl_scoupling_destroy(&sc[1]);
+  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "destroyed in creation order: the own kernel again");
+  /* Under a wrapper of another kind the coupling stays as a pass-through
+   * (with a warning) and the chain keeps working. */
+  TL_TEST_STATUS(tl_scoupling_create_boundary(solid, 1, sets, NULL, &sc[0]), TL_OK);
+  Foreign fw = {{NULL, NULL}, 0};
+  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, (TlSolidBlockKernel){foreign_block, &fw}, &fw.inner), TL_OK);
+  tl_scoupling_destroy(&sc[0]);
+  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  TL_TEST_ASSERT(fw.calls == 1 && memcmp(f1, f0, nd * sizeof *f0) == 0, "pass-through under a foreign wrapper");
+  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, fw.inner, NULL), TL_OK);
   free(u), free(f0), free(f1), free(F_nodes), free(F);
   tl_solid_destroy(&solid);
   tl_material_destroy(&mat);
