@@ -43,8 +43,7 @@ static void stepper_work(TlCoupledLoop *L, const double *F)
 {
   double w = 0.0;
   for (size_t i = 0; i < 3 * L->n_nodes; i++) w += F[i] * (L->u_nodes[i] - L->u_prev[i]);
-  L->stepper->W_ext += w;
-  L->stepper->energy_budget += fabs(w);
+  tl_stepper_add_work(L->stepper, w);
 }
 
 /* Starts a new accumulation of the couplings' forces. */

@@ -8,8 +8,10 @@
  * at (+-0.2, 0.2) over the top face with overlap m g / k_n, released with
  * v_y = 0.1 m/s.  dt = 0.01 pi sqrt(2 m / k_n) for both models.
  *
- * Output (under -output_dir): trajectory.csv (positions, the analytic path
- * and the error), energy.csv (every energy term and the total),
+ * Output (under -output_dir): trajectory.csv (positions, the analytic path,
+ * the error, the wall contacts and the active SCoupling elements: the
+ * owners of the faces the contacts reached, with c > 0 their neighbours
+ * within the kernel's reach), energy.csv (every energy term and the total),
  * reference_path.csv (the analytic path), beam_*.h5 + beam.xmf and
  * particles_*.h5 + particles.xmf.  Plots: tools/plot_particle_cantilever.py.
  *
@@ -286,7 +288,7 @@ static TlStatus run(int argc, char **argv)
   }
   TL_CHECK_GOTO(s, tl_timeseries_close(&path), done);
   const TlColumn tcols[] = {{"t", "s"}, {"x1", "m"}, {"y1", "m"}, {"z1", "m"}, {"x2", "m"}, {"y2", "m"}, {"z2", "m"},
-                            {"z_ref1", "m"}, {"z_ref2", "m"}, {"err", "m"}, {"contacts", ""}, {"scoupling_elements", ""}};
+                            {"z_ref1", "m"}, {"z_ref2", "m"}, {"err", "m"}, {"contacts", ""}, {"active_scoupling_elements", ""}};
   TL_CHECK_GOTO(s, open_table(&c, "trajectory", 12, tcols, &traj), done);
   const TlColumn ecols[] = {{"t", "s"}, {"dem_kinetic", "J"}, {"dem_elastic", "J"}, {"gravitational", "J"},
                             {"fem_kinetic", "J"}, {"fem_strain", "J"}, {"work_on_solid", "J"}, {"work_on_particles", "J"},

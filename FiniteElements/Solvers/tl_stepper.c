@@ -148,6 +148,12 @@ TlStatus tl_stepper_step(TlStepper *st, double dt)
   return TL_OK;
 }
 
+void tl_stepper_add_work(TlStepper *st, double dW)
+{
+  st->W_ext += dW;
+  st->energy_budget += fabs(dW);
+}
+
 TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e)
 {
   tl_stepper_mass_times(st, st->v, st->work);
