@@ -98,8 +98,8 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   tl_coupled_loop_options_default(&o);
   if (options) o = *options;
   if (o.substeps < 1 || o.substeps > 100000) TL_ERROR(TL_ERR_ARG, "sub-steps %d outside [1, 100000]", o.substeps);
-  if (o.scheme != TL_COUPLING_PREDICT && o.scheme != TL_COUPLING_INTERPOLATE)
-    TL_ERROR(TL_ERR_ARG, "coupling scheme %d is neither PREDICT (0) nor INTERPOLATE (1)", o.scheme);
+  if (o.scheme < TL_COUPLING_PREDICT || o.scheme > TL_COUPLING_PARALLEL)
+    TL_ERROR(TL_ERR_ARG, "coupling scheme %d is none of PREDICT (0), INTERPOLATE (1), PARALLEL (2)", o.scheme);
   for (int c = 0; c < n_couplings; c++) {
     if (!couplings[c]) TL_ERROR(TL_ERR_ARG, "coupling %d of %d is NULL", c, n_couplings);
     if (tl_scoupling_solid(couplings[c]) != solid) TL_ERROR(TL_ERR_ARG, "coupling %d couples another solid", c);
@@ -173,14 +173,16 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
   tl_free(pL);
 }
 
-/* Serial staggered macro step: the solid first under the last average
- * force, then the DEM steps with the walls interpolated. */
-static TlStatus step_interpolate(TlCoupledLoop *L)
+/* Staggered macro steps: the solid first, under the forces the couplings
+ * carry from the last macro step (a lag of Dt), then the k DEM steps with
+ * the walls interpolated between u_n and u_{n+1} (INTERPOLATE) or held
+ * where they were at t_n and moved after (PARALLEL: both models advance
+ * from the state at t_n, as Fig. 8 orders the solves). */
+static TlStatus step_staggered(TlCoupledLoop *L)
 {
-  const int k = L->o.substeps;
+  const int k = L->o.substeps, walls_at_start = L->o.scheme == TL_COUPLING_PARALLEL;
   const double dt = tl_dem_timestep(L->dem), Dt = k * dt;
   const size_t nn = 3 * L->n_nodes;
-  /* The SCoupling elements carry the forces accumulated in the last macro step. */
   TL_CHECK(tl_stepper_step(L->stepper, Dt));
   tl_solid_dofs_to_nodes(L->solid, L->stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(L->solid, L->stepper->v, L->v_nodes);
@@ -193,12 +195,15 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
   clear_forces(L);
   for (size_t i = 0; i < nn; i++) L->v_mid[i] = (L->u_nodes[i] - L->u_prev[i]) / Dt;
   for (int j = 1; j <= k; ++j) {
-    const double f = (double)j / (double)k;
-    for (size_t i = 0; i < nn; i++) L->u_mid[i] = L->u_prev[i] + f * (L->u_nodes[i] - L->u_prev[i]);
-    TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+    if (!walls_at_start) {
+      const double f = (double)j / (double)k;
+      for (size_t i = 0; i < nn; i++) L->u_mid[i] = L->u_prev[i] + f * (L->u_nodes[i] - L->u_prev[i]);
+      TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+    }
     TL_CHECK(tl_dem_step(L->dem, 1));
     TL_CHECK(take_forces(L, j));
   }
+  if (walls_at_start) TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
   assemble_forces(L);
   memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
   L->t += Dt;
@@ -207,7 +212,7 @@ static TlStatus step_interpolate(TlCoupledLoop *L)
 
 TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
 {
-  if (L->o.scheme == TL_COUPLING_INTERPOLATE && !L->o.one_way) return step_interpolate(L);
+  if (L->o.scheme != TL_COUPLING_PREDICT && !L->o.one_way) return step_staggered(L);
   const int k = L->o.substeps;
   const double dt = tl_dem_timestep(L->dem);
   const size_t nn = 3 * L->n_nodes;
@@ -290,9 +295,9 @@ static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char 
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "time_work_wall_force", 5, misc));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
-  TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme + 2 * L->o.average_forces));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "scheme", L->o.scheme + 4 * L->o.average_forces));
   /* The per-face forces the SCoupling elements carry: the load of the next
-   * FE step in the interpolating scheme (which steps the solid first). */
+   * FE step in the staggered schemes (which step the solid first). */
   TL_CHECK(tl_checkpoint_write_int64(w, group, "couplings", L->n_couplings));
   for (int c = 0; c < L->n_couplings; c++) {
     char prefix[32];
@@ -314,7 +319,7 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
   TL_CHECK(tl_checkpoint_read_int64(r, group, "one_way", &one_way));
   int64_t scheme = 0;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "scheme", &scheme));
-  if (scheme != L->o.scheme + 2 * L->o.average_forces)
+  if (scheme != L->o.scheme + 4 * L->o.average_forces)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with coupling scheme %lld, this run has %d", (long long)scheme, L->o.scheme);
   if (k != L->o.substeps || one_way != L->o.one_way)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with %lld DEM steps per FEM step and one_way = %lld, this run has %d and %d",

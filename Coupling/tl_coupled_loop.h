@@ -27,7 +27,11 @@
  * coupling force of the previous macro step (a lag of Dt), then the k DEM
  * steps see the walls interpolated linearly between u_n and u_{n+1} (their
  * velocity (u_{n+1} - u_n) / Dt), and their average force is applied in the
- * next FE step.
+ * next FE step.  TL_COUPLING_PARALLEL reads Fig. 8 literally: both models
+ * advance from the state at t_n, the solid under the coupling forces of t_n
+ * and the DEM steps with the walls where the solid was at t_n.  Both
+ * staggered schemes lag the load by one macro step; with k = 1 and the
+ * Dirac coupling (c = 0) that lag feeds energy into S1 (README, S1).
  * One-way coupling keeps the solid rigid at its initial state (no FE step;
  * the particles see fixed walls).
  *
@@ -48,13 +52,14 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 
-enum { TL_COUPLING_PREDICT = 0, TL_COUPLING_INTERPOLATE = 1 };
+enum { TL_COUPLING_PREDICT = 0, TL_COUPLING_INTERPOLATE = 1, TL_COUPLING_PARALLEL = 2 };
 
 typedef struct {
   int substeps; /* k DEM steps per FEM step [1] */
   int one_way;  /* rigid solid: the FE model is not advanced [0] */
   int scheme;   /* TL_COUPLING_PREDICT (walls on the solid's Taylor predictor, forces at t_{n+1}) or
-                 * TL_COUPLING_INTERPOLATE (FE first with the last forces, walls interpolated) [PREDICT] */
+                 * TL_COUPLING_INTERPOLATE (FE first with the last forces, walls interpolated) or
+                 * TL_COUPLING_PARALLEL (FE with the last forces, DEM with the walls at t_n) [PREDICT] */
   int average_forces; /* apply the average of the k DEM steps' forces instead of the last one's [0] */
 } TlCoupledLoopOptions;
 

@@ -4,7 +4,8 @@
  * particle positions and velocities, the beam's displacements and the
  * coupling forces (node-wise and per face) agree bit for bit.  Explicit FEM
  * in lock-step and Newmark with 3 DEM steps per FEM step (predictor
- * scheme); Newmark with 2 and explicit with 1 in the interpolating scheme. */
+ * scheme); Newmark with 2 and explicit with 1 in the interpolating scheme;
+ * Newmark lock-step in the parallel one. */
 #include <math.h>
 #include <string.h>
 #include "talus.h"
@@ -120,7 +121,7 @@ static void test_restart(const char *stepper, int substeps, int scheme, long n)
                  "%s: per-face coupling forces or active elements differ", stepper);
   printf("%s, %d DEM steps per FEM step, %s scheme: %ld steps, restart at %ld equals the run in one go (particle 1 at "
          "y = %.6f, total energy %.9g J, %zu active SCoupling elements)\n", stepper, substeps,
-         scheme == TL_COUPLING_PREDICT ? "predictor" : "interpolating", n, n / 2, PA->x[0].y, ea.total,
+         scheme == TL_COUPLING_PREDICT ? "predictor" : scheme == TL_COUPLING_INTERPOLATE ? "interpolating" : "parallel", n, n / 2, PA->x[0].y, ea.total,
          tl_scoupling_n_active_elements(A.sc));
   destroy(&A);
   destroy(&B);
@@ -135,5 +136,6 @@ int main(void)
    * forces of the previous macro step: they come from the checkpoint. */
   test_restart("newmark", 2, TL_COUPLING_INTERPOLATE, 200);
   test_restart("central_difference", 1, TL_COUPLING_INTERPOLATE, 600);
+  test_restart("newmark", 1, TL_COUPLING_PARALLEL, 600);
   return tl_test_report();
 }
