@@ -3,7 +3,9 @@
 # passes when |x - value| <= abs_tol + rel_tol |value|), and applies the
 # physics checks: x-symmetry kept (sym_dev <= SYM_MAX, when given) and
 # energy bounded (E_max <= E_BOUND), and when given err_avg <= ERR_MAX and
-# T_OFF_MIN <= t_off <= T_OFF_MAX.  With -DWRITE_BASELINE=1 it writes
+# T_OFF_MIN <= t_off <= T_OFF_MAX; a run that must reproduce a failure
+# gives E_MIN (E_max >= E_MIN) and SYM_MIN (sym_dev >= SYM_MIN) instead of
+# E_BOUND and SYM_MAX.  With -DWRITE_BASELINE=1 it writes
 # BASELINE from this run instead (tolerances from TOLERANCES, "key rel abs").
 # A missing or empty baseline fails loudly; BASELINE=NONE (paper-scale runs
 # only) skips the regression part.
@@ -93,10 +95,26 @@ if(DEFINED SYM_MAX)
     set(failed 1)
   endif()
 endif()
-execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_E_max} <= ${E_BOUND}) }" RESULT_VARIABLE ok)
-if(NOT ok EQUAL 0)
-  message(SEND_ERROR "energy not bounded: largest total energy ${val_E_max} J > ${E_BOUND} J")
-  set(failed 1)
+if(DEFINED SYM_MIN)
+  execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_sym_dev} >= ${SYM_MIN}) }" RESULT_VARIABLE ok)
+  if(NOT ok EQUAL 0)
+    message(SEND_ERROR "x-symmetry kept (largest |x1 + x2| = ${val_sym_dev} m < ${SYM_MIN} m) where it must be lost")
+    set(failed 1)
+  endif()
+endif()
+if(DEFINED E_BOUND)
+  execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_E_max} <= ${E_BOUND}) }" RESULT_VARIABLE ok)
+  if(NOT ok EQUAL 0)
+    message(SEND_ERROR "energy not bounded: largest total energy ${val_E_max} J > ${E_BOUND} J")
+    set(failed 1)
+  endif()
+endif()
+if(DEFINED E_MIN)
+  execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_E_max} >= ${E_MIN}) }" RESULT_VARIABLE ok)
+  if(NOT ok EQUAL 0)
+    message(SEND_ERROR "largest total energy ${val_E_max} J < ${E_MIN} J: the failure is not reproduced")
+    set(failed 1)
+  endif()
 endif()
 if(DEFINED ERR_MAX)
   execute_process(COMMAND ${AWK} "BEGIN { exit !(${val_err_avg} <= ${ERR_MAX}) }" RESULT_VARIABLE ok)
