@@ -193,8 +193,9 @@ static TlStatus install_wrappers(TlSCoupling *sc)
  * top is replaced by the kernel it wrapped; one below other SCoupling
  * wrappers is spliced out of the chain (the one above it calls through to
  * what it wrapped).  One below a wrapper of another kind cannot be reached:
- * it stays as a pass-through, its few bytes allocated, so that the chain
- * keeps working (destroy couplings in the reverse order of creation). */
+ * it stays as a pass-through, which the solid adopts (frees when it is
+ * destroyed), so that the chain keeps working (destroy couplings in the
+ * reverse order of creation). */
 static void remove_wrappers(TlSCoupling *sc)
 {
   for (int k = sc->n_blocks - 1; k >= 0; k--) {
@@ -219,6 +220,9 @@ static void remove_wrappers(TlSCoupling *sc)
       tl_warn("surface coupling destroyed under another kind of wrapper of block %d: its kernel stays as a "
               "pass-through (destroy couplings in the reverse order of creation)", w->block);
       w->sc = NULL;
+      if (tl_solid_adopt(sc->solid, w) != TL_OK)
+        tl_warn("the pass-through of block %d could not be handed to the solid: %zu bytes stay allocated", w->block,
+                sizeof *w);
     }
     sc->blocks[k] = NULL;
   }

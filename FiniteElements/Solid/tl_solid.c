@@ -122,6 +122,8 @@ struct TlSolid {
   size_t n_pattern; /* elements plus term node groups in the matrix pattern */
   char constraint_sets[256];
   int ready;
+  void **adopted; /* wrapper states freed with the solid (tl_solid_adopt) */
+  size_t n_adopted;
 };
 
 /* ----------------------------------------------------------- utilities */
@@ -241,6 +243,8 @@ static void solid_destroy_content(TlMechSystem *sys)
     tl_free(&s->terms[i].group_nodes);
   }
   tl_free(&s->terms);
+  for (size_t i = 0; i < s->n_adopted; ++i) tl_free(&s->adopted[i]);
+  tl_free(&s->adopted);
   tl_free(&s->scratch);
   tl_free(&s->blocks);
   tl_free(&s->constraint);
@@ -1102,6 +1106,13 @@ TlStatus tl_solid_wrap_block(TlSolid *s, int b, TlSolidBlockKernel kernel, TlSol
   if (!kernel.fn) TL_ERROR(TL_ERR_ARG, "solid: block %d wrapped by a kernel without a function", b);
   if (wrapped) *wrapped = tl_solid_block_kernel(s, b);
   s->blocks[b].kernel = kernel;
+  return TL_OK;
+}
+
+TlStatus tl_solid_adopt(TlSolid *s, void *memory)
+{
+  TL_CHECK(tl_realloc(&s->adopted, s->n_adopted + 1, sizeof *s->adopted));
+  s->adopted[s->n_adopted++] = memory;
   return TL_OK;
 }
 

@@ -149,6 +149,10 @@ typedef struct {
 TlStatus tl_solid_wrap_block(TlSolid *solid, int b, TlSolidBlockKernel kernel, TlSolidBlockKernel *wrapped);
 /* The kernel evaluating block b now. */
 TlSolidBlockKernel tl_solid_block_kernel(const TlSolid *solid, int b);
+/* Hands `memory` (from tl_calloc) to the solid, which frees it when it is
+ * destroyed: the state of a wrapper that must stay in a chain after its
+ * owner is gone, because a wrapper above it calls through to it. */
+TlStatus tl_solid_adopt(TlSolid *solid, void *memory);
 
 /* Energies: kinetic 1/2 v.M v with the consistent mass; strain energy
  * (integral of the stored energy density); external work of the loads over
