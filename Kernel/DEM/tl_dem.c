@@ -829,48 +829,32 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
 #define TL_HOT_CLONES
 #endif
 
-/* The contact loop of a range of chunks, unweighted: the plain world's
- * loop, compiled on its own so that the weighted variants below do not
- * touch its code. */
-TL_HOT_CLONES static void process_range(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
-{
-  const TlDomain *dom = &c->d->domain;
-  const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);
-  const int ortho = dom->any_periodic && !general;
-  const int rot = c->w != NULL;
-  /* one law for the whole range (the common case) runs the fused loop of
-   * the built-in laws; anything else goes through the batch ops */
-  int uniform = 1;
-  for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;
-  const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;
-  if (uniform && ops == &tl_contact_linear_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, 0);
-  } else if (uniform && ops == &tl_contact_hertz_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, 0);
-  } else {
-    TL_DISPATCH_CHUNKS(process_chunk, , 0);
+/* The contact loop of a range of chunks.  One law for the whole range (the
+ * common case) runs the fused loop of the built-in laws; anything else goes
+ * through the batch ops.  It is compiled twice: unweighted (the plain
+ * world's loop, its code untouched by the weights) and with per-contact
+ * weights (a volume coupling's overlap), both for the same processors so
+ * that weights of 1 give the same arithmetic. */
+#define TL_DEFINE_PROCESS_RANGE(name, weighted)                                                              \
+  TL_HOT_CLONES static void name(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)                     \
+  {                                                                                                          \
+    const TlDomain *dom = &c->d->domain;                                                                     \
+    const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);       \
+    const int ortho = dom->any_periodic && !general;                                                         \
+    const int rot = c->w != NULL;                                                                            \
+    int uniform = 1;                                                                                         \
+    for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;               \
+    const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;                          \
+    if (uniform && ops == &tl_contact_linear_ops) {                                                          \
+      TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, weighted);                                                \
+    } else if (uniform && ops == &tl_contact_hertz_ops) {                                                    \
+      TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, weighted);                                                \
+    } else {                                                                                                 \
+      TL_DISPATCH_CHUNKS(process_chunk, , weighted);                                                         \
+    }                                                                                                        \
   }
-}
-
-/* The same with per-contact weights (a volume coupling's overlap), compiled
- * for the same processors (the same arithmetic as the plain loop). */
-TL_HOT_CLONES static void process_range_weighted(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)
-{
-  const TlDomain *dom = &c->d->domain;
-  const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);
-  const int ortho = dom->any_periodic && !general;
-  const int rot = c->w != NULL;
-  int uniform = 1;
-  for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;
-  const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;
-  if (uniform && ops == &tl_contact_linear_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, 1);
-  } else if (uniform && ops == &tl_contact_hertz_ops) {
-    TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, 1);
-  } else {
-    TL_DISPATCH_CHUNKS(process_chunk, , 1);
-  }
-}
+TL_DEFINE_PROCESS_RANGE(process_range, 0)
+TL_DEFINE_PROCESS_RANGE(process_range_weighted, 1)
 
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
                               int want_energy, const double *cw, Accum *acc)
