@@ -35,6 +35,22 @@ static int has_element(const TlFaceRef *list, size_t n, TlFaceRef e)
   return 0;
 }
 
+/* A world with one species of radius r (rho 2e4) and the S1 linear law
+ * (k_n = 2e7 N/m); *sp and *law receive their indices. */
+static TlDem *make_world(double r, int *sp, int *law)
+{
+  TlDem *dem = NULL;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, sp), TL_OK);
+  TlContactParameters cp;
+  tl_contact_parameters_default(&cp);
+  cp.k_n = 2e7;
+  TlContactLaw *l = NULL;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &l), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, l, law), TL_OK);
+  return dem;
+}
+
 static void test_element(const TlElementType *type, double width)
 {
   const char *name = type->header.name;
@@ -60,21 +76,13 @@ static void test_element(const TlElementType *type, double width)
   TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn != own.fn, "%s: the coupling wraps the block's kernel", name);
   /* Particles pressing on the top face, an edge, the free-end corner and the bottom face. */
   const double r = 0.1;
-  TlDem *dem = NULL;
-  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
-  int sp;
-  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = 2e7;
-  TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
-  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  int sp, law;
+  TlDem *dem = make_world(r, &sp, &law);
   const TlVec3 x[] = {{0.17, 0.63, 0.4 + r - 2e-3}, {0.4 + 0.05, 1.3, 0.4 + 0.05},
                       {0.4 + r / sqrt(3) - 1e-3, 2.4 + r / sqrt(3) - 1e-3, 0.4 + r / sqrt(3) - 1e-3 - 0.004 /* the tip deflects 4 mm */},
                       {-0.05, 1.9, -0.4 - r + 1e-3}};
   for (int k = 0; k < 4; ++k) TL_TEST_STATUS(tl_dem_add_particle(dem, x[k], tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
-  TL_TEST_STATUS(tl_scoupling_add_to_dem(sc, dem, 0), TL_OK);
+  TL_TEST_STATUS(tl_scoupling_add_to_dem(sc, dem, law), TL_OK);
   TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-5, 0), TL_OK);
   TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
   /* The solid in a deformed state, the walls on it, the DEM forces there. */
@@ -229,16 +237,8 @@ static void test_two_couplings(void)
   const char *sets[2] = {"zmax", "zmin"};
   TlSCoupling *sc[2] = {NULL, NULL};
   const double r = 0.1;
-  TlDem *dem = NULL;
-  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
-  int sp;
-  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = 2e7;
-  TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
-  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  int sp, law;
+  TlDem *dem = make_world(r, &sp, &law);
   for (int k = 0; k < 2; ++k) {
     const TlFaceSet *set = NULL;
     TL_TEST_STATUS(tl_mesh_find_face_set(mesh, sets[k], &set), TL_OK);
@@ -248,7 +248,7 @@ static void test_two_couplings(void)
     so.width = 0.3 * k;
     TL_TEST_STATUS(tl_scoupling_create(solid, set->n, set->faces, &so, &sc[k]), TL_OK);
     if (!sc[k]) return;
-    TL_TEST_STATUS(tl_scoupling_add_to_dem(sc[k], dem, 0), TL_OK);
+    TL_TEST_STATUS(tl_scoupling_add_to_dem(sc[k], dem, law), TL_OK);
   }
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.1, 1.1, 0.4 + r - 1e-3), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(-0.2, 1.7, -0.4 - r + 2e-3), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
