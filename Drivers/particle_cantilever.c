@@ -4,7 +4,8 @@
  * Beam: 2 x 30 x 2 hex8, 0.8 x 12 x 0.8 m (y along the beam, clamped at
  * y = 0, top face z = 0.4 m), E = 100 MPa, nu = 0, rho = 1309 kg/m^3, no
  * gravity on the beam.  Particles: d = 0.2 m, rho = 2e4 kg/m^3, linear
- * spring k_n = E d, no damping, no friction, gravity on the particles only,
+ * spring k_n = E d, no damping (-restitution adds the dashpot of the published
+ * runs), no friction, gravity on the particles only,
  * at (+-0.2, 0.2) over the top face with overlap m g / k_n, released with
  * v_y = 0.1 m/s.  dt = 0.01 pi sqrt(2 m / k_n) for both models.
  *
@@ -34,7 +35,7 @@
 
 typedef struct {
   TlCantileverParams beam;
-  double d, rho_g, kn, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
+  double d, rho_g, kn, restitution, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
   int stepper, one_way, keep_factors, scheme, average_forces, predictor;
@@ -72,6 +73,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.2, 1e-6, 1e3, "m", "particle diameter", &c->d), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho_g", 2e4, 1e-6, 1e8, "kg/m^3", "particle density", &c->rho_g), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-kn", 0.0, 0.0, 1e15, "N/m", "particle-wall normal stiffness (0: E d)", &c->kn), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-restitution", 1.0, 1e-3, 1.0, "",
+                                       "normal restitution of a pair of grains (sets the viscous damping of every contact, "
+                                       "walls included; the published runs used 0.99)", &c->restitution), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-g", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-vy", 0.1, -1e3, 1e3, "m/s", "initial particle velocity along y", &c->vy), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-x0", 0.2, 0.0, 1e3, "m", "particles at x = +-x0", &c->x0), done);
@@ -242,6 +246,14 @@ static TlStatus run(int argc, char **argv)
   TlContactParameters contact;
   tl_contact_parameters_default(&contact);
   contact.k_n = c.kn;
+  /* One damping coefficient for every contact, set by the restitution of a
+   * pair of grains (m_eff = m / 2), as the published runs do (their
+   * restitution 0.99 is a dashpot of 185 N s/m; the paper's text calls the
+   * scene undamped, the default here). */
+  const double ln_e = log(c.restitution), eta = -ln_e / sqrt(M_PI * M_PI + ln_e * ln_e);
+  const double gamma_n = 2.0 * eta * sqrt(c.kn * 0.5 * m);
+  contact.restitution = gamma_n > 0.0 ? -1.0 : 1.0;
+  contact.gamma_n_linear = gamma_n;
   TlContactLaw *law = NULL;
   TL_CHECK_GOTO(s, tl_contact_law_create_linear(&contact, &law), done);
   TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
@@ -329,9 +341,9 @@ static TlStatus run(int argc, char **argv)
   const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
   const long out_every = c.output_dt > 0.0 ? (long)fmax(1.0, floor(c.output_dt / Dt + 0.5)) : 1;
   const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
-  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements\n", c.cg_width,
-         c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "", c.substeps, schemes[c.scheme],
-         tl_scoupling_n_elements(sc));
+  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements, "
+         "contact damping %g N s/m\n", c.cg_width, c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "",
+         c.substeps, schemes[c.scheme], tl_scoupling_n_elements(sc), gamma_n);
   TlProgress bar;
   tl_progress_init(&bar, "coupled steps", (double)n_macro);
   long step = (long)d.step;
