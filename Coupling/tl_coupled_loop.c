@@ -16,6 +16,7 @@ struct TlCoupledLoop {
   TlCoupledLoopOptions o;
   size_t n_nodes;
   double *u_nodes, *v_nodes, *a_nodes, *u_prev, *u_mid, *v_mid; /* 3 n_nodes */
+  double *u_back; /* u_{n-1}: where the lagged walls start a macro step (3 n_nodes) */
   /* The couplings' accumulated per-face forces assembled node-wise: those
    * applied in the last FE step and in the one before (work, energy and
    * momentum diagnostics; the solid takes them through the wrappers). */
@@ -98,8 +99,8 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   tl_coupled_loop_options_default(&o);
   if (options) o = *options;
   if (o.substeps < 1 || o.substeps > 100000) TL_ERROR(TL_ERR_ARG, "sub-steps %d outside [1, 100000]", o.substeps);
-  if (o.scheme < TL_COUPLING_PREDICT || o.scheme > TL_COUPLING_PARALLEL)
-    TL_ERROR(TL_ERR_ARG, "coupling scheme %d is none of PREDICT (0), INTERPOLATE (1), PARALLEL (2)", o.scheme);
+  if (o.scheme < TL_COUPLING_PREDICT || o.scheme > TL_COUPLING_LAGGED_WALLS)
+    TL_ERROR(TL_ERR_ARG, "coupling scheme %d is none of PREDICT (0), INTERPOLATE (1), PARALLEL (2), LAGGED_WALLS (3)", o.scheme);
   for (int c = 0; c < n_couplings; c++) {
     if (!couplings[c]) TL_ERROR(TL_ERR_ARG, "coupling %d of %d is NULL", c, n_couplings);
     if (tl_scoupling_solid(couplings[c]) != solid) TL_ERROR(TL_ERR_ARG, "coupling %d couples another solid", c);
@@ -121,13 +122,14 @@ TlStatus tl_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper, 
   size_t nn = 3 * L->n_nodes, nd = (size_t)L->sys->ndof;
   if ((s = tl_calloc(&L->couplings, (size_t)n_couplings, sizeof *L->couplings)) != TL_OK) goto fail;
   for (int c = 0; c < n_couplings; c++) L->couplings[c] = couplings[c];
-  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->a_nodes, &L->u_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_prev};
+  double **node_arrays[] = {&L->u_nodes, &L->v_nodes, &L->a_nodes, &L->u_prev, &L->u_mid, &L->v_mid, &L->F_nodes, &L->F_prev, &L->u_back};
   for (size_t k = 0; k < sizeof node_arrays / sizeof *node_arrays; k++)
     if ((s = tl_calloc(node_arrays[k], nn, sizeof(double))) != TL_OK) goto fail;
   L->t = tl_dem_time(dem);
   tl_solid_dofs_to_nodes(solid, stepper->u, L->u_nodes);
   tl_solid_dofs_to_nodes(solid, stepper->v, L->v_nodes);
   memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
+  memcpy(L->u_back, L->u_nodes, nn * sizeof(double));
   tl_dem_track_energy(dem, 1);
   if ((s = move_walls(L, L->u_nodes, L->v_nodes)) != TL_OK) goto fail;
   if ((s = tl_dem_compute_forces(dem)) != TL_OK) goto fail;
@@ -170,6 +172,7 @@ void tl_coupled_loop_destroy(TlCoupledLoop **pL)
   tl_free(&L->v_mid);
   tl_free(&L->F_nodes);
   tl_free(&L->F_prev);
+  tl_free(&L->u_back);
   tl_free(pL);
 }
 
@@ -212,17 +215,26 @@ static TlStatus step_staggered(TlCoupledLoop *L)
 
 TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
 {
-  if (L->o.scheme != TL_COUPLING_PREDICT && !L->o.one_way) return step_staggered(L);
-  const int k = L->o.substeps;
+  const int staggered = L->o.scheme == TL_COUPLING_INTERPOLATE || L->o.scheme == TL_COUPLING_PARALLEL;
+  if (staggered && !L->o.one_way) return step_staggered(L);
+  const int k = L->o.substeps, lagged = L->o.scheme == TL_COUPLING_LAGGED_WALLS;
   const double dt = tl_dem_timestep(L->dem);
   const size_t nn = 3 * L->n_nodes;
   /* 1. k DEM steps with the walls on the solid's Taylor predictor
    *    u_n + s v_n + s^2/2 a_n, v_n + s a_n (s = j dt): second order, and for
-   *    the explicit stepper with k = 1 the very position it will reach. */
+   *    the explicit stepper with k = 1 the very position it will reach.
+   *    Lagged walls go from u_{n-1} to u_n instead. */
   if (!L->o.one_way) tl_solid_dofs_to_nodes(L->solid, L->stepper->a, L->a_nodes);
   clear_forces(L);
   for (int j = 1; j <= k; j++) {
-    if (!L->o.one_way) {
+    if (!L->o.one_way && lagged) {
+      const double f = (double)j / (double)k, Dt = k * dt;
+      for (size_t i = 0; i < nn; i++) {
+        L->u_mid[i] = L->u_back[i] + f * (L->u_nodes[i] - L->u_back[i]);
+        L->v_mid[i] = (L->u_nodes[i] - L->u_back[i]) / Dt;
+      }
+      TL_CHECK(move_walls(L, L->u_mid, L->v_mid));
+    } else if (!L->o.one_way) {
       const double s = j * dt;
       for (size_t i = 0; i < nn; i++) {
         L->u_mid[i] = L->u_nodes[i] + s * (L->v_nodes[i] + 0.5 * s * L->a_nodes[i]);
@@ -250,6 +262,7 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
     /* The walls follow the solid's actual state. */
     TL_CHECK(move_walls(L, L->u_nodes, L->v_nodes));
   }
+  memcpy(L->u_back, L->u_prev, nn * sizeof(double));
   memcpy(L->u_prev, L->u_nodes, nn * sizeof(double));
   L->t += k * dt;
   return TL_OK;
@@ -282,7 +295,7 @@ TlVec3 tl_coupled_loop_wall_force(const TlCoupledLoop *L) { return L->wall_force
 
 /* ---- checkpoint: the couplings' per-face forces, the coupling forces of
  * the last step node-wise and their previous value (the trapezoidal work),
- * the work so far, the time and the wall total; the solid's state comes
+ * where lagged walls start the next step, the work so far, the time and the wall total; the solid's state comes
  * from the stepper's section and the walls' from the world's, both
  * restored before this one. */
 static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char *group)
@@ -292,6 +305,7 @@ static TlStatus loop_save(const void *object, TlCheckpointWriter *w, const char 
   double misc[5] = {L->t, L->work_on_solid, L->wall_force.x, L->wall_force.y, L->wall_force.z};
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "forces", nn, L->F_nodes));
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "previous_forces", nn, L->F_prev));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "lagged_walls_start", nn, L->u_back));
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "time_work_wall_force", 5, misc));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "substeps", L->o.substeps));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "one_way", L->o.one_way));
@@ -336,6 +350,7 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
   double misc[5];
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "forces", nn, L->F_nodes));
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "previous_forces", nn, L->F_prev));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "lagged_walls_start", nn, L->u_back));
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "time_work_wall_force", 5, misc));
   L->t = misc[0];
   L->work_on_solid = misc[1];
@@ -348,7 +363,7 @@ static TlStatus loop_load(void *object, TlCheckpointReader *r, const char *group
 }
 
 const TlCheckpointOps tl_coupled_loop_checkpoint_ops = {
-    .header = {"checkpoint", "coupled_loop_v2", "surface-coupling loop: per-face and nodal coupling forces, work, time"},
+    .header = {"checkpoint", "coupled_loop_v3", "surface-coupling loop: per-face and nodal coupling forces, lagged walls, work, time"},
     .save = loop_save,
     .load = loop_load,
 };

@@ -32,6 +32,12 @@
  * and the DEM steps with the walls where the solid was at t_n.  Both
  * staggered schemes lag the load by one macro step; with k = 1 and the
  * Dirac coupling (c = 0) that lag feeds energy into S1 (README, S1).
+ * TL_COUPLING_LAGGED_WALLS orders the solves as the published code does
+ * (MercuryDPM's surface coupling, whose runs the paper reports): the DEM
+ * steps first, with the walls following the solid one macro step behind
+ * (interpolated from u_{n-1} to u_n, velocity (u_n - u_{n-1}) / Dt), then
+ * the solid under the forces so found.  The load is not lagged, the walls
+ * are; at c = 0 this reproduces the published runs' energy growth.
  * One-way coupling keeps the solid rigid at its initial state (no FE step;
  * the particles see fixed walls).
  *
@@ -52,14 +58,15 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 
-enum { TL_COUPLING_PREDICT = 0, TL_COUPLING_INTERPOLATE = 1, TL_COUPLING_PARALLEL = 2 };
+enum { TL_COUPLING_PREDICT = 0, TL_COUPLING_INTERPOLATE = 1, TL_COUPLING_PARALLEL = 2, TL_COUPLING_LAGGED_WALLS = 3 };
 
 typedef struct {
   int substeps; /* k DEM steps per FEM step [1] */
   int one_way;  /* rigid solid: the FE model is not advanced [0] */
   int scheme;   /* TL_COUPLING_PREDICT (walls on the solid's Taylor predictor, forces at t_{n+1}) or
                  * TL_COUPLING_INTERPOLATE (FE first with the last forces, walls interpolated) or
-                 * TL_COUPLING_PARALLEL (FE with the last forces, DEM with the walls at t_n) [PREDICT] */
+                 * TL_COUPLING_PARALLEL (FE with the last forces, DEM with the walls at t_n) or
+                 * TL_COUPLING_LAGGED_WALLS (DEM first, walls one FE step behind, then FE) [PREDICT] */
   int average_forces; /* apply the average of the k DEM steps' forces instead of the last one's [0] */
 } TlCoupledLoopOptions;
 

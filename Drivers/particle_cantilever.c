@@ -45,7 +45,7 @@ typedef struct {
 } Config;
 
 static const char *const steppers[] = {"newmark", "central_difference", NULL};
-static const char *const schemes[] = {"predict", "interpolate", "parallel", NULL}; /* TL_COUPLING_* order */
+static const char *const schemes[] = {"predict", "interpolate", "parallel", "lagged_walls", NULL}; /* TL_COUPLING_* order */
 static const char *const predictors[] = {"auto", "last", "taylor", NULL}; /* TL_PREDICTOR_* order */
 static const char *const kernels[] = {"lucy", "gaussian", "heaviside", NULL};
 
@@ -96,8 +96,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-one_way", 0, "rigid beam (one-way coupling)", &c->one_way), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling", "predict", schemes,
                                          "walls on the beam's predictor with forces at t_n+1; FE first with the last "
-                                         "forces and walls interpolated (serial staggered); or both models from t_n "
-                                         "(the paper's Fig. 8)", &c->scheme), done);
+                                         "forces and walls interpolated (serial staggered); both models from t_n "
+                                         "(Fig. 8 read literally); or DEM first with the walls one step behind, then FE "
+                                         "(the order of the published runs' code)", &c->scheme), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-average_forces", 0,
                                        "sub-cycling: load the beam with the average of the DEM steps' forces, not the "
                                        "last step's (lags by half a step: unstable)", &c->average_forces), done);

@@ -121,7 +121,7 @@ static void test_restart(const char *stepper, int substeps, int scheme, long n)
                  "%s: per-face coupling forces or active elements differ", stepper);
   printf("%s, %d DEM steps per FEM step, %s scheme: %ld steps, restart at %ld equals the run in one go (particle 1 at "
          "y = %.6f, total energy %.9g J, %zu active SCoupling elements)\n", stepper, substeps,
-         scheme == TL_COUPLING_PREDICT ? "predictor" : scheme == TL_COUPLING_INTERPOLATE ? "interpolating" : "parallel", n, n / 2, PA->x[0].y, ea.total,
+         scheme == TL_COUPLING_PREDICT ? "predictor" : scheme == TL_COUPLING_INTERPOLATE ? "interpolating" : scheme == TL_COUPLING_PARALLEL ? "parallel" : "lagged-walls", n, n / 2, PA->x[0].y, ea.total,
          tl_scoupling_n_active_elements(A.sc));
   destroy(&A);
   destroy(&B);
@@ -137,5 +137,7 @@ int main(void)
   test_restart("newmark", 2, TL_COUPLING_INTERPOLATE, 200);
   test_restart("central_difference", 1, TL_COUPLING_INTERPOLATE, 600);
   test_restart("newmark", 1, TL_COUPLING_PARALLEL, 600);
+  test_restart("newmark", 2, TL_COUPLING_LAGGED_WALLS, 200);
+  test_restart("central_difference", 1, TL_COUPLING_LAGGED_WALLS, 600);
   return tl_test_report();
 }
