@@ -1,5 +1,6 @@
 #include "tl_material.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -187,43 +188,58 @@ int tl_material_symmetric_tangent(const TlMaterial *m)
 /* One chunk: from displacement gradients H (F = 1 + H) when `gradient`,
  * otherwise from F.  The Green strain is formed from H as
  * (H + H^T + H^T H)/2, which keeps its relative precision at small strain
- * (F^T F - 1 would cancel about log10(1/strain) digits). */
+ * (F^T F - 1 would cancel about log10(1/strain) digits).  The checks
+ * (det F > 0, finite stress) only flag in the loops, which stay free of
+ * branches; the offending point is looked up once something is flagged. */
 static TlStatus evaluate_chunk(const TlMaterial *m, size_t p0, size_t n, const TlMat3 *in, int gradient,
                                const double *state_old, double *state_new, TlMat3 *S, double *D,
                                double *W)
 {
   TlMat3 gamma[TL_MATERIAL_CHUNK], F[TL_MATERIAL_CHUNK];
+  const double shift = gradient ? 0.0 : 1.0; /* H = in - shift 1 */
+  const double(*e0)[3] = m->eigenstrain.m;
+  int bad = 0;
   for (size_t k = 0; k < n; ++k) {
-    TlMat3 H = in[k];
-    if (!gradient)
-      for (int i = 0; i < 3; ++i) H.m[i][i] -= 1.0;
-    F[k] = H;
-    for (int i = 0; i < 3; ++i) F[k].m[i][i] += 1.0;
-    if (!gradient) F[k] = in[k];
-    double J = tl_m3_det(F[k]);
-    if (!(J > 0.0))
-      TL_ERROR(TL_ERR_NUMERIC,
-               "material %s: det F = %g at point %zu is not positive (inverted element)",
-               m->ops->header.name, J, p0 + k);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        double hh = 0.0;
-        for (int l = 0; l < 3; ++l) hh += H.m[l][i] * H.m[l][j];
-        gamma[k].m[i][j] = 0.5 * (H.m[i][j] + H.m[j][i] + hh) - m->eigenstrain.m[i][j];
-      }
+    const double(*a)[3] = in[k].m;
+    const double h00 = a[0][0] - shift, h01 = a[0][1], h02 = a[0][2], h10 = a[1][0], h11 = a[1][1] - shift,
+                 h12 = a[1][2], h20 = a[2][0], h21 = a[2][1], h22 = a[2][2] - shift;
+    double(*f)[3] = F[k].m, (*g)[3] = gamma[k].m;
+    f[0][0] = 1.0 + h00, f[0][1] = h01, f[0][2] = h02;
+    f[1][0] = h10, f[1][1] = 1.0 + h11, f[1][2] = h12;
+    f[2][0] = h20, f[2][1] = h21, f[2][2] = 1.0 + h22;
+    const double J = f[0][0] * (f[1][1] * f[2][2] - h12 * h21) - h01 * (h10 * f[2][2] - h12 * h20) +
+                     h02 * (h10 * h21 - f[1][1] * h20);
+    bad |= !(J > 0.0);
+    g[0][0] = h00 + 0.5 * (h00 * h00 + h10 * h10 + h20 * h20) - e0[0][0];
+    g[1][1] = h11 + 0.5 * (h01 * h01 + h11 * h11 + h21 * h21) - e0[1][1];
+    g[2][2] = h22 + 0.5 * (h02 * h02 + h12 * h12 + h22 * h22) - e0[2][2];
+    g[0][1] = g[1][0] = 0.5 * (h01 + h10 + h00 * h01 + h10 * h11 + h20 * h21) - e0[0][1];
+    g[1][2] = g[2][1] = 0.5 * (h12 + h21 + h01 * h02 + h11 * h12 + h21 * h22) - e0[1][2];
+    g[0][2] = g[2][0] = 0.5 * (h02 + h20 + h00 * h02 + h10 * h12 + h20 * h22) - e0[0][2];
   }
+  if (bad)
+    for (size_t k = 0; k < n; ++k) {
+      double J = tl_m3_det(F[k]);
+      if (!(J > 0.0))
+        TL_ERROR(TL_ERR_NUMERIC, "material %s: det F = %g at point %zu is not positive (inverted element)",
+                 m->ops->header.name, J, p0 + k);
+    }
   TL_CHECK(m->ops->evaluate(m, n, F, gamma, state_old, state_new, S, D, W));
-  for (size_t k = 0; k < n; ++k) {
-    if (m->has_initial_stress) {
+  if (m->has_initial_stress)
+    for (size_t k = 0; k < n; ++k) {
       S[k] = tl_m3_add(S[k], m->initial_stress);
       if (W) W[k] += tl_m3_ddot(m->initial_stress, gamma[k]);
     }
+  for (size_t k = 0; k < n; ++k)
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        if (!isfinite(S[k].m[i][j]))
-          TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d][%d] = %g at point %zu",
-                   m->ops->header.name, i, j, S[k].m[i][j], p0 + k);
-  }
+      for (int j = 0; j < 3; ++j) bad |= !(fabs(S[k].m[i][j]) <= DBL_MAX);
+  if (bad)
+    for (size_t k = 0; k < n; ++k)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (!isfinite(S[k].m[i][j]))
+            TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d][%d] = %g at point %zu", m->ops->header.name, i,
+                     j, S[k].m[i][j], p0 + k);
   return TL_OK;
 }
 

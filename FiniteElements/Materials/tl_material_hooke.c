@@ -91,23 +91,25 @@ static double potential_energy(const TlHooke *h, TlMat3 gamma)
   return 0.5 * h->mu * tl_material_trace_series(tl_m3_mul(gi, A), 0);
 }
 
-/* The stress alone (no tangent), the residual's hot path: C, its inverse
- * and M gamma M formed with their symmetry (about half the flops of the
- * general products).  Returns 0 if C is singular. */
-static int stress_only(const TlHooke *h, const TlMat3 *F, const TlMat3 *g, TlMat3 *S)
+/* The stress alone (no tangent), the residual's hot path: C = g + 2 gamma
+ * (g = 1 + 2 E0) from the strain the law already has, its inverse and
+ * M gamma M formed with their symmetry (about half the flops of the
+ * general products).  Branch-free, so the loop over points vectorises;
+ * returns det C, which is not positive for a singular metric. */
+static inline double stress_only(const TlHooke *h, const TlMat3 *g, TlMat3 *S)
 {
+  const TlMat3 *E0 = &h->base.eigenstrain;
   double c[3][3];
   for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) c[i][j] = F->m[0][i] * F->m[0][j] + F->m[1][i] * F->m[1][j] + F->m[2][i] * F->m[2][j];
+    for (int j = i; j < 3; ++j) c[i][j] = (i == j) + 2.0 * (g->m[i][j] + E0->m[i][j]);
   c[1][0] = c[0][1], c[2][0] = c[0][2], c[2][1] = c[1][2];
+  const double a00 = c[1][1] * c[2][2] - c[1][2] * c[1][2], a01 = c[0][2] * c[1][2] - c[0][1] * c[2][2],
+               a02 = c[0][1] * c[1][2] - c[0][2] * c[1][1];
+  const double det = c[0][0] * a00 + c[0][1] * a01 + c[0][2] * a02;
   double M[3][3];
   if (h->covariant) {
     memcpy(M, c, sizeof M);
   } else {
-    const double a00 = c[1][1] * c[2][2] - c[1][2] * c[1][2], a01 = c[0][2] * c[1][2] - c[0][1] * c[2][2],
-                 a02 = c[0][1] * c[1][2] - c[0][2] * c[1][1];
-    const double det = c[0][0] * a00 + c[0][1] * a01 + c[0][2] * a02;
-    if (!(det > 0.0)) return 0;
     const double r = 1.0 / det;
     M[0][0] = a00 * r, M[0][1] = M[1][0] = a01 * r, M[0][2] = M[2][0] = a02 * r;
     M[1][1] = (c[0][0] * c[2][2] - c[0][2] * c[0][2]) * r;
@@ -124,7 +126,7 @@ static int stress_only(const TlHooke *h, const TlMat3 *F, const TlMat3 *g, TlMat
   for (int i = 0; i < 3; ++i)
     for (int j = i; j < 3; ++j)
       S->m[i][j] = S->m[j][i] = a * (P[i][0] * M[0][j] + P[i][1] * M[1][j] + P[i][2] * M[2][j]) + b * M[i][j];
-  return 1;
+  return det;
 }
 
 static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
@@ -132,12 +134,18 @@ static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, cons
                          double *W)
 {
   const TlHooke *h = (const TlHooke *)m;
+  if (!D) {
+    int bad = 0;
+    for (size_t p = 0; p < npts; ++p) bad |= !(stress_only(h, &gamma[p], &S[p]) > 0.0);
+    if (bad)
+      for (size_t p = 0; p < npts; ++p)
+        if (!(stress_only(h, &gamma[p], &S[p]) > 0.0))
+          TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
+    if (!W && h->potential) return TL_OK;
+  }
   for (size_t p = 0; p < npts; ++p) {
     TlMat3 g = gamma[p];
-    if (!D) {
-      if (!stress_only(h, &F[p], &g, &S[p]))
-        TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
-    } else {
+    if (D) {
       TlMat3 C = tl_m3_mul(tl_m3_transpose(F[p]), F[p]), Ci;
       if (!tl_m3_inverse(C, &Ci))
         TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);

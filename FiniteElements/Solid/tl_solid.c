@@ -19,6 +19,7 @@ typedef struct {
   int nn, nd, nq;
   int symmetric; /* material tangent symmetric */
   double *grad;      /* n_el x nq x nn x dim: dN_a/dxi (reference gradients) */
+  double *grad_t;    /* 3-D: the same point-innermost, n_el x nn x 3 x nq (residual path) */
   double *wdet;      /* n_el x nq: weight x det J0 */
   double *Nm;        /* qm.n x nn: shape values at the mass points */
   double *wdetm;     /* n_el x qm.n */
@@ -178,7 +179,7 @@ static TlStatus parallel_error_raise(const ParallelError *pe)
 
 /* ----------------------------------------------------- create / config */
 
-static const TlMechSystemOps solid_ops;
+static const TlMechSystemOps solid_ops, solid_ops_elastic;
 
 TlStatus tl_solid_create(const TlMesh *mesh, TlSolid **solid)
 {
@@ -209,6 +210,7 @@ static void solid_destroy_content(TlMechSystem *sys)
   for (int b = 0; b < s->mesh->n_blocks && s->blocks; ++b) {
     SolidBlock *B = &s->blocks[b];
     tl_free(&B->grad);
+    tl_free(&B->grad_t);
     tl_free(&B->wdet);
     tl_free(&B->Nm);
     tl_free(&B->wdetm);
@@ -577,6 +579,7 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
   B->nq = B->q.n;
   size_t ne = blk->n_elements ? blk->n_elements : 1;
   TL_CHECK(tl_calloc(&B->grad, ne * B->nq * nn * dim, sizeof(double)));
+  if (dim == 3) TL_CHECK(tl_calloc(&B->grad_t, ne * B->nq * nn * 3, sizeof(double)));
   TL_CHECK(tl_calloc(&B->wdet, ne * B->nq, sizeof(double)));
   TL_CHECK(tl_calloc(&B->Nm, (size_t)B->qm.n * nn, sizeof(double)));
   TL_CHECK(tl_calloc(&B->wdetm, ne * B->qm.n, sizeof(double)));
@@ -626,6 +629,11 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
           }
       }
     }
+    if (dim == 3)
+      for (int p = 0; p < B->nq; ++p)
+        for (int a = 0; a < nn; ++a)
+          for (int j = 0; j < 3; ++j)
+            B->grad_t[((e * nn + a) * 3 + j) * B->nq + p] = B->grad[((e * B->nq + p) * nn + a) * 3 + j];
     /* HRZ lumping: diagonal of the consistent mass scaled to the element
      * mass; positive for every element type (row sums are not for
      * quadratic serendipity and simplex elements). */
@@ -714,6 +722,15 @@ TlStatus tl_solid_setup(TlSolid *s)
   }
   for (int i = 0; i < s->n_surface; ++i) symmetric &= !s->surface[i].pressure;
   for (int i = 0; i < s->n_terms; ++i) symmetric &= s->terms[i].symmetric;
+  /* Without path-dependent state the system has no commit or rollback
+   * (the contract's "elastic"): a stepper then need not evaluate the
+   * accepted iterate to commit its trial state. */
+  int stateful = 0;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    const TlMaterial *m = s->blocks[b].material;
+    stateful |= m->state_size > 0 || m->ops->commit || m->ops->rollback;
+  }
+  s->base.ops = stateful ? &solid_ops : &solid_ops_elastic;
   /* Dof numbering. */
   size_t nc = s->n_nodes * dim;
   TL_CHECK(tl_calloc(&s->dof, nc, sizeof *s->dof));
@@ -975,10 +992,167 @@ static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 
       for (int c = 0; c < r; ++c) Ke[r * nd + c] = Ke[c * nd + r];
 }
 
+/* ------------------------------------------------- residual-only path
+ *
+ * The residual of a 3-D block whose law keeps no state is the hot path of
+ * implicit dynamics (every Newton iteration): chunks of elements run
+ * gradients -> stress (one material call per chunk) -> nodal forces, with
+ * the loops over an element's points innermost on contiguous data
+ * (grad_t), where the compiler unrolls and vectorises them.  Elements are
+ * taken in colour order, so the forces accumulate in the same order
+ * whether the chunks of a colour run on one thread or several. */
+
+/* H_p = sum_a ue_a (x) dN_a/dX at the nq points of one element. */
+static inline __attribute__((always_inline)) void gradients_t(const double *restrict gt, int nq, int nn,
+                                                              const double *restrict ue, TlMat3 *restrict H)
+{
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double acc[TL_QUADRATURE_MAX];
+      for (int p = 0; p < nq; ++p) acc[p] = 0.0;
+      for (int a = 0; a < nn; ++a) {
+        const double u = ue[3 * a + i], *g = gt + (3 * a + j) * nq;
+        for (int p = 0; p < nq; ++p) acc[p] += u * g[p];
+      }
+      for (int p = 0; p < nq; ++p) H[p].m[i][j] = acc[p];
+    }
+}
+
+/* R_ai = sum_p w_p ((1 + H_p) S_p)_ij dN_a/dX_j of one element. */
+static inline __attribute__((always_inline)) void residual_t(const double *restrict gt, const double *restrict wdet,
+                                                             int nq, int nn, const TlMat3 *restrict H,
+                                                             const TlMat3 *restrict S, double *restrict fe)
+{
+  double P[9][TL_QUADRATURE_MAX]; /* w (1 + H) S, point-innermost */
+  for (int p = 0; p < nq; ++p)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        P[3 * i + j][p] = wdet[p] * (S[p].m[i][j] + H[p].m[i][0] * S[p].m[0][j] + H[p].m[i][1] * S[p].m[1][j] +
+                                     H[p].m[i][2] * S[p].m[2][j]);
+  for (int a = 0; a < nn; ++a) {
+    const double *g = gt + 3 * a * nq;
+    for (int i = 0; i < 3; ++i) {
+      double acc[TL_QUADRATURE_MAX];
+      for (int p = 0; p < nq; ++p) acc[p] = P[3 * i][p] * g[p] + P[3 * i + 1][p] * g[nq + p] + P[3 * i + 2][p] * g[2 * nq + p];
+      double v = 0.0;
+      for (int p = 0; p < nq; ++p) v += acc[p];
+      fe[3 * a + i] = v;
+    }
+  }
+}
+
+static void element_gradients_t(const SolidBlock *B, size_t e, const double *ue, TlMat3 *H)
+{
+  const double *gt = B->grad_t + e * (size_t)B->nn * 3 * (size_t)B->nq;
+  if (B->nn == 8 && B->nq == 8) gradients_t(gt, 8, 8, ue, H);
+  else if (B->nn == 27 && B->nq == 27) gradients_t(gt, 27, 27, ue, H);
+  else if (B->nn == 10 && B->nq == 4) gradients_t(gt, 4, 10, ue, H);
+  else if (B->nn == 4 && B->nq == 1) gradients_t(gt, 1, 4, ue, H);
+  else gradients_t(gt, B->nq, B->nn, ue, H);
+}
+
+static void element_residual_t(const SolidBlock *B, size_t e, const TlMat3 *H, const TlMat3 *S, double *fe)
+{
+  const double *gt = B->grad_t + e * (size_t)B->nn * 3 * (size_t)B->nq, *w = B->wdet + e * (size_t)B->nq;
+  if (B->nn == 8 && B->nq == 8) residual_t(gt, w, 8, 8, H, S, fe);
+  else if (B->nn == 27 && B->nq == 27) residual_t(gt, w, 27, 27, H, S, fe);
+  else if (B->nn == 10 && B->nq == 4) residual_t(gt, w, 4, 10, H, S, fe);
+  else if (B->nn == 4 && B->nq == 1) residual_t(gt, w, 1, 4, H, S, fe);
+  else residual_t(gt, w, B->nq, B->nn, H, S, fe);
+}
+
+/* Residual of the nk elements `elements` (disjoint nodes unless run
+ * serially) added into f_nodes. */
+static TlStatus residual_chunk(const TlSolid *s, int b, const size_t *elements, size_t nk, const double *u_nodes,
+                               double *f_nodes, Scratch *w)
+{
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  const SolidBlock *B = &s->blocks[b];
+  const int nn = B->nn, nq = B->nq;
+  int bad = 0;
+  for (size_t k = 0; k < nk; ++k) {
+    const size_t *conn = blk->conn + elements[k] * nn;
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i) w->ue[3 * a + i] = u_nodes[conn[a] * 3 + i];
+    element_gradients_t(B, elements[k], w->ue, w->F + k * nq);
+  }
+  const size_t np = nk * (size_t)nq;
+  for (size_t p = 0; p < np; ++p) {
+    const TlMat3 *H = &w->F[p];
+    const double a00 = 1.0 + H->m[0][0], a11 = 1.0 + H->m[1][1], a22 = 1.0 + H->m[2][2];
+    const double J = a00 * (a11 * a22 - H->m[1][2] * H->m[2][1]) - H->m[0][1] * (H->m[1][0] * a22 - H->m[1][2] * H->m[2][0]) +
+                     H->m[0][2] * (H->m[1][0] * H->m[2][1] - a11 * H->m[2][0]);
+    bad |= !(J > 0.0);
+  }
+  if (bad)
+    for (size_t p = 0; p < np; ++p) {
+      TlMat3 Fq = w->F[p];
+      for (int i = 0; i < 3; ++i) Fq.m[i][i] += 1.0;
+      double J = tl_m3_det(Fq);
+      if (!(J > 0.0)) {
+        size_t e = elements[p / (size_t)nq];
+        TL_ERROR(TL_ERR_NUMERIC,
+                 "block %s element %zu (tag %ld): det F = %g at Gauss point %d; the element is inverted "
+                 "(displacements too large or unstable run)",
+                 blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, (int)(p % (size_t)nq));
+      }
+    }
+  TlStatus st = tl_material_evaluate_gradient(B->material, np, w->F, NULL, NULL, w->S, NULL, NULL);
+  if (st != TL_OK) {
+    tl_error_trace(st, __FILE__, __LINE__);
+    char msg[900];
+    snprintf(msg, sizeof msg, "%s", tl_error_message());
+    TL_ERROR(st, "block %s, elements from %zu (chunk of %zu, %d points each): %s", blk->name, elements[0], nk, nq,
+             msg);
+  }
+  for (size_t k = 0; k < nk; ++k) {
+    element_residual_t(B, elements[k], w->F + k * nq, w->S + k * nq, w->fe);
+    const size_t *conn = blk->conn + elements[k] * nn;
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i) f_nodes[conn[a] * 3 + i] += w->fe[3 * a + i];
+  }
+  return TL_OK;
+}
+
+static TlStatus block_residual(TlSolid *s, int b, const double *u_nodes, double *f_nodes)
+{
+  const SolidBlock *B = &s->blocks[b];
+  int parallel = 0;
+  for (int c = 0; c < B->n_colours && s->n_threads > 1; ++c)
+    parallel |= B->colour_ptr[c + 1] - B->colour_ptr[c] >= 4 * (size_t)CHUNK;
+  if (!parallel) {
+    /* One thread: chunks may span colours (same accumulation order). */
+    size_t total = B->colour_ptr[B->n_colours];
+    for (size_t c0 = 0; c0 < total; c0 += CHUNK)
+      TL_CHECK(residual_chunk(s, b, B->colour_elements + c0, total - c0 < CHUNK ? total - c0 : CHUNK, u_nodes,
+                              f_nodes, &s->scratch[0]));
+    return TL_OK;
+  }
+  ParallelError pe = {TL_OK, ""};
+  for (int colour = 0; colour < B->n_colours; ++colour) {
+    size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
+    long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
+#pragma omp parallel for schedule(dynamic) if (n_chunks >= 4) num_threads(s->n_threads)
+    for (long ch = 0; ch < n_chunks; ++ch) {
+      TlStatus seen;
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
+      size_t c0 = first + (size_t)ch * CHUNK, nk = count - (size_t)ch * CHUNK < CHUNK ? count - (size_t)ch * CHUNK : CHUNK;
+      TlStatus st = residual_chunk(s, b, B->colour_elements + c0, nk, u_nodes, f_nodes, &s->scratch[omp_get_thread_num()]);
+      if (st != TL_OK) parallel_error_record(&pe, st);
+    }
+    TL_CHECK(parallel_error_raise(&pe));
+  }
+  return TL_OK;
+}
+
 TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
                                TlSparse *K, double *W)
 {
   if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: block forces before tl_solid_setup");
+  if (f_nodes && !K && !W && s->dim == 3 && s->blocks[b].material->state_size == 0)
+    return block_residual(s, b, u_nodes, f_nodes);
   const TlElementBlock *blk = &s->mesh->blocks[b];
   SolidBlock *B = &s->blocks[b];
   int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
@@ -1593,6 +1767,22 @@ static const TlMechSystemOps solid_ops = {
     .strain_energy = op_strain_energy,
     .commit = op_commit,
     .rollback = op_rollback,
+    .max_frequency_squared = op_max_frequency_squared,
+    .checkpoint = &solid_checkpoint_ops,
+    .destroy = solid_destroy_content,
+};
+
+static const TlMechSystemOps solid_ops_elastic = {
+    .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},
+    .create_matrix = op_create_matrix,
+    .internal_force = op_internal_force,
+    .internal_tangent = op_internal_tangent,
+    .external_force = op_external_force,
+    .lumped_mass = op_lumped_mass,
+    .external_tangent = op_external_tangent,
+    .consistent_mass = op_consistent_mass,
+    .dirichlet = op_dirichlet,
+    .strain_energy = op_strain_energy,
     .max_frequency_squared = op_max_frequency_squared,
     .checkpoint = &solid_checkpoint_ops,
     .destroy = solid_destroy_content,

@@ -8,6 +8,8 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_linearsolver.h>
 #include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nonlinearsolver.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
 
 #include "tl_memory.h"
 #include "tl_timer.h"
@@ -32,7 +34,24 @@ struct TlNewton {
   int n_history;
   int factored; /* valid numeric factors exist */
   long since_factor; /* linear solves with the current factors */
+  /* SUNNONLINSOL: the generic Newton solver on the correction ycor from
+   * y0 = the start; xtrial = y0 + ycor, the last point F was evaluated at
+   * (where a factorisation takes its Jacobian). */
+  SUNNonlinearSolver nls;
+  N_Vector y0, ycor, weight;
+  double *xtrial, *r_start, *rows;
+  int start_valid;  /* r_start = F(y0), evaluated before the iteration */
+  double jnorm;     /* ||J||_inf of the current factors */
+  double crate;     /* convergence-rate estimate, kept across solves */
+  double delp;      /* |d_{m-1}| in the current solve */
+  int diagnosis;    /* why the correction test gave up (CTEST_*) */
+  double corrections[TL_NEWTON_HISTORY];
+  int n_corrections;
 };
+
+enum { CTEST_NONE = 0, CTEST_DIVERGING = 1, CTEST_NOT_FINITE = 2 };
+/* CVODE's constants: rate decay bound and divergence ratio. */
+static const double CRDOWN = 0.3, RDIV = 2.0;
 
 /* ------------------------------------------------ the SUNMatrix wrapper */
 static SUNMatrix_ID mat_getid(SUNMatrix A)
@@ -103,12 +122,11 @@ static int ls_free(SUNLinearSolver S)
 }
 
 /* ------------------------------------------------- KINSOL callbacks */
-static int kin_residual(N_Vector x, N_Vector f, void *user)
+/* fv = F(xv), its max norm appended to the history; 0, or -1 with the
+ * error recorded. */
+static int evaluate_residual(TlNewton *nw, const double *xv, double *fv)
 {
-  TlNewton *nw = user;
   double t0 = tl_wtime();
-  const double *xv = N_VGetArrayPointer(x);
-  double *fv = N_VGetArrayPointer(f);
   TlStatus st = nw->residual(nw->ctx, xv, fv);
   nw->stats.t_residual += tl_wtime() - t0;
   nw->stats.residual_evaluations++;
@@ -131,6 +149,11 @@ static int kin_residual(N_Vector x, N_Vector f, void *user)
   if (nw->n_history < TL_NEWTON_HISTORY) nw->history[nw->n_history++] = norm;
   else nw->history[TL_NEWTON_HISTORY - 1] = norm;
   return 0;
+}
+
+static int kin_residual(N_Vector x, N_Vector f, void *user)
+{
+  return evaluate_residual(user, N_VGetArrayPointer(x), N_VGetArrayPointer(f));
 }
 
 static int kin_jacobian(N_Vector x, N_Vector f, SUNMatrix J, void *user, N_Vector t1, N_Vector t2)
@@ -161,9 +184,131 @@ static void kin_silent(int code, const char *module, const char *function, char 
   (void)user; /* KINSOL's messages are folded into the returned error */
 }
 
+/* ----------------------------------------- SUNNonlinSol callbacks */
+/* ||J||_inf, the largest absolute row sum (upper storage mirrored). */
+static double jacobian_norm(const TlSparse *J, double *rows)
+{
+  memset(rows, 0, (size_t)J->n * sizeof *rows);
+  for (TlSparseIndex j = 0; j < J->n; ++j)
+    for (TlSparseIndex p = J->colptr[j]; p < J->colptr[j + 1]; ++p) {
+      TlSparseIndex i = J->rowind[p];
+      double a = fabs(J->values[p]);
+      rows[i] += a;
+      if (J->symmetric && i != j) rows[j] += a;
+    }
+  double m = 0.0;
+  for (TlSparseIndex i = 0; i < J->n; ++i) m = fmax(m, rows[i]);
+  return m;
+}
+
+/* Fresh factors of the Jacobian at x; the rate estimate starts again. */
+static int factor_at(TlNewton *nw, const double *x)
+{
+  nw->factored = 0;
+  double t0 = tl_wtime();
+  tl_sparse_zero(nw->J);
+  TlStatus st = nw->jacobian(nw->ctx, x, nw->J);
+  nw->stats.t_jacobian += tl_wtime() - t0;
+  nw->stats.jacobian_evaluations++;
+  if (st == TL_OK) st = tl_linear_solver_factor(nw->ls, nw->J);
+  if (st != TL_OK) {
+    record_callback_error(nw, st);
+    return -1;
+  }
+  nw->jnorm = jacobian_norm(nw->J, nw->rows);
+  nw->factored = 1;
+  nw->since_factor = 0;
+  nw->crate = 1.0;
+  return 0;
+}
+
+/* F(y0 + ycor).  The start's residual was evaluated before the iteration
+ * (the zero correction, also after a restart with fresh factors). */
+static int nls_sys(N_Vector ycor, N_Vector F, void *mem)
+{
+  TlNewton *nw = mem;
+  const double *y0 = N_VGetArrayPointer(nw->y0), *c = N_VGetArrayPointer(ycor);
+  double *f = N_VGetArrayPointer(F);
+  int zero = 1;
+  for (TlSparseIndex i = 0; i < nw->n; ++i) {
+    nw->xtrial[i] = y0[i] + c[i];
+    zero &= c[i] == 0.0;
+  }
+  if (zero && nw->start_valid) {
+    memcpy(f, nw->r_start, (size_t)nw->n * sizeof *f);
+    return SUN_NLS_SUCCESS;
+  }
+  return evaluate_residual(nw, nw->xtrial, f) ? -1 : SUN_NLS_SUCCESS;
+}
+
+static int nls_lsetup(booleantype jbad, booleantype *jcur, void *mem)
+{
+  (void)jbad; /* the Jacobian is always evaluated afresh */
+  TlNewton *nw = mem;
+  if (factor_at(nw, nw->xtrial)) return -1;
+  *jcur = SUNTRUE;
+  return SUN_NLS_SUCCESS;
+}
+
+/* b = J^-1 b; factors that have served max_setup_calls solves are renewed
+ * at the current iterate first (max_setup_calls = 1: full Newton). */
+static int nls_lsolve(N_Vector b, void *mem)
+{
+  TlNewton *nw = mem;
+  if (!nw->factored || nw->since_factor >= nw->opt.max_setup_calls)
+    if (factor_at(nw, nw->xtrial)) return -1;
+  double *bv = N_VGetArrayPointer(b);
+  TlStatus st = tl_linear_solver_solve(nw->ls, bv, bv);
+  nw->since_factor++;
+  if (st != TL_OK) {
+    record_callback_error(nw, st);
+    return -1;
+  }
+  return SUN_NLS_SUCCESS;
+}
+
+/* Correction tolerance in the unknown's units (tl_newton.h): the residual
+ * tolerance over ||J||_inf, floored at round-off of the unknown. */
+static double correction_tolerance(const TlNewton *nw)
+{
+  double tol = nw->jnorm > 0.0 ? nw->opt.ftol / nw->jnorm : 0.0;
+  return fmax(tol, nw->opt.step_tol * nw->opt.u_scale);
+}
+
+/* CVODE's test on the correction d_m of iteration m (max norm). */
+static int nls_ctest(SUNNonlinearSolver nls, N_Vector ycor, N_Vector del, realtype tol, N_Vector ewt,
+                     void *data)
+{
+  (void)ycor, (void)tol, (void)ewt;
+  TlNewton *nw = data;
+  int m = 0;
+  SUNNonlinSolGetCurIter(nls, &m);
+  const double *dv = N_VGetArrayPointer(del);
+  double d = 0.0;
+  for (TlSparseIndex i = 0; i < nw->n; ++i) d = fmax(d, fabs(dv[i]));
+  for (TlSparseIndex i = 0; i < nw->n; ++i)
+    if (!isfinite(dv[i])) d = NAN;
+  if (nw->n_corrections < TL_NEWTON_HISTORY) nw->corrections[nw->n_corrections++] = d;
+  else nw->corrections[TL_NEWTON_HISTORY - 1] = d;
+  nw->stats.last_correction = d;
+  if (!isfinite(d)) {
+    nw->diagnosis = CTEST_NOT_FINITE;
+    return SUN_NLS_CONV_RECVR;
+  }
+  if (m > 0) nw->crate = fmax(CRDOWN * nw->crate, nw->delp > 0.0 ? d / nw->delp : (d > 0.0 ? 1.0 : 0.0));
+  if (d * fmin(1.0, nw->crate) <= correction_tolerance(nw)) return SUN_NLS_SUCCESS;
+  if (m > 0 && d > RDIV * nw->delp) {
+    nw->diagnosis = CTEST_DIVERGING;
+    return SUN_NLS_CONV_RECVR;
+  }
+  nw->delp = d;
+  return SUN_NLS_CONTINUE;
+}
+
 /* ------------------------------------------------------------ API */
 void tl_newton_options_default(TlNewtonOptions *o)
 {
+  o->method = TL_NEWTON_KINSOL;
   o->ftol = 1e-8;
   o->step_tol = 1e-14;
   o->u_scale = 1.0;
@@ -171,6 +316,7 @@ void tl_newton_options_default(TlNewtonOptions *o)
   o->max_setup_calls = 1;
   o->keep_factors = 0;
   o->line_search = 0;
+  o->evaluate_solution = 0;
 }
 
 static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)
@@ -181,7 +327,14 @@ static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)
   if (o->max_iterations < 1 || o->max_setup_calls < 1)
     TL_ERROR(TL_ERR_ARG, "max_iterations = %ld and max_setup_calls = %ld must be >= 1",
              o->max_iterations, o->max_setup_calls);
+  if (o->method != TL_NEWTON_KINSOL && o->method != TL_NEWTON_SUNNONLINSOL)
+    TL_ERROR(TL_ERR_ARG, "Newton method %d is neither KINSOL (%d) nor SUNNONLINSOL (%d)", o->method,
+             TL_NEWTON_KINSOL, TL_NEWTON_SUNNONLINSOL);
+  if (o->method == TL_NEWTON_SUNNONLINSOL && o->line_search)
+    TL_ERROR(TL_ERR_ARG, "the SUNNonlinSol Newton has no line search; use the KINSOL method for it");
   nw->opt = *o;
+  if (SUNNonlinSolSetMaxIters(nw->nls, o->max_iterations > 1000000 ? 1000000 : (int)o->max_iterations))
+    TL_ERROR(TL_ERR_ARG, "SUNNonlinSol rejected max_iterations = %ld", o->max_iterations);
   int f = 0;
   f |= KINSetFuncNormTol(nw->kin, o->ftol);
   f |= KINSetScaledStepTol(nw->kin, o->step_tol);
@@ -221,7 +374,15 @@ TlStatus tl_newton_create(TlSparseIndex n, TlSparse *J, const char *solver_type,
   nw->kin = KINCreate(nw->sunctx);
   nw->Jmat = SUNMatNewEmpty(nw->sunctx);
   nw->Lsol = SUNLinSolNewEmpty(nw->sunctx);
-  if (!nw->x || !nw->scale || !nw->uscale || !nw->kin || !nw->Jmat || !nw->Lsol) {
+  nw->y0 = N_VNew_Serial((sunindextype)n, nw->sunctx);
+  nw->ycor = N_VNew_Serial((sunindextype)n, nw->sunctx);
+  nw->weight = N_VNew_Serial((sunindextype)n, nw->sunctx);
+  nw->nls = nw->y0 ? SUNNonlinSol_Newton(nw->y0, nw->sunctx) : NULL;
+  TL_CHECK_GOTO(st, tl_calloc(&nw->xtrial, (size_t)n, sizeof *nw->xtrial), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&nw->r_start, (size_t)n, sizeof *nw->r_start), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&nw->rows, (size_t)n, sizeof *nw->rows), fail);
+  if (!nw->x || !nw->scale || !nw->uscale || !nw->kin || !nw->Jmat || !nw->Lsol || !nw->ycor ||
+      !nw->weight || !nw->nls) {
     st = tl_error_set(TL_ERR_MEM, __FILE__, __LINE__, "KINSOL objects for %lld unknowns",
                       (long long)n);
     goto fail;
@@ -248,6 +409,17 @@ TlStatus tl_newton_create(TlSparseIndex n, TlSparse *J, const char *solver_type,
     st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "KINSOL set-up failed");
     goto fail;
   }
+  N_VConst(1.0, nw->weight);
+  f |= SUNNonlinSolSetSysFn(nw->nls, nls_sys);
+  f |= SUNNonlinSolSetLSetupFn(nw->nls, nls_lsetup);
+  f |= SUNNonlinSolSetLSolveFn(nw->nls, nls_lsolve);
+  f |= SUNNonlinSolSetConvTestFn(nw->nls, nls_ctest, nw);
+  f |= SUNNonlinSolInitialize(nw->nls);
+  if (f) {
+    st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "SUNNonlinSol set-up failed");
+    goto fail;
+  }
+  nw->crate = 1.0;
   TlNewtonOptions def;
   tl_newton_options_default(&def);
   TL_CHECK_GOTO(st, apply_options(nw, options ? options : &def), fail);
@@ -271,10 +443,15 @@ TlStatus tl_newton_refactor(TlNewton *nw)
 {
   nw->factored = 0;
   TL_CHECK(tl_linear_solver_factor(nw->ls, nw->J));
+  nw->jnorm = jacobian_norm(nw->J, nw->rows);
   nw->factored = 1;
   nw->since_factor = 0;
+  nw->crate = 1.0;
   return TL_OK;
 }
+
+double tl_newton_convergence_rate(const TlNewton *nw) { return nw->crate; }
+void tl_newton_set_convergence_rate(TlNewton *nw, double crate) { nw->crate = crate; }
 
 long tl_newton_iterations_since_factor(const TlNewton *nw) { return nw->since_factor; }
 void tl_newton_set_iterations_since_factor(TlNewton *nw, long n) { nw->since_factor = n; }
@@ -284,7 +461,56 @@ static int history_text(const TlNewton *nw, char *buf, size_t size)
   int w = snprintf(buf, size, "residual history (max norm):");
   for (int i = 0; i < nw->n_history && (size_t)w < size; ++i)
     w += snprintf(buf + w, size - (size_t)w, " %.3e", nw->history[i]);
+  if (nw->opt.method == TL_NEWTON_SUNNONLINSOL && (size_t)w < size) {
+    w += snprintf(buf + w, size - (size_t)w, "; corrections (max norm):");
+    for (int i = 0; i < nw->n_corrections && (size_t)w < size; ++i)
+      w += snprintf(buf + w, size - (size_t)w, " %.3e", nw->corrections[i]);
+  }
   return w;
+}
+
+/* The SUNNonlinSol path (tl_newton.h). */
+static TlStatus solve_sunnonlinsol(TlNewton *nw, double *x)
+{
+  size_t bytes = (size_t)nw->n * sizeof *x;
+  double *y0 = N_VGetArrayPointer(nw->y0), *ycor = N_VGetArrayPointer(nw->ycor);
+  nw->n_corrections = 0;
+  nw->diagnosis = CTEST_NONE;
+  nw->delp = 0.0;
+  memcpy(y0, x, bytes);
+  memcpy(nw->xtrial, x, bytes);
+  int flag = evaluate_residual(nw, y0, nw->r_start);
+  long iters = 0;
+  int callLSetup = !(nw->opt.keep_factors && nw->factored && nw->since_factor < nw->opt.max_setup_calls);
+  if (flag == 0 && nw->history[nw->n_history - 1] > nw->opt.ftol) {
+    nw->start_valid = 1;
+    memset(ycor, 0, bytes);
+    flag = SUNNonlinSolSolve(nw->nls, nw->y0, nw->ycor, nw->weight, nw->opt.ftol,
+                             callLSetup ? SUNTRUE : SUNFALSE, nw);
+    nw->start_valid = 0;
+    SUNNonlinSolGetNumIters(nw->nls, &iters);
+    for (TlSparseIndex i = 0; i < nw->n; ++i) x[i] = y0[i] + ycor[i];
+  }
+  if (flag == SUN_NLS_SUCCESS && iters > 0 && nw->opt.evaluate_solution)
+    flag = evaluate_residual(nw, x, nw->r_start);
+  nw->stats.last_iterations = iters;
+  nw->stats.iterations += iters;
+  nw->stats.solves++;
+  nw->stats.last_residual = nw->n_history ? nw->history[nw->n_history - 1] : NAN;
+  if (flag == SUN_NLS_SUCCESS) return TL_OK;
+  nw->factored = 0;
+  char hist[900];
+  history_text(nw, hist, sizeof hist);
+  if (nw->callback_status != TL_OK)
+    TL_ERROR(nw->callback_status, "%s; Newton stopped after %ld iterations; %s", nw->callback_message, iters, hist);
+  const char *why = nw->diagnosis == CTEST_DIVERGING   ? "corrections growing (|d_m| > 2 |d_m-1|)"
+                    : nw->diagnosis == CTEST_NOT_FINITE ? "correction not finite"
+                    : flag == SUN_NLS_CONV_RECVR         ? "iteration limit reached"
+                                                         : "SUNNonlinSol failure";
+  TL_ERROR(TL_ERR_CONVERGENCE,
+           "Newton did not converge: %s (SUNNonlinSol flag %d) after %ld iterations, fresh factors included; "
+           "correction tolerance %.3e (ftol %.3e / ||J||_inf %.3e), rate estimate %.3e; %s",
+           why, flag, iters, correction_tolerance(nw), nw->opt.ftol, nw->jnorm, nw->crate, hist);
 }
 
 TlStatus tl_newton_solve(TlNewton *nw, double *x)
@@ -292,6 +518,7 @@ TlStatus tl_newton_solve(TlNewton *nw, double *x)
   nw->callback_status = TL_OK;
   nw->callback_message[0] = '\0';
   nw->n_history = 0;
+  if (nw->opt.method == TL_NEWTON_SUNNONLINSOL) return solve_sunnonlinsol(nw, x);
   memcpy(N_VGetArrayPointer(nw->x), x, (size_t)nw->n * sizeof *x);
   /* KINSOL scales steps by uscale: 1 / u_scale makes the step test relative
    * to the problem's displacement size; residuals stay unscaled. */
@@ -353,6 +580,12 @@ int tl_newton_history(const TlNewton *nw, const double **norms)
   return nw->n_history;
 }
 
+int tl_newton_correction_history(const TlNewton *nw, const double **norms)
+{
+  *norms = nw->corrections;
+  return nw->n_corrections;
+}
+
 void tl_newton_destroy(TlNewton **nw)
 {
   if (!nw || !*nw) return;
@@ -363,6 +596,13 @@ void tl_newton_destroy(TlNewton **nw)
   if (p->x) N_VDestroy(p->x);
   if (p->scale) N_VDestroy(p->scale);
   if (p->uscale) N_VDestroy(p->uscale);
+  if (p->nls) SUNNonlinSolFree(p->nls);
+  if (p->y0) N_VDestroy(p->y0);
+  if (p->ycor) N_VDestroy(p->ycor);
+  if (p->weight) N_VDestroy(p->weight);
+  tl_free(&p->xtrial);
+  tl_free(&p->r_start);
+  tl_free(&p->rows);
   if (p->sunctx) SUNContext_Free(&p->sunctx);
   tl_linear_solver_destroy(&p->ls);
   tl_free(nw);

@@ -14,7 +14,31 @@
  * Convergence: ||F||_inf <= ftol (absolute; the caller scales it).  A solve
  * that fails returns TL_ERR_CONVERGENCE with KINSOL's reason and the
  * residual history; a callback error (inverted element, NaN residual) is
- * returned with its own message.  x is left at the last iterate. */
+ * returned with its own message.  x is left at the last iterate.
+ *
+ * method = TL_NEWTON_SUNNONLINSOL runs the same modified Newton through
+ * SUNDIALS' generic SUNNonlinSol_Newton (the iteration of CVODE and IDA)
+ * with CVODE's convergence test on the correction d_m instead of a test on
+ * the residual, so the accepted iterate is never evaluated: with a rate
+ * estimate kept across solves,
+ *
+ *   crate = max(0.3 crate, |d_m| / |d_{m-1}|)  (m > 0; reset to 1 whenever
+ *                                              the factors are renewed),
+ *   converged when |d_m| min(1, crate) <= ftol / ||J||_inf,
+ *
+ * max norms throughout, J the matrix of the current factors.  Why that
+ * tolerance: the residual at the accepted x_m is exactly -J d_{m+1}, the
+ * next correction with the same factors, so ||F(x_m)|| <= ||J|| |d_{m+1}|
+ * and crate |d_m| estimates |d_{m+1}|: the test asks the estimated
+ * ||F(x_m)|| to be below ftol, at least as strict as the residual test of
+ * KINSOL (||J|| |d| bounds ||J d|| from above).  The tolerance is floored at
+ * step_tol u_scale, where a correction is round-off.  A residual at the
+ * start already below ftol is accepted without a solve.  The iteration
+ * stops as diverging when |d_m| > 2 |d_{m-1}|; with kept (stale) factors
+ * SUNDIALS then starts again from x with fresh ones, as the KINSOL path
+ * does.  Restrictions: no line search (refused); the residual at the
+ * solution is not evaluated unless evaluate_solution is set, so without it
+ * the callback must leave no side effect the caller reads after the solve. */
 #ifndef TL_NEWTON_H
 #define TL_NEWTON_H
 
@@ -27,7 +51,11 @@ typedef TlStatus (*TlNewtonResidual)(void *ctx, const double *x, double *r);
 /* J = dF/dx at x; J arrives zeroed. */
 typedef TlStatus (*TlNewtonJacobian)(void *ctx, const double *x, TlSparse *J);
 
+/* The nonlinear iteration. */
+enum { TL_NEWTON_KINSOL = 0, TL_NEWTON_SUNNONLINSOL = 1 };
+
 typedef struct {
+  int method;           /* TL_NEWTON_KINSOL or TL_NEWTON_SUNNONLINSOL [KINSOL] */
   double ftol;          /* absolute residual tolerance, ||F||_inf */
   double step_tol;      /* stop when max |dx| / (|x| + u_scale) is below this [1e-14] */
   double u_scale;       /* typical size of x (step test, line search) [1] */
@@ -36,12 +64,16 @@ typedef struct {
   int keep_factors;     /* reuse factors across solve() calls [0] */
   int line_search;      /* KINSOL line search on ||F||_2, else plain Newton steps [0]: the
                          * residual norm of a stiff structure often rises on a good step */
+  int evaluate_solution; /* SUNNONLINSOL: evaluate F once more at the accepted iterate, for a
+                          * callback whose side effects the caller reads (trial material
+                          * state to commit) [0] */
 } TlNewtonOptions;
 
 typedef struct {
   long solves, iterations, residual_evaluations, jacobian_evaluations;
   long last_iterations;
-  double last_residual; /* ||F||_inf at the end of the last solve */
+  double last_residual; /* ||F||_inf at the last evaluation of the last solve */
+  double last_correction; /* SUNNONLINSOL: max |d| of the last correction of the last solve */
   double t_residual, t_jacobian;
   TlLinearSolverStats linear;
 } TlNewtonStats;
@@ -74,6 +106,14 @@ void tl_newton_set_iterations_since_factor(TlNewton *newton, long n);
 void tl_newton_get_stats(const TlNewton *newton, TlNewtonStats *stats);
 /* Residual norms of the last solve (one per evaluation), count returned. */
 int tl_newton_history(const TlNewton *newton, const double **norms);
+/* SUNNONLINSOL: correction norms max |d_m| of the last solve, count returned. */
+int tl_newton_correction_history(const TlNewton *newton, const double **norms);
+/* SUNNONLINSOL: the convergence-rate estimate crate kept across solves (1
+ * after each factorisation, tl_newton_refactor included).  A restart that
+ * must continue bit for bit saves it with the factors and sets it after
+ * tl_newton_refactor(). */
+double tl_newton_convergence_rate(const TlNewton *newton);
+void tl_newton_set_convergence_rate(TlNewton *newton, double crate);
 void tl_newton_destroy(TlNewton **newton);
 
 #endif

@@ -22,6 +22,7 @@ void tl_stepper_options_default(TlStepperOptions *o)
   o->reuse = 1;
   o->keep_factors = 0;
   o->line_search = 0;
+  o->nonlinear_solver = TL_NEWTON_KINSOL;
   o->lumped = 0;
   o->predictor = TL_PREDICTOR_AUTO;
   o->allow_unstable = 0;
@@ -54,6 +55,11 @@ static TlStatus check_options(const TlStepperOptions *o)
   if (!(o->ramp_time >= 0.0)) TL_ERROR(TL_ERR_ARG, "ramp_time = %g must be >= 0", o->ramp_time);
   if (o->predictor < TL_PREDICTOR_AUTO || o->predictor > TL_PREDICTOR_TAYLOR)
     TL_ERROR(TL_ERR_ARG, "Newmark predictor %d is none of AUTO (0), LAST (1), TAYLOR (2)", o->predictor);
+  if (o->nonlinear_solver != TL_NEWTON_KINSOL && o->nonlinear_solver != TL_NEWTON_SUNNONLINSOL)
+    TL_ERROR(TL_ERR_ARG, "nonlinear solver %d is neither KINSOL (%d) nor SUNNONLINSOL (%d)", o->nonlinear_solver,
+             TL_NEWTON_KINSOL, TL_NEWTON_SUNNONLINSOL);
+  if (o->nonlinear_solver == TL_NEWTON_SUNNONLINSOL && o->line_search)
+    TL_ERROR(TL_ERR_ARG, "line search asked with the SUNNONLINSOL nonlinear solver; only KINSOL has one");
   if (o->max_cuts < 0 || o->max_cuts > 60)
     TL_ERROR(TL_ERR_ARG, "max_cuts = %d outside [0, 60]", o->max_cuts);
   return TL_OK;
@@ -226,6 +232,7 @@ TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
   }
   TlNewtonOptions no;
   tl_newton_options_default(&no);
+  no.method = st->opt.nonlinear_solver;
   no.max_iterations = st->opt.max_iterations;
   no.max_setup_calls = st->opt.reuse;
   no.keep_factors = st->opt.keep_factors;
@@ -245,6 +252,9 @@ TlStatus tl_stepper_newton_solve(TlStepper *st, double *x)
   no.max_setup_calls = st->opt.reuse;
   no.keep_factors = st->opt.keep_factors;
   no.line_search = st->opt.line_search;
+  no.method = st->opt.nonlinear_solver;
+  /* A system that commits trial state needs it from the accepted iterate. */
+  no.evaluate_solution = st->sys->ops->commit != NULL;
   double us = 0.0;
   for (TlSparseIndex i = 0; i < st->n; ++i) us = tl_max(us, fabs(x[i]));
   no.u_scale = fmax(st->u_scale, us) > 0.0 ? fmax(st->u_scale, us) : 1.0;

@@ -3,8 +3,8 @@
  *
  *  "newmark"            implicit Newmark-beta (any beta, gamma; default the
  *                       average-acceleration rule 1/4, 1/2), Newton through
- *                       KINSOL at each step, consistent mass when the system
- *                       has one;
+ *                       KINSOL or SUNNonlinSol_Newton at each step,
+ *                       consistent mass when the system has one;
  *  "central_difference" explicit, lumped mass, one force evaluation per step;
  *                       a step above the critical one 2/omega_max is refused
  *                       (both numbers in the message) unless allow_unstable;
@@ -39,6 +39,10 @@ typedef struct {
   long reuse;          /* Newton: refactorise every `reuse` iterations (1 = full Newton) [1] */
   int keep_factors;    /* keep the factors across steps (modified Newton) [0] */
   int line_search;     /* KINSOL line search [0] */
+  int nonlinear_solver; /* implicit: Newton through KINSOL (test on the residual) or through
+                         * SUNNonlinSol_Newton (CVODE's test on the correction, which spares
+                         * the residual at the accepted iterate): TL_NEWTON_KINSOL or
+                         * TL_NEWTON_SUNNONLINSOL (tl_newton.h) [KINSOL] */
   int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
   int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO] */
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
@@ -64,6 +68,7 @@ typedef struct {
 
 typedef struct {
   long steps, rejected, newton_iterations, factorisations, linear_solves;
+  long residual_evaluations; /* Newmark: residuals evaluated (internal forces), reuses not counted */
   double t_step, t_factor, t_solve, t_residual, t_jacobian; /* seconds */
 } TlStepperStats;
 

@@ -48,6 +48,7 @@ static TlStatus newmark_residual(void *ctx, const double *x, double *r)
     }
   }
   newmark_kinematics(st, x, st->a, st->v);
+  st->stats.residual_evaluations++;
   TL_CHECK(sys->ops->internal_force(sys, st->t_new, x, st->v, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, x, st->f_ext));
   tl_stepper_mass_times(st, st->a, r);
