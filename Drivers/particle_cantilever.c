@@ -38,7 +38,7 @@ typedef struct {
   double d, rho_g, kn, restitution, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
-  int stepper, one_way, keep_factors, scheme, average_forces, predictor;
+  int stepper, one_way, keep_factors, scheme, average_forces, predictor, newton;
   const char *kernel;
   char *output_dir;
   TlOptions *options;
@@ -107,6 +107,11 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-predictor", "auto", predictors,
                                          "Newmark: Newton's start (auto: Taylor when the beam's modes are resolved, last: u_n)",
                                          &c->predictor), done);
+  static const char *const newtons[] = {"kinsol", "sunnonlinsol", NULL}; /* TL_NEWTON_* order */
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-newton", "kinsol", newtons,
+                                         "Newmark: Newton through KINSOL (converged on the residual, evaluated at every "
+                                         "iterate) or SUNNonlinSol (CVODE's test on the correction with an estimated "
+                                         "rate: the accepted iterate is not evaluated)", &c->newton), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-energy_limit", 10.0, 0.0, 1e12, "",
                                        "stop with a diagnosis when the total energy exceeds this multiple of its start (0: never)",
                                        &c->energy_limit), done);
@@ -274,6 +279,7 @@ static TlStatus run(int argc, char **argv)
   sto.keep_factors = c.keep_factors;
   sto.rtol = c.newton_rtol;
   sto.predictor = c.predictor;
+  sto.nonlinear_solver = c.newton;
   sto.max_iterations = c.reuse > 1 ? 200 : 30;
   TL_CHECK_GOTO(s, tl_stepper_create(steppers[c.stepper], tl_solid_system(beam->solid), &sto, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
