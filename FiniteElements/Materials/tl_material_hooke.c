@@ -93,39 +93,45 @@ static double potential_energy(const TlHooke *h, TlMat3 gamma)
 
 /* The stress alone (no tangent), the residual's hot path: C = g + 2 gamma
  * (g = 1 + 2 E0) from the strain the law already has, its inverse and
- * M gamma M formed with their symmetry (about half the flops of the
- * general products).  Branch-free, so the loop over points vectorises;
- * returns det C, which is not positive for a singular metric. */
-static inline double stress_only(const TlHooke *h, const TlMat3 *g, TlMat3 *S)
+ * M gamma M with their symmetry, written out on scalars (the compiler
+ * keeps them in registers; about a fifth of the instructions of the loop
+ * form).  Branch-free apart from the metric's variant; returns det C, not
+ * positive for a singular metric. */
+static inline double stress_only(const TlHooke *h, const TlMat3 *gm, TlMat3 *S)
 {
-  const TlMat3 *E0 = &h->base.eigenstrain;
-  double c[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) c[i][j] = (i == j) + 2.0 * (g->m[i][j] + E0->m[i][j]);
-  c[1][0] = c[0][1], c[2][0] = c[0][2], c[2][1] = c[1][2];
-  const double a00 = c[1][1] * c[2][2] - c[1][2] * c[1][2], a01 = c[0][2] * c[1][2] - c[0][1] * c[2][2],
-               a02 = c[0][1] * c[1][2] - c[0][2] * c[1][1];
-  const double det = c[0][0] * a00 + c[0][1] * a01 + c[0][2] * a02;
-  double M[3][3];
+  const double(*e0)[3] = h->base.eigenstrain.m, (*g)[3] = gm->m;
+  const double g00 = g[0][0], g11 = g[1][1], g22 = g[2][2], g01 = g[0][1], g12 = g[1][2], g02 = g[0][2];
+  const double c00 = 1.0 + 2.0 * (g00 + e0[0][0]), c11 = 1.0 + 2.0 * (g11 + e0[1][1]),
+               c22 = 1.0 + 2.0 * (g22 + e0[2][2]), c01 = 2.0 * (g01 + e0[0][1]), c12 = 2.0 * (g12 + e0[1][2]),
+               c02 = 2.0 * (g02 + e0[0][2]);
+  const double a00 = c11 * c22 - c12 * c12, a01 = c02 * c12 - c01 * c22, a02 = c01 * c12 - c02 * c11;
+  const double det = c00 * a00 + c01 * a01 + c02 * a02;
+  double m00, m11, m22, m01, m12, m02;
   if (h->covariant) {
-    memcpy(M, c, sizeof M);
+    m00 = c00, m11 = c11, m22 = c22, m01 = c01, m12 = c12, m02 = c02;
   } else {
     const double r = 1.0 / det;
-    M[0][0] = a00 * r, M[0][1] = M[1][0] = a01 * r, M[0][2] = M[2][0] = a02 * r;
-    M[1][1] = (c[0][0] * c[2][2] - c[0][2] * c[0][2]) * r;
-    M[1][2] = M[2][1] = (c[0][1] * c[0][2] - c[0][0] * c[1][2]) * r;
-    M[2][2] = (c[0][0] * c[1][1] - c[0][1] * c[0][1]) * r;
+    m00 = a00 * r, m01 = a01 * r, m02 = a02 * r;
+    m11 = (c00 * c22 - c02 * c02) * r;
+    m12 = (c01 * c02 - c00 * c12) * r;
+    m22 = (c00 * c11 - c01 * c01) * r;
   }
-  double P[3][3], tr = 0.0; /* P = M gamma */
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      P[i][j] = M[i][0] * g->m[0][j] + M[i][1] * g->m[1][j] + M[i][2] * g->m[2][j];
-      tr += M[i][j] * g->m[i][j];
-    }
+  /* P = M gamma */
+  const double p00 = m00 * g00 + m01 * g01 + m02 * g02, p01 = m00 * g01 + m01 * g11 + m02 * g12,
+               p02 = m00 * g02 + m01 * g12 + m02 * g22;
+  const double p10 = m01 * g00 + m11 * g01 + m12 * g02, p11 = m01 * g01 + m11 * g11 + m12 * g12,
+               p12 = m01 * g02 + m11 * g12 + m12 * g22;
+  const double p20 = m02 * g00 + m12 * g01 + m22 * g02, p21 = m02 * g01 + m12 * g11 + m22 * g12,
+               p22 = m02 * g02 + m12 * g12 + m22 * g22;
+  const double tr = p00 + p11 + p22; /* M : gamma */
   const double a = 2.0 * h->mu, b = h->mu * h->c2 * tr;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j)
-      S->m[i][j] = S->m[j][i] = a * (P[i][0] * M[0][j] + P[i][1] * M[1][j] + P[i][2] * M[2][j]) + b * M[i][j];
+  double(*o)[3] = S->m;
+  o[0][0] = a * (p00 * m00 + p01 * m01 + p02 * m02) + b * m00;
+  o[1][1] = a * (p10 * m01 + p11 * m11 + p12 * m12) + b * m11;
+  o[2][2] = a * (p20 * m02 + p21 * m12 + p22 * m22) + b * m22;
+  o[0][1] = o[1][0] = a * (p00 * m01 + p01 * m11 + p02 * m12) + b * m01;
+  o[1][2] = o[2][1] = a * (p10 * m02 + p11 * m12 + p12 * m22) + b * m12;
+  o[0][2] = o[2][0] = a * (p00 * m02 + p01 * m12 + p02 * m22) + b * m02;
   return det;
 }
 

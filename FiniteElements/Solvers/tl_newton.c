@@ -1,5 +1,6 @@
 #include "tl_newton.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -285,9 +286,13 @@ static int nls_ctest(SUNNonlinearSolver nls, N_Vector ycor, N_Vector del, realty
   SUNNonlinSolGetCurIter(nls, &m);
   const double *dv = N_VGetArrayPointer(del);
   double d = 0.0;
-  for (TlSparseIndex i = 0; i < nw->n; ++i) d = fmax(d, fabs(dv[i]));
-  for (TlSparseIndex i = 0; i < nw->n; ++i)
-    if (!isfinite(dv[i])) d = NAN;
+  int finite = 1;
+  for (TlSparseIndex i = 0; i < nw->n; ++i) {
+    const double a = fabs(dv[i]);
+    d = a > d ? a : d;
+    finite &= a <= DBL_MAX;
+  }
+  if (!finite) d = NAN;
   if (nw->n_corrections < TL_NEWTON_HISTORY) nw->corrections[nw->n_corrections++] = d;
   else nw->corrections[TL_NEWTON_HISTORY - 1] = d;
   nw->stats.last_correction = d;
