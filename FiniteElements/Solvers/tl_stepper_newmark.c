@@ -205,7 +205,7 @@ static void newmark_destroy(TlStepper *st)
 }
 
 const TlStepperOps tl_stepper_newmark_ops = {
-    .header = {"stepper", "newmark", "implicit Newmark-beta with Newton (KINSOL) iterations"},
+    .header = {"stepper", "newmark", "implicit Newmark-beta with Newton iterations (KINSOL or SUNNonlinSol_Newton)"},
     .implicit = 1,
     .setup = newmark_setup,
     .initialise = newmark_initialise,
