@@ -63,11 +63,28 @@ struct TlSCoupling {
   size_t *c_face;
   TlVec3 *c_point, *c_force;
   TlVec3 *nodal;
+  /* Element support of the kernel (TL_SCOUPLING_SUPPORT_ELEMENTS, c > 0):
+   * the SCoupling elements' nodes (own local numbering), their current
+   * positions, the CG support over their integration points, and the
+   * accumulated per-element nodal forces with the elements holding them */
+  int support;
+  size_t n_vlocal;
+  size_t *vnode;
+  int *elem_local;   /* n_elements x ne */
+  int ne;
+  TlVec3 *xv;
+  TlSCouplingVolumeType *vt;
+  TlCGSurface *cg_elem;
+  TlVec3 *elem_F;    /* n_elements x ne */
+  unsigned char *elem_touched;
+  size_t *touched_elems, n_touched_elems;
+  size_t *c_elem;    /* per contact: its face's element */
 };
 
 void tl_scoupling_options_default(TlSCouplingOptions *o)
 {
   o->width = 0.0;
+  o->support = TL_SCOUPLING_SUPPORT_SURFACE;
   o->kernel = "lucy";
   o->subdivisions = 0;
 }
@@ -149,6 +166,18 @@ static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, cons
   for (size_t k = 0; k < sc->n_active; k++) {
     const size_t e = sc->active_index[k];
     if (sc->elements[e].block != b) continue;
+    if (sc->cg_elem) {
+      if (!sc->elem_touched[e]) continue;
+      const int *q = sc->elem_local + e * (size_t)sc->ne;
+      const TlVec3 *F = sc->elem_F + e * (size_t)sc->ne;
+      for (int a = 0; a < sc->ne; a++) {
+        double *f = f_nodes + 3 * sc->vnode[q[a]];
+        f[0] -= F[a].x;
+        f[1] -= F[a].y;
+        f[2] -= F[a].z;
+      }
+      continue;
+    }
     for (size_t j = sc->elem_face_ptr[e]; j < sc->elem_face_ptr[e + 1]; j++) {
       const size_t face = sc->elem_face[j];
       if (!sc->face_touched[face]) continue;
@@ -230,6 +259,53 @@ static void remove_wrappers(TlSCoupling *sc)
   tl_free(&sc->blocks);
 }
 
+/* The SCoupling elements as the kernel's support: their nodes, one element
+ * type (refused otherwise, naming both), their integration points. */
+static TlStatus setup_element_support(TlSCoupling *sc)
+{
+  const TlMesh *m = sc->mesh;
+  const TlElementType *type = m->blocks[sc->elements[0].block].type;
+  for (size_t e = 1; e < sc->n_elements; e++) {
+    const TlElementType *t = m->blocks[sc->elements[e].block].type;
+    if (t != type)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "element CG support needs one element type: SCoupling elements are %s and %s",
+               type->header.name, t->header.name);
+  }
+  TL_CHECK(tl_scoupling_volume_type_create(type, &sc->vt));
+  const int ne = sc->ne = type->n_nodes;
+  size_t *map = NULL;
+  TL_CHECK(tl_calloc(&map, m->n_nodes, sizeof *map));
+  for (size_t i = 0; i < m->n_nodes; i++) map[i] = SIZE_MAX;
+  TlStatus s = TL_OK;
+  if ((s = tl_calloc(&sc->elem_local, sc->n_elements * (size_t)ne, sizeof *sc->elem_local)) != TL_OK ||
+      (s = tl_calloc(&sc->vnode, sc->n_elements * (size_t)ne, sizeof *sc->vnode)) != TL_OK)
+    goto done;
+  sc->n_vlocal = 0;
+  for (size_t e = 0; e < sc->n_elements; e++) {
+    const size_t *conn = m->blocks[sc->elements[e].block].conn + sc->elements[e].element * (size_t)ne;
+    for (int a = 0; a < ne; a++) {
+      if (map[conn[a]] == SIZE_MAX) {
+        map[conn[a]] = sc->n_vlocal;
+        sc->vnode[sc->n_vlocal++] = conn[a];
+      }
+      sc->elem_local[e * (size_t)ne + (size_t)a] = (int)map[conn[a]];
+    }
+  }
+  if ((s = tl_calloc(&sc->xv, sc->n_vlocal, sizeof *sc->xv)) != TL_OK ||
+      (s = tl_calloc(&sc->elem_F, sc->n_elements * (size_t)ne, sizeof *sc->elem_F)) != TL_OK ||
+      (s = tl_calloc(&sc->elem_touched, sc->n_elements, 1)) != TL_OK ||
+      (s = tl_calloc(&sc->touched_elems, sc->n_elements, sizeof *sc->touched_elems)) != TL_OK)
+    goto done;
+  for (size_t i = 0; i < sc->n_vlocal; i++) {
+    const double *X = m->x + 3 * sc->vnode[i];
+    sc->xv[i] = tl_v3(X[0], X[1], X[2]);
+  }
+  s = tl_cg_surface_create_element_volumes(sc->vt, sc->n_vlocal, sc->xv, sc->n_elements, sc->elem_local, &sc->cg_elem);
+done:
+  tl_free(&map);
+  return s;
+}
+
 TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *faces,
                              const TlSCouplingOptions *options, TlSCoupling **out)
 {
@@ -262,6 +338,7 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   sc->solid = solid;
   sc->mesh = mesh;
   sc->width = o.width;
+  sc->support = o.width > 0.0 ? o.support : TL_SCOUPLING_SUPPORT_SURFACE;
   sc->n_faces = n_faces;
   sc->nf = nf;
   if ((s = tl_calloc(&sc->faces, n_faces, sizeof *sc->faces)) != TL_OK) goto fail;
@@ -332,6 +409,12 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   else
     s = tl_cg_surface_create_element_faces(sc->ft, sc->n_local, sc->xs, n_faces, sc->face_local, &sc->cg);
   if (s != TL_OK) goto fail;
+  if (o.width > 0.0 && o.support == TL_SCOUPLING_SUPPORT_ELEMENTS) {
+    if ((s = setup_element_support(sc)) != TL_OK) goto fail;
+  } else if (o.support != TL_SCOUPLING_SUPPORT_SURFACE && o.support != TL_SCOUPLING_SUPPORT_ELEMENTS) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "CG support %d is none of SURFACE (0), ELEMENTS (1)", o.support);
+    goto fail;
+  }
   /* The SCoupling element type on every block holding coupled faces. */
   if ((s = install_wrappers(sc)) != TL_OK) goto fail;
   *out = sc;
@@ -372,7 +455,16 @@ void tl_scoupling_destroy(TlSCoupling **psc)
   if (sc->blocks) remove_wrappers(sc);
   if (!sc->wall_given) tl_wall_destroy(&sc->wall);
   tl_cg_surface_destroy(&sc->cg);
+  tl_cg_surface_destroy(&sc->cg_elem);
   tl_scoupling_face_type_destroy(&sc->ft);
+  tl_scoupling_volume_type_destroy(&sc->vt);
+  tl_free(&sc->vnode);
+  tl_free(&sc->elem_local);
+  tl_free(&sc->xv);
+  tl_free(&sc->elem_F);
+  tl_free(&sc->elem_touched);
+  tl_free(&sc->touched_elems);
+  tl_free(&sc->c_elem);
   tl_cg_kernel_destroy(&sc->kernel);
   tl_free(&sc->faces);
   tl_free(&sc->node);
@@ -410,6 +502,11 @@ TlWall *tl_scoupling_wall(TlSCoupling *sc) { return sc->wall; }
 
 TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const double *v)
 {
+  for (size_t i = 0; i < sc->n_vlocal; i++) {
+    const size_t n = sc->vnode[i];
+    const double *X = sc->mesh->x + 3 * n;
+    sc->xv[i] = u ? tl_v3(X[0] + u[3 * n], X[1] + u[3 * n + 1], X[2] + u[3 * n + 2]) : tl_v3(X[0], X[1], X[2]);
+  }
   for (size_t i = 0; i < sc->n_local; i++) {
     const size_t n = sc->node[i];
     TlVec3 x = sc->X0[i];
@@ -460,6 +557,7 @@ static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wa
     TL_CHECK(tl_realloc(&sc->c_face, cap, sizeof *sc->c_face));
     TL_CHECK(tl_realloc(&sc->c_point, cap, sizeof *sc->c_point));
     TL_CHECK(tl_realloc(&sc->c_force, cap, sizeof *sc->c_force));
+    TL_CHECK(tl_realloc(&sc->c_elem, cap, sizeof *sc->c_elem));
     sc->capacity = cap;
   }
   size_t m = 0;
@@ -468,6 +566,7 @@ static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wa
     const TlTriContactRecord *r = &set->c[k];
     if (!r->active) continue;
     sc->c_face[m] = (size_t)r->triangle / (size_t)sc->ft->n_pieces;
+    sc->c_elem[m] = sc->face_element[sc->c_face[m]];
     sc->c_point[m] = r->point;
     sc->c_force[m] = scale == 1.0 ? r->force : tl_v3_scale(r->force, scale);
     total = tl_v3_add(total, r->force);
@@ -477,14 +576,32 @@ static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wa
   if (total_wall) *total_wall = total;
   /* The quadrature of the faces within reach of the contacts only (a face
    * bulges beyond its nodes' box by far less than its size). */
-  if (m && sc->cg_stale && sc->width > 0.0)
-    TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
+  if (m && sc->cg_stale && sc->width > 0.0) {
+    if (sc->cg_elem)
+      TL_CHECK(tl_cg_surface_update_near(sc->cg_elem, m, sc->c_point, sc->width + sc->face_size));
+    else
+      TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
+  }
   if (m) sc->cg_stale = 0;
   return TL_OK;
 }
 
 /* Step 1 of §5.3.1: the owners of the faces touched since position n0 of
  * the list become active (in the order their faces were first touched). */
+static void activate_element(TlSCoupling *sc, size_t e)
+{
+  if (sc->elem_active[e]) return;
+  sc->elem_active[e] = 1;
+  sc->active_index[sc->n_active] = e;
+  sc->active[sc->n_active++] = sc->elements[e];
+}
+
+/* With the element support: the elements touched since position n0. */
+static void activate_elements(TlSCoupling *sc, size_t n0)
+{
+  for (size_t t = n0; t < sc->n_touched_elems; t++) activate_element(sc, sc->touched_elems[t]);
+}
+
 static void activate(TlSCoupling *sc, size_t n0)
 {
   for (size_t t = n0; t < sc->n_touched; t++) {
@@ -501,6 +618,13 @@ TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *t
   if (!isfinite(scale)) TL_ERROR(TL_ERR_ARG, "coupling force scale %g is not finite", scale);
   TL_CHECK(collect_contacts(sc, scale, total_wall));
   if (sc->n_contacts == 0) return TL_OK;
+  if (sc->cg_elem) {
+    const size_t n0 = sc->n_touched_elems;
+    TL_CHECK(tl_cg_surface_face_forces(sc->cg_elem, sc->kernel, sc->n_contacts, sc->c_elem, sc->c_point, sc->c_force,
+                                       sc->elem_F, sc->elem_touched, sc->touched_elems, &sc->n_touched_elems));
+    activate_elements(sc, n0);
+    return TL_OK;
+  }
   const size_t n0 = sc->n_touched;
   TL_CHECK(tl_cg_surface_face_forces(sc->cg, sc->kernel, sc->n_contacts, sc->c_face, sc->c_point, sc->c_force,
                                      sc->face_F, sc->face_touched, sc->touched_faces, &sc->n_touched));
@@ -516,6 +640,12 @@ void tl_scoupling_clear_forces(TlSCoupling *sc)
     memset(sc->face_F + f * nf, 0, nf * sizeof *sc->face_F);
     sc->face_touched[f] = 0;
   }
+  for (size_t t = 0; t < sc->n_touched_elems; t++) {
+    const size_t e = sc->touched_elems[t];
+    memset(sc->elem_F + e * (size_t)sc->ne, 0, (size_t)sc->ne * sizeof *sc->elem_F);
+    sc->elem_touched[e] = 0;
+  }
+  sc->n_touched_elems = 0;
   for (size_t k = 0; k < sc->n_active; k++) sc->elem_active[sc->active_index[k]] = 0;
   sc->n_touched = 0;
   sc->n_active = 0;
@@ -523,6 +653,17 @@ void tl_scoupling_clear_forces(TlSCoupling *sc)
 
 void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes)
 {
+  for (size_t t = 0; t < sc->n_touched_elems; t++) {
+    const size_t e = sc->touched_elems[t];
+    const int *q = sc->elem_local + e * (size_t)sc->ne;
+    const TlVec3 *F = sc->elem_F + e * (size_t)sc->ne;
+    for (int a = 0; a < sc->ne; a++) {
+      double *out = f_nodes + 3 * sc->vnode[q[a]];
+      out[0] += F[a].x;
+      out[1] += F[a].y;
+      out[2] += F[a].z;
+    }
+  }
   const size_t nf = (size_t)sc->nf;
   for (size_t t = 0; t < sc->n_touched; t++) {
     const size_t f = sc->touched_faces[t];
@@ -572,6 +713,54 @@ TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, 
   TL_CHECK(s);
   snprintf(name, sizeof name, "%sface_forces", prefix);
   TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * sc->n_faces * (size_t)sc->nf, (const double *)sc->face_F));
+  snprintf(name, sizeof name, "%scg_support", prefix);
+  TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support));
+  if (!sc->cg_elem) return TL_OK;
+  TL_CHECK(tl_calloc(&list, sc->n_touched_elems ? sc->n_touched_elems : 1, sizeof *list));
+  for (size_t t = 0; t < sc->n_touched_elems; t++) list[t] = (int64_t)sc->touched_elems[t];
+  snprintf(name, sizeof name, "%stouched_elements", prefix);
+  s = tl_checkpoint_write_int64s(w, group, name, sc->n_touched_elems, list);
+  tl_free(&list);
+  TL_CHECK(s);
+  snprintf(name, sizeof name, "%selement_forces", prefix);
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * sc->n_elements * (size_t)sc->ne, (const double *)sc->elem_F));
+  return TL_OK;
+}
+
+/* The per-element forces of the element support and the elements holding
+ * them, in the order saved. */
+static TlStatus load_element_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
+{
+  char name[128];
+  size_t n = 0;
+  snprintf(name, sizeof name, "%selement_forces", prefix);
+  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
+  if (n != 3 * sc->n_elements * (size_t)sc->ne)
+    TL_ERROR(TL_ERR_ARG, "checkpoint holds %zu per-element force components in %s, this coupling has %zu elements x %d nodes x 3",
+             n, name, sc->n_elements, sc->ne);
+  snprintf(name, sizeof name, "%stouched_elements", prefix);
+  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
+  if (n > sc->n_elements)
+    TL_ERROR(TL_ERR_ARG, "checkpoint lists %zu touched elements in %s, this coupling has %zu", n, name, sc->n_elements);
+  int64_t *list = NULL;
+  TL_CHECK(tl_calloc(&list, n ? n : 1, sizeof *list));
+  TlStatus s = tl_checkpoint_read_int64s(r, group, name, n, list);
+  for (size_t t = 0; s == TL_OK && t < n; t++) {
+    if (list[t] < 0 || (uint64_t)list[t] >= sc->n_elements) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "checkpoint names touched element %lld in %s, outside [0, %zu)",
+                       (long long)list[t], name, sc->n_elements);
+      break;
+    }
+    const size_t e = (size_t)list[t];
+    if (sc->elem_touched[e]) continue;
+    sc->elem_touched[e] = 1;
+    sc->touched_elems[sc->n_touched_elems++] = e;
+  }
+  tl_free(&list);
+  TL_CHECK(s);
+  activate_elements(sc, 0);
+  snprintf(name, sizeof name, "%selement_forces", prefix);
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, name, 3 * sc->n_elements * (size_t)sc->ne, (double *)sc->elem_F));
   return TL_OK;
 }
 
@@ -611,6 +800,13 @@ TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const 
   }
   tl_free(&list);
   TL_CHECK(s);
+  int64_t support = 0;
+  snprintf(name, sizeof name, "%scg_support", prefix);
+  TL_CHECK(tl_checkpoint_read_int64(r, group, name, &support));
+  if (support != sc->support)
+    TL_ERROR(TL_ERR_ARG, "checkpoint was written with CG support %lld (0 surface, 1 elements), this coupling has %d",
+             (long long)support, sc->support);
+  if (sc->cg_elem) TL_CHECK(load_element_forces(sc, r, group, prefix));
   return TL_OK;
 }
 
@@ -621,4 +817,4 @@ const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc) { return sc
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc) { return sc->n_contacts; }
 double tl_scoupling_width(const TlSCoupling *sc) { return sc->width; }
 TlSolid *tl_scoupling_solid(const TlSCoupling *sc) { return sc->solid; }
-const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg; }
+const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg_elem ? sc->cg_elem : sc->cg; }

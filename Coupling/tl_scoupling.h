@@ -49,10 +49,16 @@
 #include "tl_solid.h"
 #include "tl_wall_trisurface.h"
 
+/* Where the kernel of c > 0 is normalised and integrated: over the coupled
+ * surface (Eq. 15 as printed) or over the SCoupling elements' integration
+ * points (the code of the published runs; tl_scoupling_faces.h). */
+enum { TL_SCOUPLING_SUPPORT_SURFACE = 0, TL_SCOUPLING_SUPPORT_ELEMENTS = 1 };
+
 typedef struct {
   double width;      /* CG width c (m); 0 = Dirac (Eq. 16) */
   const char *kernel; /* CG kernel for c > 0 ["lucy"] */
   int subdivisions;  /* CG quadrature sub-cells per face direction; 0 = enough for the width [0] */
+  int support;       /* TL_SCOUPLING_SUPPORT_SURFACE or _ELEMENTS, for c > 0 [SURFACE] */
 } TlSCouplingOptions;
 
 typedef struct TlSCoupling TlSCoupling;

@@ -259,3 +259,107 @@ TlStatus tl_cg_surface_create_element_faces(const TlSCouplingFaceType *ft, size_
   }
   return TL_OK;
 }
+
+/* ---- the SCoupling elements as the CG support -------------------------- */
+
+TlStatus tl_scoupling_volume_type_create(const TlElementType *type, TlSCouplingVolumeType **out)
+{
+  *out = NULL;
+  if (!type || type->dim != 3)
+    TL_ERROR(TL_ERR_UNSUPPORTED, "element CG support needs a 3-D solid element type (got %s)", type ? type->header.name : "none");
+  TlQuadrature rule;
+  TL_CHECK(tl_element_quadrature(type, type->order_stiffness, &rule));
+  TlSCouplingVolumeType *vt = NULL;
+  TL_CHECK(TL_NEW(vt));
+  vt->type = type;
+  vt->ne = type->n_nodes;
+  vt->nq = rule.n;
+  memcpy(vt->w_ref, rule.w, (size_t)rule.n * sizeof *rule.w);
+  TlStatus s = TL_OK;
+  if ((s = tl_calloc(&vt->N, (size_t)vt->nq * (size_t)vt->ne, sizeof *vt->N)) != TL_OK ||
+      (s = tl_calloc(&vt->dN, (size_t)vt->nq * (size_t)vt->ne * 3, sizeof *vt->dN)) != TL_OK) {
+    tl_scoupling_volume_type_destroy(&vt);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  type->eval(rule.n, &rule.xi[0][0], vt->N, vt->dN);
+  *out = vt;
+  return TL_OK;
+}
+
+void tl_scoupling_volume_type_destroy(TlSCouplingVolumeType **pvt)
+{
+  if (!pvt || !*pvt) return;
+  tl_free(&(*pvt)->N);
+  tl_free(&(*pvt)->dN);
+  tl_free(pvt);
+}
+
+static TlStatus volumes_quadrature(const TlCGSurface *s, size_t n, const size_t *elems, TlVec3 *xq, double *wq,
+                                   double *Nq)
+{
+  const TlSCouplingVolumeType *vt = s->context;
+  const int ne = vt->ne, nq = vt->nq;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t e = elems ? elems[k] : k;
+    const int *en = s->face_node + e * (size_t)ne;
+    for (int q = 0; q < nq; ++q) {
+      const double *N = vt->N + (size_t)q * ne, *dN = vt->dN + (size_t)q * ne * 3;
+      TlVec3 x = tl_v3(0, 0, 0);
+      double J[3][3] = {{0}};
+      for (int a = 0; a < ne; ++a) {
+        const TlVec3 xa = s->x[en[a]];
+        x = tl_v3_axpy(x, N[a], xa);
+        const double c[3] = {xa.x, xa.y, xa.z};
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) J[i][j] += c[i] * dN[3 * a + j];
+      }
+      const double det = J[0][0] * (J[1][1] * J[2][2] - J[1][2] * J[2][1]) - J[0][1] * (J[1][0] * J[2][2] - J[1][2] * J[2][0]) +
+                         J[0][2] * (J[1][0] * J[2][1] - J[1][1] * J[2][0]);
+      if (!(det > 0.0))
+        TL_ERROR(TL_ERR_NUMERIC, "CG support element %zu: det J = %g at integration point %d (inverted element)", e, det, q);
+      const size_t slot = e * (size_t)nq + (size_t)q;
+      xq[slot] = x;
+      wq[slot] = vt->w_ref[q] * det;
+      memcpy(Nq + slot * (size_t)ne, N, (size_t)ne * sizeof *N);
+    }
+  }
+  return TL_OK;
+}
+
+/* Shape values at a point (the Dirac limit, which the coupling takes on
+ * faces instead; here for completeness): the point mapped into the element,
+ * clamped to it. */
+static TlStatus volumes_shape_at(const TlCGSurface *s, size_t n, const size_t *elem, const TlVec3 *point, double *Nout)
+{
+  const TlSCouplingVolumeType *vt = s->context;
+  const int ne = vt->ne;
+  double x[3 * TL_ELEMENT_MAX_NODES];
+  for (size_t k = 0; k < n; ++k) {
+    const int *en = s->face_node + elem[k] * (size_t)ne;
+    for (int a = 0; a < ne; ++a) x[3 * a] = s->x[en[a]].x, x[3 * a + 1] = s->x[en[a]].y, x[3 * a + 2] = s->x[en[a]].z;
+    double xi[3] = {0, 0, 0}, p[3] = {point[k].x, point[k].y, point[k].z};
+    int inside = 0;
+    TL_CHECK(tl_element_inverse_map(vt->type, 3, x, p, xi, &inside));
+    vt->type->eval(1, xi, Nout + k * (size_t)ne, NULL);
+  }
+  return TL_OK;
+}
+
+static const TlCGSurfaceOps tl_cg_surface_element_volume_ops = {
+    .header = {TL_CG_SURFACE_KIND, "element_volumes", "solid elements, through their integration points"},
+    .quadrature = volumes_quadrature,
+    .shape_at = volumes_shape_at,
+};
+
+TlStatus tl_cg_surface_create_element_volumes(const TlSCouplingVolumeType *vt, size_t n_nodes, const TlVec3 *x,
+                                              size_t n_elements, const int *elem_node, TlCGSurface **surface)
+{
+  TL_CHECK(tl_cg_surface_create(&tl_cg_surface_element_volume_ops, n_nodes, x, n_elements, vt->ne, elem_node, vt->nq,
+                                (void *)vt, surface));
+  TlStatus s = tl_cg_surface_update(*surface, NULL);
+  if (s != TL_OK) {
+    tl_cg_surface_destroy(surface);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  return TL_OK;
+}

@@ -54,4 +54,28 @@ void tl_scoupling_face_type_destroy(TlSCouplingFaceType **ft);
 TlStatus tl_cg_surface_create_element_faces(const TlSCouplingFaceType *ft, size_t n_nodes, const TlVec3 *x,
                                             size_t n_faces, const int *face_node, TlCGSurface **surface);
 
+/* The SCoupling elements themselves as the CG support: each "face" of the
+ * CG surface is a solid element, its quadrature the element type's
+ * stiffness rule at the current node positions (weights w |det J|), so the
+ * kernel is normalised over the elements' integration points and the
+ * contact force spread over all their nodes.  This is what the code of the
+ * published S1 runs does for c > 0 (MercuryDPM's surface coupling evaluates
+ * the CG function at the bulk elements' integration points), in place of
+ * Eq. 15's integral over the coupled surface. */
+typedef struct {
+  const TlElementType *type; /* a 3-D solid element type */
+  int ne, nq;                /* nodes per element, integration points */
+  double w_ref[TL_QUADRATURE_MAX];
+  double *N;  /* nq x ne shape values */
+  double *dN; /* nq x ne x 3 reference derivatives */
+} TlSCouplingVolumeType;
+
+TlStatus tl_scoupling_volume_type_create(const TlElementType *type, TlSCouplingVolumeType **vt);
+void tl_scoupling_volume_type_destroy(TlSCouplingVolumeType **vt);
+/* A CG support over n_elements elements of this type (elem_node:
+ * n_elements x ne local node numbers into x, borrowed); the volume type
+ * must outlive it.  Quadrature computed. */
+TlStatus tl_cg_surface_create_element_volumes(const TlSCouplingVolumeType *vt, size_t n_nodes, const TlVec3 *x,
+                                              size_t n_elements, const int *elem_node, TlCGSurface **surface);
+
 #endif

@@ -38,7 +38,7 @@ typedef struct {
   double d, rho_g, kn, restitution, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
-  int stepper, one_way, keep_factors, scheme, average_forces, predictor, newton;
+  int stepper, one_way, keep_factors, scheme, average_forces, predictor, newton, cg_support;
   const char *kernel;
   char *output_dir;
   TlOptions *options;
@@ -89,6 +89,11 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_kernel", "lucy", kernels, "CG kernel for c > 0", &kernel), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-cg_subdivisions", 0, 0, 64, "CG quadrature sub-cells per face direction (0: from c)",
                                       &c->cg_subdivisions), done);
+  static const char *const supports[] = {"surface", "elements", NULL}; /* TL_SCOUPLING_SUPPORT_* order */
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_support", "surface", supports,
+                                         "c > 0: the kernel normalised and integrated over the coupled surface (Eq. 15) "
+                                         "or over the SCoupling elements' integration points (the code of the "
+                                         "published runs)", &c->cg_support), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_factor", 0.01, 1e-6, 10.0, "",
                                        "dt = factor * pi * sqrt(2 m / k_n) (0.01 t_c: dt = 9.09e-5 s)", &c->dt_factor), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "newmark", steppers, "FEM time stepper", &c->stepper), done);
@@ -240,6 +245,7 @@ static TlStatus run(int argc, char **argv)
   so.width = c.cg_width;
   so.kernel = c.kernel;
   so.subdivisions = (int)c.cg_subdivisions;
+  so.support = c.cg_support;
   const char *clamped[] = {"ymin"};
   TL_CHECK_GOTO(s, tl_scoupling_create_boundary(beam->solid, 1, clamped, &so, &sc), done);
   /* The particles. */

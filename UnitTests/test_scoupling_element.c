@@ -51,7 +51,7 @@ static TlDem *make_world(double r, int *sp, int *law)
   return dem;
 }
 
-static void test_element(const TlElementType *type, double width)
+static void test_element(const TlElementType *type, double width, int support)
 {
   const char *name = type->header.name;
   TlMesh *mesh = NULL;
@@ -69,10 +69,12 @@ static void test_element(const TlElementType *type, double width)
   TlSCouplingOptions so;
   tl_scoupling_options_default(&so);
   so.width = width;
+  so.support = support;
   const char *clamped[] = {"ymin"};
   TlSCoupling *sc = NULL;
   TL_TEST_STATUS(tl_scoupling_create_boundary(solid, 1, clamped, &so, &sc), TL_OK);
   if (!sc) return;
+  const int on_elements = support == TL_SCOUPLING_SUPPORT_ELEMENTS && width > 0.0;
   TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn != own.fn, "%s: the coupling wraps the block's kernel", name);
   /* Particles pressing on the top face, an edge, the free-end corner and the bottom face. */
   const double r = 0.1;
@@ -140,15 +142,29 @@ static void test_element(const TlElementType *type, double width)
   TlFaceRef *expected = calloc(n_faces, sizeof *expected), *owners = calloc(n_faces, sizeof *owners);
   for (size_t f = 0; f < n_faces; ++f) {
     if (contacted[f] && !has_element(owners, n_contacted, faces[f])) owners[n_contacted++] = faces[f];
-    if (reached[f] && !has_element(expected, n_expected, faces[f])) expected[n_expected++] = faces[f];
+    if (!on_elements && reached[f] && !has_element(expected, n_expected, faces[f])) expected[n_expected++] = faces[f];
+  }
+  /* With the element support the kernel reaches elements through their own
+   * integration points (the support's "faces" are the SCoupling elements). */
+  if (on_elements) {
+    const TlFaceRef *elems = tl_scoupling_elements(sc);
+    TL_TEST_ASSERT(cs->n_faces == tl_scoupling_n_elements(sc), "%s: element support over the %zu SCoupling elements (%zu)",
+                   name, tl_scoupling_n_elements(sc), cs->n_faces);
+    for (size_t g = 0; g < cs->n_faces; ++g) {
+      int hit = 0;
+      for (size_t k = 0; k < set->count && !hit; ++k)
+        for (int q = 0; q < cs->qp_per_face && set->c[k].active && !hit; ++q)
+          hit = tl_v3_norm(tl_v3_sub(cs->xq[g * (size_t)cs->qp_per_face + (size_t)q], set->c[k].point)) < width;
+      if (hit) expected[n_expected++] = elems[g];
+    }
   }
   for (size_t k = 0; k < n_expected; ++k) missing += !has_element(active, n_active, expected[k]);
   for (size_t k = 0; k < n_active; ++k) dup += has_element(active, k, active[k]);
   size_t owners_active = 0;
   for (size_t k = 0; k < n_contacted; ++k) owners_active += has_element(active, n_active, owners[k]);
-  printf("%s, c = %g: %zu contacts; residual change vs -F: %.3g (|F| %.3g N, |f_int| %.3g N); momentum %.2g; %zu active "
+  printf("%s, c = %g, %s support: %zu contacts; residual change vs -F: %.3g (|F| %.3g N, |f_int| %.3g N); momentum %.2g; %zu active "
          "SCoupling elements of %zu (%zu own a contacted face, %zu expected)\n",
-         name, width, n_contacts, diff, Fmax, fmax0, balance, n_active, tl_scoupling_n_elements(sc), n_contacted, n_expected);
+         name, width, on_elements ? "element" : "surface", n_contacts, diff, Fmax, fmax0, balance, n_active, tl_scoupling_n_elements(sc), n_contacted, n_expected);
   TL_TEST_ASSERT(n_contacts >= 4 && Fmax > 100.0, "%s: the particles press on the beam (%zu contacts, %g N)", name,
                  n_contacts, Fmax);
   TL_TEST_ASSERT(diff <= 1e-13 * (Fmax + fmax0), "%s, c = %g: wrapped residual - own = -F off by %g", name, width, diff);
@@ -310,8 +326,9 @@ int main(void)
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   const TlElementType *types[] = {&tl_element_hex8, &tl_element_tet10};
   for (int k = 0; k < 2; ++k) {
-    test_element(types[k], 0.0);
-    test_element(types[k], 0.4);
+    test_element(types[k], 0.0, TL_SCOUPLING_SUPPORT_SURFACE);
+    test_element(types[k], 0.4, TL_SCOUPLING_SUPPORT_SURFACE);
+    test_element(types[k], 0.4, TL_SCOUPLING_SUPPORT_ELEMENTS);
   }
   test_two_couplings();
   return tl_test_report();
