@@ -35,6 +35,8 @@ static TlStatus stepper_save(const void *object, TlCheckpointWriter *w, const ch
   if (factored) {
     TL_CHECK(tl_checkpoint_write_doubles(w, group, "jacobian", (size_t)st->J->nnz, st->J->values));
     TL_CHECK(tl_checkpoint_write_int64(w, group, "iterations_since_factor", tl_newton_iterations_since_factor(st->newton)));
+    /* The correction test's rate estimate lives with the factors. */
+    TL_CHECK(tl_checkpoint_write_double(w, group, "convergence_rate", tl_newton_convergence_rate(st->newton)));
   }
   const TlCheckpointOps *sys_ops = st->sys->ops->checkpoint;
   if (sys_ops) {
@@ -89,6 +91,9 @@ static TlStatus stepper_load(void *object, TlCheckpointReader *r, const char *gr
       int64_t since = 0;
       TL_CHECK(tl_checkpoint_read_int64(r, group, "iterations_since_factor", &since));
       tl_newton_set_iterations_since_factor(st->newton, (long)since);
+      double crate = 1.0;
+      TL_CHECK(tl_checkpoint_read_double(r, group, "convergence_rate", &crate));
+      tl_newton_set_convergence_rate(st->newton, crate);
     }
   } else if (factored) {
     TL_ERROR(TL_ERR_ARG, "%s: section '%s' holds Newton factors; the '%s' stepper has none", path, group,
