@@ -134,7 +134,7 @@ static void test_element(const TlElementType *type, double width, int support)
     const size_t f = (size_t)set->c[k].triangle / pieces;
     contacted[f] = 1;
     if (width == 0.0) reached[f] = 1;
-    else
+    else if (!on_elements)
       for (size_t g = 0; g < n_faces; ++g)
         for (int q = 0; q < cs->qp_per_face; ++q)
           if (tl_v3_norm(tl_v3_sub(cs->xq[g * (size_t)cs->qp_per_face + (size_t)q], set->c[k].point)) < width) reached[g] = 1;
