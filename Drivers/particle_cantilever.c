@@ -113,7 +113,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                          "Newmark: Newton's start (auto: Taylor when the beam's modes are resolved, last: u_n)",
                                          &c->predictor), done);
   static const char *const newtons[] = {"kinsol", "sunnonlinsol", NULL}; /* TL_NEWTON_* order */
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-newton", "kinsol", newtons,
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-newton", "sunnonlinsol", newtons,
                                          "Newmark: Newton through KINSOL (converged on the residual, evaluated at every "
                                          "iterate) or SUNNonlinSol (CVODE's test on the correction with an estimated "
                                          "rate: the accepted iterate is not evaluated)", &c->newton), done);
