@@ -701,112 +701,108 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   return TL_OK;
 }
 
-TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix)
+/* The per-item nodal forces of faces (Eq. 15/16) or of elements (the
+ * element support), with the items holding them in the order first
+ * touched: as checkpointed ("touched_<item>s", "<item>_forces"). */
+typedef struct {
+  const char *item;
+  size_t n_items;
+  int per_item;
+  TlVec3 *F;
+  unsigned char *touched;
+  size_t *list, *n_touched;
+} ForceSet;
+
+static ForceSet face_set(const TlSCoupling *sc)
+{
+  return (ForceSet){"face", sc->n_faces, sc->nf, sc->face_F, sc->face_touched, sc->touched_faces, (size_t *)&sc->n_touched};
+}
+
+static ForceSet element_set(const TlSCoupling *sc)
+{
+  return (ForceSet){"element", sc->n_elements, sc->ne, sc->elem_F, sc->elem_touched, sc->touched_elems,
+                    (size_t *)&sc->n_touched_elems};
+}
+
+static TlStatus save_force_set(const ForceSet *fs, TlCheckpointWriter *w, const char *group, const char *prefix)
 {
   char name[128];
   int64_t *list = NULL;
-  TL_CHECK(tl_calloc(&list, sc->n_touched ? sc->n_touched : 1, sizeof *list));
-  for (size_t t = 0; t < sc->n_touched; t++) list[t] = (int64_t)sc->touched_faces[t];
-  snprintf(name, sizeof name, "%stouched_faces", prefix);
-  TlStatus s = tl_checkpoint_write_int64s(w, group, name, sc->n_touched, list);
+  TL_CHECK(tl_calloc(&list, *fs->n_touched ? *fs->n_touched : 1, sizeof *list));
+  for (size_t t = 0; t < *fs->n_touched; t++) list[t] = (int64_t)fs->list[t];
+  snprintf(name, sizeof name, "%stouched_%ss", prefix, fs->item);
+  TlStatus s = tl_checkpoint_write_int64s(w, group, name, *fs->n_touched, list);
   tl_free(&list);
   TL_CHECK(s);
-  snprintf(name, sizeof name, "%sface_forces", prefix);
-  TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * sc->n_faces * (size_t)sc->nf, (const double *)sc->face_F));
-  snprintf(name, sizeof name, "%scg_support", prefix);
-  TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support));
-  if (!sc->cg_elem) return TL_OK;
-  TL_CHECK(tl_calloc(&list, sc->n_touched_elems ? sc->n_touched_elems : 1, sizeof *list));
-  for (size_t t = 0; t < sc->n_touched_elems; t++) list[t] = (int64_t)sc->touched_elems[t];
-  snprintf(name, sizeof name, "%stouched_elements", prefix);
-  s = tl_checkpoint_write_int64s(w, group, name, sc->n_touched_elems, list);
-  tl_free(&list);
-  TL_CHECK(s);
-  snprintf(name, sizeof name, "%selement_forces", prefix);
-  TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * sc->n_elements * (size_t)sc->ne, (const double *)sc->elem_F));
+  snprintf(name, sizeof name, "%s%s_forces", prefix, fs->item);
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, name, 3 * fs->n_items * (size_t)fs->per_item, (const double *)fs->F));
   return TL_OK;
 }
 
-/* The per-element forces of the element support and the elements holding
- * them, in the order saved. */
-static TlStatus load_element_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
+/* Into a cleared set: the same items, in the same order, and their forces. */
+static TlStatus load_force_set(const ForceSet *fs, TlCheckpointReader *r, const char *group, const char *prefix)
 {
   char name[128];
   size_t n = 0;
-  snprintf(name, sizeof name, "%selement_forces", prefix);
+  snprintf(name, sizeof name, "%s%s_forces", prefix, fs->item);
   TL_CHECK(tl_checkpoint_length(r, group, name, &n));
-  if (n != 3 * sc->n_elements * (size_t)sc->ne)
-    TL_ERROR(TL_ERR_ARG, "checkpoint holds %zu per-element force components in %s, this coupling has %zu elements x %d nodes x 3",
-             n, name, sc->n_elements, sc->ne);
-  snprintf(name, sizeof name, "%stouched_elements", prefix);
+  if (n != 3 * fs->n_items * (size_t)fs->per_item)
+    TL_ERROR(TL_ERR_ARG, "checkpoint holds %zu per-%s force components in %s, this coupling has %zu %ss x %d nodes x 3", n,
+             fs->item, name, fs->n_items, fs->item, fs->per_item);
+  snprintf(name, sizeof name, "%stouched_%ss", prefix, fs->item);
   TL_CHECK(tl_checkpoint_length(r, group, name, &n));
-  if (n > sc->n_elements)
-    TL_ERROR(TL_ERR_ARG, "checkpoint lists %zu touched elements in %s, this coupling has %zu", n, name, sc->n_elements);
+  if (n > fs->n_items)
+    TL_ERROR(TL_ERR_ARG, "checkpoint lists %zu touched %ss in %s, this coupling has %zu", n, fs->item, name, fs->n_items);
   int64_t *list = NULL;
   TL_CHECK(tl_calloc(&list, n ? n : 1, sizeof *list));
   TlStatus s = tl_checkpoint_read_int64s(r, group, name, n, list);
+  for (size_t t = 0; s == TL_OK && t < n; t++)
+    if (list[t] < 0 || (uint64_t)list[t] >= fs->n_items)
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "checkpoint names touched %s %lld in %s, outside [0, %zu)", fs->item,
+                       (long long)list[t], name, fs->n_items);
   for (size_t t = 0; s == TL_OK && t < n; t++) {
-    if (list[t] < 0 || (uint64_t)list[t] >= sc->n_elements) {
-      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "checkpoint names touched element %lld in %s, outside [0, %zu)",
-                       (long long)list[t], name, sc->n_elements);
-      break;
-    }
-    const size_t e = (size_t)list[t];
-    if (sc->elem_touched[e]) continue;
-    sc->elem_touched[e] = 1;
-    sc->touched_elems[sc->n_touched_elems++] = e;
+    const size_t k = (size_t)list[t];
+    if (fs->touched[k]) continue;
+    fs->touched[k] = 1;
+    fs->list[(*fs->n_touched)++] = k;
   }
   tl_free(&list);
   TL_CHECK(s);
-  activate_elements(sc, 0);
-  snprintf(name, sizeof name, "%selement_forces", prefix);
-  TL_CHECK(tl_checkpoint_read_doubles(r, group, name, 3 * sc->n_elements * (size_t)sc->ne, (double *)sc->elem_F));
+  snprintf(name, sizeof name, "%s%s_forces", prefix, fs->item);
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, name, 3 * fs->n_items * (size_t)fs->per_item, (double *)fs->F));
   return TL_OK;
+}
+
+TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix)
+{
+  const ForceSet faces = face_set(sc);
+  TL_CHECK(save_force_set(&faces, w, group, prefix));
+  char name[128];
+  snprintf(name, sizeof name, "%scg_support", prefix);
+  TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support));
+  if (!sc->cg_elem) return TL_OK;
+  const ForceSet elems = element_set(sc);
+  return save_force_set(&elems, w, group, prefix);
 }
 
 TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
 {
   char name[128];
-  size_t n = 0;
-  snprintf(name, sizeof name, "%sface_forces", prefix);
-  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
-  if (n != 3 * sc->n_faces * (size_t)sc->nf)
-    TL_ERROR(TL_ERR_ARG, "checkpoint holds %zu per-face force components in %s, this coupling has %zu faces x %d nodes x 3",
-             n, name, sc->n_faces, sc->nf);
-  snprintf(name, sizeof name, "%stouched_faces", prefix);
-  TL_CHECK(tl_checkpoint_length(r, group, name, &n));
-  if (n > sc->n_faces) TL_ERROR(TL_ERR_ARG, "checkpoint lists %zu touched faces in %s, this coupling has %zu", n, name, sc->n_faces);
-  int64_t *list = NULL;
-  TL_CHECK(tl_calloc(&list, n ? n : 1, sizeof *list));
-  TlStatus s = tl_checkpoint_read_int64s(r, group, name, n, list);
-  for (size_t t = 0; s == TL_OK && t < n; t++)
-    if (list[t] < 0 || (uint64_t)list[t] >= sc->n_faces) {
-      const long long bad = (long long)list[t];
-      tl_free(&list);
-      TL_ERROR(TL_ERR_ARG, "checkpoint names touched face %lld in %s, outside [0, %zu)", bad, name, sc->n_faces);
-    }
-  if (s == TL_OK) {
-    /* The same faces, element list and order as when saved. */
-    tl_scoupling_clear_forces(sc);
-    for (size_t t = 0; t < n; t++) {
-      const size_t f = (size_t)list[t];
-      if (sc->face_touched[f]) continue;
-      sc->face_touched[f] = 1;
-      sc->touched_faces[sc->n_touched++] = f;
-    }
-    activate(sc, 0);
-    snprintf(name, sizeof name, "%sface_forces", prefix);
-    s = tl_checkpoint_read_doubles(r, group, name, 3 * sc->n_faces * (size_t)sc->nf, (double *)sc->face_F);
-  }
-  tl_free(&list);
-  TL_CHECK(s);
   int64_t support = 0;
   snprintf(name, sizeof name, "%scg_support", prefix);
   TL_CHECK(tl_checkpoint_read_int64(r, group, name, &support));
   if (support != sc->support)
     TL_ERROR(TL_ERR_ARG, "checkpoint was written with CG support %lld (0 surface, 1 elements), this coupling has %d",
              (long long)support, sc->support);
-  if (sc->cg_elem) TL_CHECK(load_element_forces(sc, r, group, prefix));
+  /* The same faces (elements), active elements and order as when saved. */
+  tl_scoupling_clear_forces(sc);
+  const ForceSet faces = face_set(sc);
+  TL_CHECK(load_force_set(&faces, r, group, prefix));
+  activate(sc, 0);
+  if (!sc->cg_elem) return TL_OK;
+  const ForceSet elems = element_set(sc);
+  TL_CHECK(load_force_set(&elems, r, group, prefix));
+  activate_elements(sc, 0);
   return TL_OK;
 }
 

@@ -246,18 +246,25 @@ static const TlCGSurfaceOps tl_cg_surface_element_face_ops = {
     .shape_at = faces_shape_at,
 };
 
-TlStatus tl_cg_surface_create_element_faces(const TlSCouplingFaceType *ft, size_t n_nodes, const TlVec3 *x,
-                                            size_t n_faces, const int *face_node, TlCGSurface **surface)
+/* A plug-in surface with its quadrature computed. */
+static TlStatus create_updated(const TlCGSurfaceOps *ops, size_t n_nodes, const TlVec3 *x, size_t n, int per_item,
+                               const int *item_node, int nq, const void *context, int subdivisions, TlCGSurface **surface)
 {
-  TL_CHECK(tl_cg_surface_create(&tl_cg_surface_element_face_ops, n_nodes, x, n_faces, ft->nf, face_node, ft->nq,
-                                (void *)ft, surface));
-  (*surface)->subdivisions = ft->subdivisions;
+  TL_CHECK(tl_cg_surface_create(ops, n_nodes, x, n, per_item, item_node, nq, (void *)context, surface));
+  (*surface)->subdivisions = subdivisions;
   TlStatus s = tl_cg_surface_update(*surface, NULL);
   if (s != TL_OK) {
     tl_cg_surface_destroy(surface);
     return tl_error_trace(s, __FILE__, __LINE__);
   }
   return TL_OK;
+}
+
+TlStatus tl_cg_surface_create_element_faces(const TlSCouplingFaceType *ft, size_t n_nodes, const TlVec3 *x,
+                                            size_t n_faces, const int *face_node, TlCGSurface **surface)
+{
+  return create_updated(&tl_cg_surface_element_face_ops, n_nodes, x, n_faces, ft->nf, face_node, ft->nq, ft,
+                        ft->subdivisions, surface);
 }
 
 /* ---- the SCoupling elements as the CG support -------------------------- */
@@ -354,12 +361,6 @@ static const TlCGSurfaceOps tl_cg_surface_element_volume_ops = {
 TlStatus tl_cg_surface_create_element_volumes(const TlSCouplingVolumeType *vt, size_t n_nodes, const TlVec3 *x,
                                               size_t n_elements, const int *elem_node, TlCGSurface **surface)
 {
-  TL_CHECK(tl_cg_surface_create(&tl_cg_surface_element_volume_ops, n_nodes, x, n_elements, vt->ne, elem_node, vt->nq,
-                                (void *)vt, surface));
-  TlStatus s = tl_cg_surface_update(*surface, NULL);
-  if (s != TL_OK) {
-    tl_cg_surface_destroy(surface);
-    return tl_error_trace(s, __FILE__, __LINE__);
-  }
-  return TL_OK;
+  return create_updated(&tl_cg_surface_element_volume_ops, n_nodes, x, n_elements, vt->ne, elem_node, vt->nq, vt, 1,
+                        surface);
 }
