@@ -51,20 +51,27 @@ static TlDem *make_world(double r, int *sp, int *law)
   return dem;
 }
 
+/* The short S1 beam (2 x 6 x 2 cells, clamped at y = 0) of an element type. */
+static TlSolid *beam(const TlElementType *type, TlMesh **mesh, TlMaterial **mat)
+{
+  const size_t nc[3] = {2, 6, 2};
+  const double lo[3] = {-0.4, 0.0, -0.4}, hi[3] = {0.4, 2.4, 0.4};
+  TL_TEST_STATUS(tl_mesh_create_box(type, nc, lo, hi, mesh), TL_OK);
+  TL_TEST_STATUS(tl_material_create_hooke(1e8, 0.2, 1309.0, mat), TL_OK);
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(*mesh, &solid), TL_OK);
+  TL_TEST_STATUS(tl_solid_set_material(solid, NULL, *mat), TL_OK);
+  TL_TEST_STATUS(tl_solid_fix(solid, "ymin", 7), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  return solid;
+}
+
 static void test_element(const TlElementType *type, double width, int support)
 {
   const char *name = type->header.name;
   TlMesh *mesh = NULL;
-  const size_t nc[3] = {2, 6, 2};
-  const double lo[3] = {-0.4, 0.0, -0.4}, hi[3] = {0.4, 2.4, 0.4};
-  TL_TEST_STATUS(tl_mesh_create_box(type, nc, lo, hi, &mesh), TL_OK);
   TlMaterial *mat = NULL;
-  TL_TEST_STATUS(tl_material_create_hooke(1e8, 0.2, 1309.0, &mat), TL_OK);
-  TlSolid *solid = NULL;
-  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
-  TL_TEST_STATUS(tl_solid_set_material(solid, NULL, mat), TL_OK);
-  TL_TEST_STATUS(tl_solid_fix(solid, "ymin", 7), TL_OK);
-  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlSolid *solid = beam(type, &mesh, &mat);
   const TlSolidBlockKernel own = tl_solid_block_kernel(solid, 0);
   TlSCouplingOptions so;
   tl_scoupling_options_default(&so);
@@ -239,16 +246,8 @@ static TlStatus foreign_block(void *ctx, TlSolid *solid, int b, double t, const 
 static void test_two_couplings(void)
 {
   TlMesh *mesh = NULL;
-  const size_t nc[3] = {2, 6, 2};
-  const double lo[3] = {-0.4, 0.0, -0.4}, hi[3] = {0.4, 2.4, 0.4};
-  TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, nc, lo, hi, &mesh), TL_OK);
   TlMaterial *mat = NULL;
-  TL_TEST_STATUS(tl_material_create_hooke(1e8, 0.2, 1309.0, &mat), TL_OK);
-  TlSolid *solid = NULL;
-  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
-  TL_TEST_STATUS(tl_solid_set_material(solid, NULL, mat), TL_OK);
-  TL_TEST_STATUS(tl_solid_fix(solid, "ymin", 7), TL_OK);
-  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlSolid *solid = beam(&tl_element_hex8, &mesh, &mat);
   const TlSolidBlockKernel own = tl_solid_block_kernel(solid, 0);
   const char *sets[2] = {"zmax", "zmin"};
   TlSCoupling *sc[2] = {NULL, NULL};

@@ -1807,39 +1807,19 @@ static const TlCheckpointOps solid_checkpoint_ops = {
     .load = solid_checkpoint_load,
 };
 
-static const TlMechSystemOps solid_ops = {
-    .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},
-    .create_matrix = op_create_matrix,
-    .internal_force = op_internal_force,
-    .internal_tangent = op_internal_tangent,
-    .external_force = op_external_force,
-    .lumped_mass = op_lumped_mass,
-    .external_tangent = op_external_tangent,
-    .consistent_mass = op_consistent_mass,
-    .dirichlet = op_dirichlet,
-    .strain_energy = op_strain_energy,
-    .commit = op_commit,
-    .rollback = op_rollback,
-    .max_frequency_squared = op_max_frequency_squared,
-    .checkpoint = &solid_checkpoint_ops,
-    .destroy = solid_destroy_content,
-};
+/* The solid's ops, with and without commit and rollback (see setup). */
+#define SOLID_OPS_COMMON                                                                    \
+  .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},               \
+  .create_matrix = op_create_matrix, .internal_force = op_internal_force,                  \
+  .internal_tangent = op_internal_tangent, .external_force = op_external_force,            \
+  .lumped_mass = op_lumped_mass, .external_tangent = op_external_tangent,                  \
+  .consistent_mass = op_consistent_mass, .dirichlet = op_dirichlet,                        \
+  .strain_energy = op_strain_energy, .max_frequency_squared = op_max_frequency_squared,    \
+  .checkpoint = &solid_checkpoint_ops, .destroy = solid_destroy_content
 
-static const TlMechSystemOps solid_ops_elastic = {
-    .header = {"mech_system", "solid", "total-Lagrangian finite-strain solid"},
-    .create_matrix = op_create_matrix,
-    .internal_force = op_internal_force,
-    .internal_tangent = op_internal_tangent,
-    .external_force = op_external_force,
-    .lumped_mass = op_lumped_mass,
-    .external_tangent = op_external_tangent,
-    .consistent_mass = op_consistent_mass,
-    .dirichlet = op_dirichlet,
-    .strain_energy = op_strain_energy,
-    .max_frequency_squared = op_max_frequency_squared,
-    .checkpoint = &solid_checkpoint_ops,
-    .destroy = solid_destroy_content,
-};
+static const TlMechSystemOps solid_ops = {SOLID_OPS_COMMON, .commit = op_commit, .rollback = op_rollback};
+static const TlMechSystemOps solid_ops_elastic = {SOLID_OPS_COMMON};
+#undef SOLID_OPS_COMMON
 
 /* ------------------------------------------------ energies, reactions */
 
