@@ -55,6 +55,18 @@ static TlStatus vcoupling_block(void *ctx, TlSolid *solid, int b, double t, cons
   return TL_OK;
 }
 
+static void free_arrays(TlVCouplingElement *el)
+{
+  tl_free(&el->w_solid);
+  tl_free(&el->du_p);
+  tl_free(&el->u_start);
+  tl_free(&el->du_n);
+  tl_free(&el->F);
+  tl_free(&el->Ke);
+  tl_free(&el->Kab);
+  tl_free(&el->nodes);
+}
+
 TlStatus tl_vcoupling_element_create(TlVCoupling *vc, TlSolid *solid, TlVCouplingElement **out)
 {
   *out = NULL;
@@ -86,13 +98,7 @@ TlStatus tl_vcoupling_element_create(TlVCoupling *vc, TlSolid *solid, TlVCouplin
   *out = el;
   return TL_OK;
 fail:
-  tl_free(&el->w_solid);
-  tl_free(&el->u_start);
-  tl_free(&el->du_n);
-  tl_free(&el->F);
-  tl_free(&el->Ke);
-  tl_free(&el->Kab);
-  tl_free(&el->nodes);
+  free_arrays(el);
   tl_free(&el);
   return s;
 }
@@ -103,14 +109,7 @@ void tl_vcoupling_element_destroy(TlVCouplingElement **pel)
   if (!el) return;
   TlSolidBlockKernel now = tl_solid_block_kernel(el->solid, el->block);
   if (now.ctx == el) tl_solid_wrap_block(el->solid, el->block, el->inner, NULL);
-  tl_free(&el->w_solid);
-  tl_free(&el->du_p);
-  tl_free(&el->u_start);
-  tl_free(&el->du_n);
-  tl_free(&el->F);
-  tl_free(&el->Ke);
-  tl_free(&el->Kab);
-  tl_free(&el->nodes);
+  free_arrays(el);
   tl_free(pel);
 }
 

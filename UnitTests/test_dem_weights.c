@@ -37,6 +37,27 @@ static double rnd(unsigned *s)
   return ((*s >> 8) & 0xffff) / 65535.0 - 0.5;
 }
 
+/* n[0] x n[1] x n[2] particles of radius r, h apart from x0 (particle
+ * (j n[2] + k) n[0] + i at x0 + h (i, j, k)), bonded to their neighbours
+ * along each axis, velocities v0 + amp (random in [-1/2, 1/2]^3). */
+static void bonded_lattice(TlDem *dem, int sp, const int n[3], TlVec3 x0, double h, double r, TlVec3 v0, double amp,
+                           unsigned *seed)
+{
+  for (int j = 0; j < n[1]; ++j)
+    for (int k = 0; k < n[2]; ++k)
+      for (int i = 0; i < n[0]; ++i)
+        tl_dem_add_particle(dem, tl_v3(x0.x + h * i, x0.y + h * j, x0.z + h * k),
+                            tl_v3(v0.x + amp * rnd(seed), v0.y + amp * rnd(seed), v0.z + amp * rnd(seed)), r, sp, NULL);
+  for (int j = 0; j < n[1]; ++j)
+    for (int k = 0; k < n[2]; ++k)
+      for (int i = 0; i < n[0]; ++i) {
+        int64_t a = (j * n[2] + k) * n[0] + i;
+        if (i < n[0] - 1) tl_dem_add_bond(dem, a, a + 1);
+        if (k < n[2] - 1) tl_dem_add_bond(dem, a, a + n[0]);
+        if (j < n[1] - 1) tl_dem_add_bond(dem, a, a + n[0] * n[2]);
+      }
+}
+
 /* A bonded 3 x 5 x 3 lattice (spacing 0.02) with random velocities, gravity
  * and an external force on one particle. */
 static TlDem *lattice(int weighted)
@@ -48,19 +69,7 @@ static TlDem *lattice(int weighted)
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &sp), TL_OK);
   unsigned seed = 7u;
-  for (int j = 0; j < 5; ++j)
-    for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 3; ++i)
-        tl_dem_add_particle(dem, tl_v3(0.02 * i, 0.02 * j, 0.02 * k),
-                            tl_v3(0.05 * rnd(&seed), 0.05 * rnd(&seed), 0.05 * rnd(&seed)), 0.01, sp, NULL);
-  for (int j = 0; j < 5; ++j)
-    for (int k = 0; k < 3; ++k)
-      for (int i = 0; i < 3; ++i) {
-        int64_t a = (j * 3 + k) * 3 + i;
-        if (i < 2) tl_dem_add_bond(dem, a, a + 1);
-        if (k < 2) tl_dem_add_bond(dem, a, a + 3);
-        if (j < 4) tl_dem_add_bond(dem, a, a + 9);
-      }
+  bonded_lattice(dem, sp, (const int[3]){3, 5, 3}, tl_v3(0, 0, 0), 0.02, 0.01, tl_v3(0, 0, 0), 0.05, &seed);
   TlContactParameters p;
   tl_contact_parameters_default(&p);
   p.k_n = 1e5;
@@ -239,19 +248,7 @@ static void test_coupling_balance(void)
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(P, "g", 6 * 1309.0 / TL_PI, 0.1, 0.1, &sp), TL_OK);
   unsigned seed = 3u;
-  for (int j = 0; j < 30; ++j)
-    for (int k = 0; k < 4; ++k)
-      for (int i = 0; i < 4; ++i)
-        tl_dem_add_particle(dem, tl_v3(0.1 + 0.2 * i, 6.1 + 0.2 * j, 0.1 + 0.2 * k),
-                            tl_v3(1e-3 * rnd(&seed), 0.1 + 1e-3 * rnd(&seed), 1e-3 * rnd(&seed)), 0.1, sp, NULL);
-  for (int j = 0; j < 30; ++j)
-    for (int k = 0; k < 4; ++k)
-      for (int i = 0; i < 4; ++i) {
-        int64_t a = (j * 4 + k) * 4 + i;
-        if (i < 3) tl_dem_add_bond(dem, a, a + 1);
-        if (k < 3) tl_dem_add_bond(dem, a, a + 4);
-        if (j < 29) tl_dem_add_bond(dem, a, a + 16);
-      }
+  bonded_lattice(dem, sp, (const int[3]){4, 30, 4}, tl_v3(0.1, 6.1, 0.1), 0.2, 0.1, tl_v3(0, 0.1, 0), 1e-3, &seed);
   TlContactParameters p;
   tl_contact_parameters_default(&p);
   p.k_n = 1e8 * 0.2;
