@@ -37,6 +37,18 @@ static double rnd(unsigned *s)
   return ((*s >> 8) & 0xffff) / 65535.0 - 0.5;
 }
 
+/* A linear law of stiffness k_n whose bonds act in tension. */
+static void add_bonded_law(TlDem *dem, double k_n)
+{
+  TlContactParameters p;
+  tl_contact_parameters_default(&p);
+  p.k_n = k_n;
+  p.bonded = 1;
+  TlContactLaw *law = NULL;
+  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+}
+
 /* n[0] x n[1] x n[2] particles of radius r, h apart from x0 (particle
  * (j n[2] + k) n[0] + i at x0 + h (i, j, k)), bonded to their neighbours
  * along each axis, velocities v0 + amp (random in [-1/2, 1/2]^3). */
@@ -70,13 +82,7 @@ static TlDem *lattice(int weighted)
   TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &sp), TL_OK);
   unsigned seed = 7u;
   bonded_lattice(dem, sp, (const int[3]){3, 5, 3}, tl_v3(0, 0, 0), 0.02, 0.01, tl_v3(0, 0, 0), 0.05, &seed);
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e5;
-  p.bonded = 1;
-  TlContactLaw *law;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
-  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  add_bonded_law(dem, 1e5);
   tl_dem_set_gravity(dem, tl_v3(0, -9.81, 0));
   TL_TEST_STATUS(tl_particles_enable_external_force(P), TL_OK);
   P->f_ext[4] = tl_v3(0.3, 0.1, -0.2);
@@ -131,13 +137,7 @@ static void test_two_particles(void)
   TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500, 0.01, 0.01, &sp), TL_OK);
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.01, sp, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.0203, 0, 0), tl_v3(0, 0, 0), 0.01, sp, NULL), TL_OK);
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e5;
-  p.bonded = 1;
-  TlContactLaw *law;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
-  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  add_bonded_law(dem, 1e5);
   TL_TEST_STATUS(tl_dem_add_bond(dem, P->id[0], P->id[1]), TL_OK);
   tl_dem_set_gravity(dem, tl_v3(0, -9.81, 0));
   tl_dem_set_weight_field(dem, weight_ramp, NULL);
@@ -249,13 +249,7 @@ static void test_coupling_balance(void)
   TL_TEST_STATUS(tl_particles_add_species(P, "g", 6 * 1309.0 / TL_PI, 0.1, 0.1, &sp), TL_OK);
   unsigned seed = 3u;
   bonded_lattice(dem, sp, (const int[3]){4, 30, 4}, tl_v3(0.1, 6.1, 0.1), 0.2, 0.1, tl_v3(0, 0.1, 0), 1e-3, &seed);
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e8 * 0.2;
-  p.bonded = 1;
-  TlContactLaw *law;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
-  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  add_bonded_law(dem, 1e8 * 0.2);
   TL_TEST_STATUS(tl_particles_enable_coupling_force(P), TL_OK);
   size_t np = P->n;
   c.nn = mesh->n_nodes;
