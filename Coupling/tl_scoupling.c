@@ -1,6 +1,7 @@
 /* Surface coupling: walls from FE faces and CG nodal forces (seeds/001 §5.1, §5.3.1). */
 #include "tl_scoupling.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -507,16 +508,19 @@ TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const dou
     const double *X = sc->mesh->x + 3 * n;
     sc->xv[i] = u ? tl_v3(X[0] + u[3 * n], X[1] + u[3 * n + 1], X[2] + u[3 * n + 2]) : tl_v3(X[0], X[1], X[2]);
   }
+  int bad = 0;
   for (size_t i = 0; i < sc->n_local; i++) {
     const size_t n = sc->node[i];
     TlVec3 x = sc->X0[i];
     if (u) x = tl_v3_add(x, tl_v3(u[3 * n], u[3 * n + 1], u[3 * n + 2]));
-    if (!(isfinite(x.x) && isfinite(x.y) && isfinite(x.z)))
-      TL_ERROR(TL_ERR_NUMERIC, "node %zu of the coupled surface has a non-finite position", n);
+    bad |= !(fabs(x.x) + fabs(x.y) + fabs(x.z) <= DBL_MAX);
     sc->xs[i] = x;
     sc->vx[3 * i] = x.x, sc->vx[3 * i + 1] = x.y, sc->vx[3 * i + 2] = x.z;
     for (int c = 0; c < 3; c++) sc->vv[3 * i + (size_t)c] = v ? v[3 * n + (size_t)c] : 0.0;
   }
+  for (size_t i = 0; bad && i < sc->n_local; i++)
+    if (!(isfinite(sc->xs[i].x) && isfinite(sc->xs[i].y) && isfinite(sc->xs[i].z)))
+      TL_ERROR(TL_ERR_NUMERIC, "node %zu of the coupled surface has a non-finite position", sc->node[i]);
   /* Extra wall vertices (centres): interpolated with the face's shape
    * functions, positions and velocities alike. */
   const TlSCouplingFaceType *ft = sc->ft;

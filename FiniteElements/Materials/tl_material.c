@@ -258,6 +258,88 @@ static TlStatus evaluate_all(const TlMaterial *m, size_t npts, const TlMat3 *in,
   return TL_OK;
 }
 
+/* gamma = (H + H^T + H^T H)/2 - E0 of n points, component-major, with the
+ * arithmetic of evaluate_chunk; one restrict pointer per component of the
+ * result, so the loop needs no run-time overlap checks. */
+static inline __attribute__((always_inline)) void green_strain_loop(
+    const double e0[6], size_t n, const double *restrict H, size_t ld, double *restrict g0, double *restrict g1,
+    double *restrict g2, double *restrict g3, double *restrict g4, double *restrict g5)
+{
+  for (size_t k = 0; k < n; ++k) {
+    const double h00 = H[0 * ld + k], h01 = H[1 * ld + k], h02 = H[2 * ld + k], h10 = H[3 * ld + k],
+                 h11 = H[4 * ld + k], h12 = H[5 * ld + k], h20 = H[6 * ld + k], h21 = H[7 * ld + k],
+                 h22 = H[8 * ld + k];
+    g0[k] = h00 + 0.5 * (h00 * h00 + h10 * h10 + h20 * h20) - e0[0];
+    g1[k] = h11 + 0.5 * (h01 * h01 + h11 * h11 + h21 * h21) - e0[1];
+    g2[k] = h22 + 0.5 * (h02 * h02 + h12 * h12 + h22 * h22) - e0[2];
+    g3[k] = 0.5 * (h01 + h10 + h00 * h01 + h10 * h11 + h20 * h21) - e0[3];
+    g4[k] = 0.5 * (h12 + h21 + h01 * h02 + h11 * h12 + h21 * h22) - e0[4];
+    g5[k] = 0.5 * (h02 + h20 + h00 * h02 + h10 * h12 + h20 * h22) - e0[5];
+  }
+}
+
+TL_VECTOR_CLONES
+static void green_strain_soa(const TlMaterial *m, size_t n, const double *H, size_t ld, double *g, size_t ldg)
+{
+  double e0[6];
+  tl_voigt_from_sym(m->eigenstrain, e0);
+  green_strain_loop(e0, n, H, ld, g, g + ldg, g + 2 * ldg, g + 3 * ldg, g + 4 * ldg, g + 5 * ldg);
+}
+
+/* Whether the 6 component arrays of n points hold finite values only. */
+TL_VECTOR_CLONES
+static int all_finite(const double *S, size_t n, size_t ld)
+{
+  long bad = 0; /* as wide as a double: one vector lane per value */
+  for (int I = 0; I < 6; ++I)
+    for (size_t k = 0; k < n; ++k) bad |= !(fabs(S[I * ld + k]) <= DBL_MAX);
+  return !bad;
+}
+
+TlStatus tl_material_stress_soa(const TlMaterial *m, size_t npts, const double *H, double *S, size_t ld)
+{
+  if (!m->ready) TL_ERROR(TL_ERR_STATE, "material %s used before setup", m->ops->header.name);
+  if (m->state_size)
+    TL_ERROR(TL_ERR_ARG, "material %s keeps %zu state values per point: no stress-only evaluation",
+             m->ops->header.name, m->state_size);
+  static const int voigt[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+  double gamma[6 * TL_MATERIAL_CHUNK];
+  for (size_t p0 = 0; p0 < npts; p0 += TL_MATERIAL_CHUNK) {
+    const size_t n = npts - p0 < TL_MATERIAL_CHUNK ? npts - p0 : TL_MATERIAL_CHUNK;
+    green_strain_soa(m, n, H + p0, ld, gamma, TL_MATERIAL_CHUNK);
+    if (m->ops->stress_soa) {
+      TL_CHECK(m->ops->stress_soa(m, n, gamma, TL_MATERIAL_CHUNK, S + p0, ld));
+    } else {
+      /* Through the law's own batch form. */
+      TlMat3 F[TL_MATERIAL_CHUNK], G[TL_MATERIAL_CHUNK], Sk[TL_MATERIAL_CHUNK];
+      for (size_t k = 0; k < n; ++k)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) {
+            F[k].m[i][j] = (i == j ? 1.0 : 0.0) + H[(3 * i + j) * ld + p0 + k];
+            G[k].m[i][j] = gamma[voigt[i][j] * TL_MATERIAL_CHUNK + k];
+          }
+      TL_CHECK(m->ops->evaluate(m, n, F, G, NULL, NULL, Sk, NULL, NULL));
+      for (size_t k = 0; k < n; ++k)
+        for (int i = 0; i < 3; ++i)
+          for (int j = i; j < 3; ++j) S[voigt[i][j] * ld + p0 + k] = Sk[k].m[i][j];
+    }
+    if (m->has_initial_stress)
+      for (int I = 0; I < 6; ++I) {
+        static const int row[6] = {0, 1, 2, 0, 1, 0}, col[6] = {0, 1, 2, 1, 2, 2};
+        const double s0 = m->initial_stress.m[row[I]][col[I]];
+        double *s = S + I * ld + p0;
+        for (size_t k = 0; k < n; ++k) s[k] = s[k] + s0;
+      }
+    if (!all_finite(S + p0, n, ld))
+      for (int I = 0; I < 6; ++I)
+        for (size_t k = 0; k < n; ++k)
+          if (!isfinite(S[I * ld + p0 + k]))
+            TL_ERROR(TL_ERR_NUMERIC, "material %s: stress S[%d] (Voigt) = %g at point %zu", m->ops->header.name,
+                     I, S[I * ld + p0 + k], p0 + k);
+  }
+  return TL_OK;
+}
+
 TlStatus tl_material_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F,
                               const double *state_old, double *state_new, TlMat3 *S, double *D,
                               double *W)

@@ -51,6 +51,11 @@ typedef struct {
   TlStatus (*evaluate)(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
                        const double *state_old, double *state_new, TlMat3 *S, double *D,
                        double *W);
+  /* Optional fast path for a law without state: S from gamma alone for npts
+   * points stored component-major, gamma[I * ldg + p] and S[I * lds + p]
+   * (Voigt order I).  NULL: the solid goes through evaluate(). */
+  TlStatus (*stress_soa)(const TlMaterial *m, size_t npts, const double *gamma, size_t ldg, double *S,
+                         size_t lds);
   /* Whether D is symmetric for every F (then the solid may use a symmetric
    * solver).  NULL: no. */
   int (*symmetric_tangent)(const TlMaterial *m);
@@ -106,6 +111,11 @@ TlStatus tl_material_evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F,
 TlStatus tl_material_evaluate_gradient(const TlMaterial *m, size_t npts, const TlMat3 *H,
                                        const double *state_old, double *state_new, TlMat3 *S,
                                        double *D, double *W);
+/* The stress of a law without state from displacement gradients stored
+ * component-major: H[(3 i + j) ld + p] and S[I ld + p] (Voigt order I) for
+ * p < npts, with the arithmetic of tl_material_evaluate_gradient (the same
+ * bits).  The caller has checked det F > 0; finite results are checked. */
+TlStatus tl_material_stress_soa(const TlMaterial *m, size_t npts, const double *H, double *S, size_t ld);
 int tl_material_symmetric_tangent(const TlMaterial *m);
 
 /* Voigt helpers. */

@@ -97,17 +97,18 @@ static double potential_energy(const TlHooke *h, TlMat3 gamma)
  * keeps them in registers; about a fifth of the instructions of the loop
  * form).  Branch-free apart from the metric's variant; returns det C, not
  * positive for a singular metric. */
-static inline double stress_only(const TlHooke *h, const TlMat3 *gm, TlMat3 *S)
+static inline __attribute__((always_inline)) double stress6(const TlHooke *h, int covariant, const double g[6],
+                                                            double o[6])
 {
-  const double(*e0)[3] = h->base.eigenstrain.m, (*g)[3] = gm->m;
-  const double g00 = g[0][0], g11 = g[1][1], g22 = g[2][2], g01 = g[0][1], g12 = g[1][2], g02 = g[0][2];
+  const double(*e0)[3] = h->base.eigenstrain.m;
+  const double g00 = g[0], g11 = g[1], g22 = g[2], g01 = g[3], g12 = g[4], g02 = g[5];
   const double c00 = 1.0 + 2.0 * (g00 + e0[0][0]), c11 = 1.0 + 2.0 * (g11 + e0[1][1]),
                c22 = 1.0 + 2.0 * (g22 + e0[2][2]), c01 = 2.0 * (g01 + e0[0][1]), c12 = 2.0 * (g12 + e0[1][2]),
                c02 = 2.0 * (g02 + e0[0][2]);
   const double a00 = c11 * c22 - c12 * c12, a01 = c02 * c12 - c01 * c22, a02 = c01 * c12 - c02 * c11;
   const double det = c00 * a00 + c01 * a01 + c02 * a02;
   double m00, m11, m22, m01, m12, m02;
-  if (h->covariant) {
+  if (covariant) {
     m00 = c00, m11 = c11, m22 = c22, m01 = c01, m12 = c12, m02 = c02;
   } else {
     const double r = 1.0 / det;
@@ -125,14 +126,68 @@ static inline double stress_only(const TlHooke *h, const TlMat3 *gm, TlMat3 *S)
                p22 = m02 * g02 + m12 * g12 + m22 * g22;
   const double tr = p00 + p11 + p22; /* M : gamma */
   const double a = 2.0 * h->mu, b = h->mu * h->c2 * tr;
-  double(*o)[3] = S->m;
-  o[0][0] = a * (p00 * m00 + p01 * m01 + p02 * m02) + b * m00;
-  o[1][1] = a * (p10 * m01 + p11 * m11 + p12 * m12) + b * m11;
-  o[2][2] = a * (p20 * m02 + p21 * m12 + p22 * m22) + b * m22;
-  o[0][1] = o[1][0] = a * (p00 * m01 + p01 * m11 + p02 * m12) + b * m01;
-  o[1][2] = o[2][1] = a * (p10 * m02 + p11 * m12 + p12 * m22) + b * m12;
-  o[0][2] = o[2][0] = a * (p00 * m02 + p01 * m12 + p02 * m22) + b * m02;
+  o[0] = a * (p00 * m00 + p01 * m01 + p02 * m02) + b * m00;
+  o[1] = a * (p10 * m01 + p11 * m11 + p12 * m12) + b * m11;
+  o[2] = a * (p20 * m02 + p21 * m12 + p22 * m22) + b * m22;
+  o[3] = a * (p00 * m01 + p01 * m11 + p02 * m12) + b * m01;
+  o[4] = a * (p10 * m02 + p11 * m12 + p12 * m22) + b * m12;
+  o[5] = a * (p00 * m02 + p01 * m12 + p02 * m22) + b * m02;
   return det;
+}
+
+static inline double stress_only(const TlHooke *h, const TlMat3 *gm, TlMat3 *S)
+{
+  double g[6], o[6];
+  tl_voigt_from_sym(*gm, g);
+  const double det = stress6(h, h->covariant, g, o);
+  *S = tl_voigt_to_sym(o);
+  return det;
+}
+
+/* The same on points stored component-major (tl_material.h); each lane of
+ * the vectorised loop is one point, with the arithmetic of stress_only.
+ * One restrict pointer per component: the compiler then needs no run-time
+ * overlap checks between them.  Returns whether some metric was singular. */
+static inline __attribute__((always_inline)) int stress_loop(
+    const TlHooke *h, int covariant, size_t npts, const double *restrict g0, const double *restrict g1,
+    const double *restrict g2, const double *restrict g3, const double *restrict g4, const double *restrict g5,
+    double *restrict s0, double *restrict s1, double *restrict s2, double *restrict s3, double *restrict s4,
+    double *restrict s5)
+{
+  long bad = 0; /* as wide as a double: one vector lane per point */
+  for (size_t p = 0; p < npts; ++p) {
+    const double g[6] = {g0[p], g1[p], g2[p], g3[p], g4[p], g5[p]};
+    double o[6];
+    bad |= !(stress6(h, covariant, g, o) > 0.0);
+    s0[p] = o[0], s1[p] = o[1], s2[p] = o[2], s3[p] = o[3], s4[p] = o[4], s5[p] = o[5];
+  }
+  return bad != 0;
+}
+
+TL_VECTOR_CLONES
+static int stress_soa_kernel(const TlHooke *h, size_t npts, const double *gamma, size_t ldg, double *S,
+                             size_t lds)
+{
+  const double *g = gamma;
+  double *o = S;
+  if (h->covariant)
+    return stress_loop(h, 1, npts, g, g + ldg, g + 2 * ldg, g + 3 * ldg, g + 4 * ldg, g + 5 * ldg, o, o + lds,
+                       o + 2 * lds, o + 3 * lds, o + 4 * lds, o + 5 * lds);
+  return stress_loop(h, 0, npts, g, g + ldg, g + 2 * ldg, g + 3 * ldg, g + 4 * ldg, g + 5 * ldg, o, o + lds,
+                     o + 2 * lds, o + 3 * lds, o + 4 * lds, o + 5 * lds);
+}
+
+static TlStatus stress_soa(const TlMaterial *m, size_t npts, const double *gamma, size_t ldg, double *S, size_t lds)
+{
+  const TlHooke *h = (const TlHooke *)m;
+  if (stress_soa_kernel(h, npts, gamma, ldg, S, lds))
+    for (size_t p = 0; p < npts; ++p) {
+      double g[6], o[6];
+      for (int I = 0; I < 6; ++I) g[I] = gamma[I * ldg + p];
+      if (!(stress6(h, h->covariant, g, o) > 0.0))
+        TL_ERROR(TL_ERR_NUMERIC, "material %s: singular metric at point %zu", m->ops->header.name, p);
+    }
+  return TL_OK;
 }
 
 static TlStatus evaluate(const TlMaterial *m, size_t npts, const TlMat3 *F, const TlMat3 *gamma,
@@ -224,10 +279,12 @@ const TlMaterialOps tl_material_hooke_ops = {
                "generalised Hooke law, seeds/001 Eq. 34, contravariant deformed metric "
                "(oomph-lib's reading)"},
     .size = sizeof(TlHooke), .n_params = 2, .params = params, .setup = setup_contravariant,
-    .evaluate = evaluate, .symmetric_tangent = symmetric_tangent, .init_state = init_state};
+    .evaluate = evaluate, .stress_soa = stress_soa, .symmetric_tangent = symmetric_tangent,
+    .init_state = init_state};
 
 const TlMaterialOps tl_material_hooke_covariant_ops = {
     .header = {"material", "hooke_covariant",
                "generalised Hooke law, seeds/001 Eq. 34 read with the covariant metric C"},
     .size = sizeof(TlHooke), .n_params = 2, .params = params, .setup = setup_covariant,
-    .evaluate = evaluate, .symmetric_tangent = symmetric_tangent, .init_state = init_state};
+    .evaluate = evaluate, .stress_soa = stress_soa, .symmetric_tangent = symmetric_tangent,
+    .init_state = init_state};

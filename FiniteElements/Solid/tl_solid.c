@@ -19,7 +19,8 @@ typedef struct {
   int nn, nd, nq;
   int symmetric; /* material tangent symmetric */
   double *grad;      /* n_el x nq x nn x dim: dN_a/dxi (reference gradients) */
-  double *grad_t;    /* 3-D: the same point-innermost, n_el x nn x 3 x nq (residual path) */
+  double *grad_t;    /* 3-D: the same point-innermost, n_el x nn x 3 x nq (residual path's H) */
+  double *grad_n;    /* 3-D: node-innermost, n_el x 3 x nq x nn (residual path's nodal forces) */
   double *wdet;      /* n_el x nq: weight x det J0 */
   double *Nm;        /* qm.n x nn: shape values at the mass points */
   double *wdetm;     /* n_el x qm.n */
@@ -88,6 +89,7 @@ typedef struct {
 /* Per-thread scratch, sized at setup. */
 typedef struct {
   TlMat3 *F, *S;
+  double *Hsoa, *Ssoa; /* the residual path's H and S, component-major */
   double *D, *W;
   double *state_old, *state_new;
   double *fe, *Ke, *B, *DB, *ue;
@@ -211,6 +213,7 @@ static void solid_destroy_content(TlMechSystem *sys)
     SolidBlock *B = &s->blocks[b];
     tl_free(&B->grad);
     tl_free(&B->grad_t);
+    tl_free(&B->grad_n);
     tl_free(&B->wdet);
     tl_free(&B->Nm);
     tl_free(&B->wdetm);
@@ -229,6 +232,8 @@ static void solid_destroy_content(TlMechSystem *sys)
     Scratch *w = &s->scratch[t];
     tl_free(&w->F);
     tl_free(&w->S);
+    tl_free(&w->Hsoa);
+    tl_free(&w->Ssoa);
     tl_free(&w->D);
     tl_free(&w->W);
     tl_free(&w->state_old);
@@ -580,6 +585,7 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
   size_t ne = blk->n_elements ? blk->n_elements : 1;
   TL_CHECK(tl_calloc(&B->grad, ne * B->nq * nn * dim, sizeof(double)));
   if (dim == 3) TL_CHECK(tl_calloc(&B->grad_t, ne * B->nq * nn * 3, sizeof(double)));
+  if (dim == 3) TL_CHECK(tl_calloc(&B->grad_n, ne * B->nq * nn * 3, sizeof(double)));
   TL_CHECK(tl_calloc(&B->wdet, ne * B->nq, sizeof(double)));
   TL_CHECK(tl_calloc(&B->Nm, (size_t)B->qm.n * nn, sizeof(double)));
   TL_CHECK(tl_calloc(&B->wdetm, ne * B->qm.n, sizeof(double)));
@@ -633,7 +639,8 @@ static TlStatus setup_block_geometry(TlSolid *s, int b)
       for (int p = 0; p < B->nq; ++p)
         for (int a = 0; a < nn; ++a)
           for (int j = 0; j < 3; ++j)
-            B->grad_t[((e * nn + a) * 3 + j) * B->nq + p] = B->grad[((e * B->nq + p) * nn + a) * 3 + j];
+            B->grad_t[((e * nn + a) * 3 + j) * B->nq + p] = B->grad_n[((e * 3 + j) * B->nq + p) * nn + a] =
+                B->grad[((e * B->nq + p) * nn + a) * 3 + j];
     /* HRZ lumping: diagonal of the consistent mass scaled to the element
      * mass; positive for every element type (row sums are not for
      * quadratic serendipity and simplex elements). */
@@ -821,6 +828,8 @@ TlStatus tl_solid_setup(TlSolid *s)
     Scratch *w = &s->scratch[t];
     TL_CHECK(tl_calloc(&w->F, npts, sizeof(TlMat3)));
     TL_CHECK(tl_calloc(&w->S, npts, sizeof(TlMat3)));
+    TL_CHECK(tl_calloc(&w->Hsoa, 9 * npts, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->Ssoa, 6 * npts, sizeof(double)));
     TL_CHECK(tl_calloc(&w->D, 36 * npts, sizeof(double)));
     TL_CHECK(tl_calloc(&w->W, npts, sizeof(double)));
     TL_CHECK(tl_calloc(&w->state_old, npts * (maxss ? maxss : 1), sizeof(double)));
@@ -1002,9 +1011,15 @@ static void element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 
  * taken in colour order, so the forces accumulate in the same order
  * whether the chunks of a colour run on one thread or several. */
 
+/* The chunk's points are stored component-major (point p of element k at
+ * k nq + p, stride ld = the chunk's points): H_ij in 9 arrays, S in 6
+ * (Voigt order), so that every loop over points runs on contiguous data. */
+static const int voigt[3][3] = {{0, 3, 5}, {3, 1, 4}, {5, 4, 2}};
+
 /* H_p = sum_a ue_a (x) dN_a/dX at the nq points of one element. */
 static inline __attribute__((always_inline)) void gradients_t(const double *restrict gt, int nq, int nn,
-                                                              const double *restrict ue, TlMat3 *restrict H)
+                                                              const double *restrict ue, double *restrict H,
+                                                              size_t ld)
 {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
@@ -1014,104 +1029,106 @@ static inline __attribute__((always_inline)) void gradients_t(const double *rest
         const double u = ue[3 * a + i], *g = gt + (3 * a + j) * nq;
         for (int p = 0; p < nq; ++p) acc[p] += u * g[p];
       }
-      for (int p = 0; p < nq; ++p) H[p].m[i][j] = acc[p];
+      for (int p = 0; p < nq; ++p) H[(3 * i + j) * ld + p] = acc[p];
     }
 }
 
-/* R_ai = sum_p w_p ((1 + H_p) S_p)_ij dN_a/dX_j of one element. */
-static inline __attribute__((always_inline)) void residual_t(const double *restrict gt, const double *restrict wdet,
-                                                             int nq, int nn, const TlMat3 *restrict H,
-                                                             const TlMat3 *restrict S, double *restrict fe)
+/* R_ai = sum_p w_p ((1 + H_p) S_p)_ij dN_a/dX_j of one element; the sums
+ * run over (p, j) with the element's nodes in the vector lanes (gn is
+ * node-innermost). */
+static inline __attribute__((always_inline)) void residual_t(const double *restrict gn, const double *restrict wdet,
+                                                             int nq, int nn, const double *restrict H,
+                                                             const double *restrict S, size_t ld,
+                                                             double *restrict fe)
 {
-  double P[9][TL_QUADRATURE_MAX]; /* w (1 + H) S, point-innermost */
-  for (int p = 0; p < nq; ++p)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        P[3 * i + j][p] = wdet[p] * (S[p].m[i][j] + H[p].m[i][0] * S[p].m[0][j] + H[p].m[i][1] * S[p].m[1][j] +
-                                     H[p].m[i][2] * S[p].m[2][j]);
-  for (int a = 0; a < nn; ++a) {
-    const double *g = gt + 3 * a * nq;
-    for (int i = 0; i < 3; ++i) {
-      double acc[TL_QUADRATURE_MAX];
-      for (int p = 0; p < nq; ++p) acc[p] = P[3 * i][p] * g[p] + P[3 * i + 1][p] * g[nq + p] + P[3 * i + 2][p] * g[2 * nq + p];
-      double v = 0.0;
-      for (int p = 0; p < nq; ++p) v += acc[p];
-      fe[3 * a + i] = v;
-    }
-  }
-}
-
-/* The hex8 element with its 8 points (the S1 beam's): the same sums, in
- * the same order, on pairs of points held in two-lane vectors (GCC and
- * Clang vector extensions; SSE2 registers on x86-64), which the compiler
- * does not form by itself from the loops above. */
-typedef double Lanes2 __attribute__((vector_size(16), aligned(8)));
-
-static void gradients_hex8(const double *restrict gt, const double *restrict ue, TlMat3 *restrict H)
-{
+  double P[9][TL_QUADRATURE_MAX]; /* w (1 + H) S */
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      Lanes2 acc[4] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
-      for (int a = 0; a < 8; ++a) {
-        const Lanes2 *g = (const Lanes2 *)(gt + (3 * a + j) * 8);
-        const double u = ue[3 * a + i];
-        for (int q = 0; q < 4; ++q) acc[q] += u * g[q];
-      }
-      for (int q = 0; q < 4; ++q) {
-        H[2 * q].m[i][j] = acc[q][0];
-        H[2 * q + 1].m[i][j] = acc[q][1];
+      const double *h0 = H + (3 * i) * ld, *h1 = h0 + ld, *h2 = h1 + ld, *sij = S + voigt[i][j] * ld,
+                   *s0j = S + voigt[0][j] * ld, *s1j = S + voigt[1][j] * ld, *s2j = S + voigt[2][j] * ld;
+      for (int p = 0; p < nq; ++p)
+        P[3 * i + j][p] = wdet[p] * (sij[p] + h0[p] * s0j[p] + h1[p] * s1j[p] + h2[p] * s2j[p]);
+    }
+  double f0[TL_ELEMENT_MAX_NODES], f1[TL_ELEMENT_MAX_NODES], f2[TL_ELEMENT_MAX_NODES];
+  for (int a = 0; a < nn; ++a) f0[a] = f1[a] = f2[a] = 0.0;
+  for (int p = 0; p < nq; ++p)
+    for (int j = 0; j < 3; ++j) {
+      const double *g = gn + ((size_t)j * nq + p) * nn;
+      const double p0 = P[j][p], p1 = P[3 + j][p], p2 = P[6 + j][p];
+      for (int a = 0; a < nn; ++a) {
+        f0[a] += p0 * g[a];
+        f1[a] += p1 * g[a];
+        f2[a] += p2 * g[a];
       }
     }
+  for (int a = 0; a < nn; ++a) fe[3 * a] = f0[a], fe[3 * a + 1] = f1[a], fe[3 * a + 2] = f2[a];
 }
 
-static void residual_hex8(const double *restrict gt, const double *restrict wdet, const TlMat3 *restrict H,
-                          const TlMat3 *restrict S, double *restrict fe)
+/* Gradients of the nk elements, then nodal forces; the common element
+ * types get copies with their sizes known to the compiler. */
+static inline __attribute__((always_inline)) void chunk_gradients(const SolidBlock *B, const TlElementBlock *blk,
+                                                                  const size_t *elements, size_t nk, int nq, int nn,
+                                                                  const double *u_nodes, double *ue, double *H,
+                                                                  size_t ld)
 {
-  Lanes2 P[9][4]; /* w (1 + H) S at the point pairs */
-  for (int q = 0; q < 4; ++q) {
-    const TlMat3 *h0 = &H[2 * q], *h1 = &H[2 * q + 1], *s0 = &S[2 * q], *s1 = &S[2 * q + 1];
-    const Lanes2 w = {wdet[2 * q], wdet[2 * q + 1]};
-    Lanes2 sv[3][3];
-    for (int k = 0; k < 3; ++k)
-      for (int j = 0; j < 3; ++j) sv[k][j] = (Lanes2){s0->m[k][j], s1->m[k][j]};
-    for (int i = 0; i < 3; ++i) {
-      const Lanes2 hi0 = {h0->m[i][0], h1->m[i][0]}, hi1 = {h0->m[i][1], h1->m[i][1]},
-                   hi2 = {h0->m[i][2], h1->m[i][2]};
-      for (int j = 0; j < 3; ++j) P[3 * i + j][q] = w * (sv[i][j] + hi0 * sv[0][j] + hi1 * sv[1][j] + hi2 * sv[2][j]);
-    }
-  }
-  for (int a = 0; a < 8; ++a) {
-    const Lanes2 *g0 = (const Lanes2 *)(gt + 3 * a * 8), *g1 = g0 + 4, *g2 = g0 + 8;
-    for (int i = 0; i < 3; ++i) {
-      double v = 0.0;
-      for (int q = 0; q < 4; ++q) {
-        const Lanes2 acc = P[3 * i][q] * g0[q] + P[3 * i + 1][q] * g1[q] + P[3 * i + 2][q] * g2[q];
-        v += acc[0];
-        v += acc[1];
-      }
-      fe[3 * a + i] = v;
-    }
+  for (size_t k = 0; k < nk; ++k) {
+    const size_t *conn = blk->conn + elements[k] * nn;
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i) ue[3 * a + i] = u_nodes[conn[a] * 3 + i];
+    gradients_t(B->grad_t + elements[k] * (size_t)nn * 3 * (size_t)nq, nq, nn, ue, H + k * nq, ld);
   }
 }
 
-static void element_gradients_t(const SolidBlock *B, size_t e, const double *ue, TlMat3 *H)
+static inline __attribute__((always_inline)) void chunk_forces(const SolidBlock *B, const TlElementBlock *blk,
+                                                               const size_t *elements, size_t nk, int nq, int nn,
+                                                               const double *H, const double *S, size_t ld,
+                                                               double *fe, double *f_nodes)
 {
-  const double *gt = B->grad_t + e * (size_t)B->nn * 3 * (size_t)B->nq;
-  if (B->nn == 8 && B->nq == 8) gradients_hex8(gt, ue, H);
-  else if (B->nn == 27 && B->nq == 27) gradients_t(gt, 27, 27, ue, H);
-  else if (B->nn == 10 && B->nq == 4) gradients_t(gt, 4, 10, ue, H);
-  else if (B->nn == 4 && B->nq == 1) gradients_t(gt, 1, 4, ue, H);
-  else gradients_t(gt, B->nq, B->nn, ue, H);
+  for (size_t k = 0; k < nk; ++k) {
+    const size_t e = elements[k];
+    residual_t(B->grad_n + e * (size_t)nn * 3 * (size_t)nq, B->wdet + e * (size_t)nq, nq, nn, H + k * nq,
+               S + k * nq, ld, fe);
+    const size_t *conn = blk->conn + e * nn;
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i) f_nodes[conn[a] * 3 + i] += fe[3 * a + i];
+  }
 }
 
-static void element_residual_t(const SolidBlock *B, size_t e, const TlMat3 *H, const TlMat3 *S, double *fe)
+TL_VECTOR_CLONES
+static void kernel_gradients(const SolidBlock *B, const TlElementBlock *blk, const size_t *elements, size_t nk,
+                             const double *u_nodes, double *ue, double *H, size_t ld)
 {
-  const double *gt = B->grad_t + e * (size_t)B->nn * 3 * (size_t)B->nq, *w = B->wdet + e * (size_t)B->nq;
-  if (B->nn == 8 && B->nq == 8) residual_hex8(gt, w, H, S, fe);
-  else if (B->nn == 27 && B->nq == 27) residual_t(gt, w, 27, 27, H, S, fe);
-  else if (B->nn == 10 && B->nq == 4) residual_t(gt, w, 4, 10, H, S, fe);
-  else if (B->nn == 4 && B->nq == 1) residual_t(gt, w, 1, 4, H, S, fe);
-  else residual_t(gt, w, B->nq, B->nn, H, S, fe);
+  if (B->nn == 8 && B->nq == 8) chunk_gradients(B, blk, elements, nk, 8, 8, u_nodes, ue, H, ld);
+  else if (B->nn == 27 && B->nq == 27) chunk_gradients(B, blk, elements, nk, 27, 27, u_nodes, ue, H, ld);
+  else if (B->nn == 10 && B->nq == 4) chunk_gradients(B, blk, elements, nk, 4, 10, u_nodes, ue, H, ld);
+  else if (B->nn == 4 && B->nq == 1) chunk_gradients(B, blk, elements, nk, 1, 4, u_nodes, ue, H, ld);
+  else chunk_gradients(B, blk, elements, nk, B->nq, B->nn, u_nodes, ue, H, ld);
+}
+
+TL_VECTOR_CLONES
+static void kernel_forces(const SolidBlock *B, const TlElementBlock *blk, const size_t *elements, size_t nk,
+                          const double *H, const double *S, size_t ld, double *fe, double *f_nodes)
+{
+  if (B->nn == 8 && B->nq == 8) chunk_forces(B, blk, elements, nk, 8, 8, H, S, ld, fe, f_nodes);
+  else if (B->nn == 27 && B->nq == 27) chunk_forces(B, blk, elements, nk, 27, 27, H, S, ld, fe, f_nodes);
+  else if (B->nn == 10 && B->nq == 4) chunk_forces(B, blk, elements, nk, 4, 10, H, S, ld, fe, f_nodes);
+  else if (B->nn == 4 && B->nq == 1) chunk_forces(B, blk, elements, nk, 1, 4, H, S, ld, fe, f_nodes);
+  else chunk_forces(B, blk, elements, nk, B->nq, B->nn, H, S, ld, fe, f_nodes);
+}
+
+/* Flags points with det(1 + H) <= 0 (or NaN). */
+TL_VECTOR_CLONES
+static int any_inverted(const double *restrict H, size_t np, size_t ld)
+{
+  int bad = 0;
+  for (size_t p = 0; p < np; ++p) {
+    const double h00 = H[p], h01 = H[ld + p], h02 = H[2 * ld + p], h10 = H[3 * ld + p], h12 = H[5 * ld + p],
+                 h20 = H[6 * ld + p], h21 = H[7 * ld + p];
+    const double a00 = 1.0 + h00, a11 = 1.0 + H[4 * ld + p], a22 = 1.0 + H[8 * ld + p];
+    const double J = a00 * (a11 * a22 - h12 * h21) - h01 * (h10 * a22 - h12 * h20) + h02 * (h10 * h21 - a11 * h20);
+    bad |= !(J > 0.0);
+  }
+  return bad;
 }
 
 /* Residual of the nk elements `elements` (disjoint nodes unless run
@@ -1121,26 +1138,15 @@ static TlStatus residual_chunk(const TlSolid *s, int b, const size_t *elements, 
 {
   const TlElementBlock *blk = &s->mesh->blocks[b];
   const SolidBlock *B = &s->blocks[b];
-  const int nn = B->nn, nq = B->nq;
-  int bad = 0;
-  for (size_t k = 0; k < nk; ++k) {
-    const size_t *conn = blk->conn + elements[k] * nn;
-    for (int a = 0; a < nn; ++a)
-      for (int i = 0; i < 3; ++i) w->ue[3 * a + i] = u_nodes[conn[a] * 3 + i];
-    element_gradients_t(B, elements[k], w->ue, w->F + k * nq);
-  }
-  const size_t np = nk * (size_t)nq;
-  for (size_t p = 0; p < np; ++p) {
-    const TlMat3 *H = &w->F[p];
-    const double a00 = 1.0 + H->m[0][0], a11 = 1.0 + H->m[1][1], a22 = 1.0 + H->m[2][2];
-    const double J = a00 * (a11 * a22 - H->m[1][2] * H->m[2][1]) - H->m[0][1] * (H->m[1][0] * a22 - H->m[1][2] * H->m[2][0]) +
-                     H->m[0][2] * (H->m[1][0] * H->m[2][1] - a11 * H->m[2][0]);
-    bad |= !(J > 0.0);
-  }
-  if (bad)
+  const int nq = B->nq;
+  const size_t np = nk * (size_t)nq, ld = np;
+  double *H = w->Hsoa, *S = w->Ssoa;
+  kernel_gradients(B, blk, elements, nk, u_nodes, w->ue, H, ld);
+  if (any_inverted(H, np, ld))
     for (size_t p = 0; p < np; ++p) {
-      TlMat3 Fq = w->F[p];
-      for (int i = 0; i < 3; ++i) Fq.m[i][i] += 1.0;
+      TlMat3 Fq;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) Fq.m[i][j] = (i == j ? 1.0 : 0.0) + H[(3 * i + j) * ld + p];
       double J = tl_m3_det(Fq);
       if (!(J > 0.0)) {
         size_t e = elements[p / (size_t)nq];
@@ -1150,7 +1156,7 @@ static TlStatus residual_chunk(const TlSolid *s, int b, const size_t *elements, 
                  blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, (int)(p % (size_t)nq));
       }
     }
-  TlStatus st = tl_material_evaluate_gradient(B->material, np, w->F, NULL, NULL, w->S, NULL, NULL);
+  TlStatus st = tl_material_stress_soa(B->material, np, H, S, ld);
   if (st != TL_OK) {
     tl_error_trace(st, __FILE__, __LINE__);
     char msg[900];
@@ -1158,12 +1164,7 @@ static TlStatus residual_chunk(const TlSolid *s, int b, const size_t *elements, 
     TL_ERROR(st, "block %s, elements from %zu (chunk of %zu, %d points each): %s", blk->name, elements[0], nk, nq,
              msg);
   }
-  for (size_t k = 0; k < nk; ++k) {
-    element_residual_t(B, elements[k], w->F + k * nq, w->S + k * nq, w->fe);
-    const size_t *conn = blk->conn + elements[k] * nn;
-    for (int a = 0; a < nn; ++a)
-      for (int i = 0; i < 3; ++i) f_nodes[conn[a] * 3 + i] += w->fe[3 * a + i];
-  }
+  kernel_forces(B, blk, elements, nk, H, S, ld, w->fe, f_nodes);
   return TL_OK;
 }
 

@@ -163,11 +163,13 @@ static TlStatus newmark_step(TlStepper *st, double dt)
     memcpy(nm->x, st->u0, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, nm->x, NULL, NULL));
   memcpy(st->u, nm->x, bytes); /* prescribed values for the residual */
-  /* Force scale for the tolerance: inertia at the start, and the internal,
+  /* Force scale for the tolerance: inertia at the start (with the lumped
+   * mass: a size, which needs no product with M), and the internal,
    * applied and residual forces at the predictor (which carries the
    * prescribed motion of the step). */
-  tl_stepper_mass_times(st, st->a0, st->f_int);
-  double scale = fmax(tl_stepper_max_abs(st->f_int, st->n), tl_stepper_max_abs(st->f_ext0, st->n) + tl_stepper_max_abs(st->f_hook, st->n));
+  double inertia = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) inertia = tl_max(inertia, fabs(st->m[i] * st->a0[i]));
+  double scale = fmax(inertia, tl_stepper_max_abs(st->f_ext0, st->n) + tl_stepper_max_abs(st->f_hook, st->n));
   TL_CHECK(newmark_residual(st, nm->x, st->work));
   scale = fmax(scale, fmax(tl_stepper_max_abs(st->work, st->n), fmax(tl_stepper_max_abs(st->f_int, st->n), tl_stepper_max_abs(st->f_ext, st->n))));
   st->force_scale = scale;

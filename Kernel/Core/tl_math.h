@@ -7,6 +7,15 @@
 
 #define TL_PI 3.14159265358979323846
 
+/* Hot loops over independent points: an AVX2 copy beside the baseline one,
+ * chosen when the program starts by what the processor has.  Without FMA,
+ * so both copies round every operation alike and give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define TL_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define TL_VECTOR_CLONES
+#endif
+
 typedef struct { double x, y, z; } TlVec3;
 typedef struct { double m[3][3]; } TlMat3;            /* m[row][col] */
 typedef struct { double w, x, y, z; } TlQuat;         /* w + xi + yj + zk */

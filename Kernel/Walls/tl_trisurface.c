@@ -1,5 +1,8 @@
 #include "tl_trisurface.h"
 
+#include <float.h>
+#include <math.h>
+
 #include <stdint.h>
 #include <stdlib.h>
 #include "tl_memory.h"
@@ -175,6 +178,12 @@ static inline TlVec3 vmax(TlVec3 a, TlVec3 b) { return tl_v3(tl_max(a.x, b.x), t
 
 static TlStatus check_vertices(const TlTriSurface *s)
 {
+  /* A branch-free pass first (every step of a moving surface), the
+   * offender looked up only when one is flagged. */
+  double sum = 0.0;
+  for (size_t i = 0; i < s->n_vertices; ++i)
+    sum += fabs(s->x[i].x) + fabs(s->x[i].y) + fabs(s->x[i].z) + fabs(s->v[i].x) + fabs(s->v[i].y) + fabs(s->v[i].z);
+  if (sum <= DBL_MAX) return TL_OK;
   for (size_t i = 0; i < s->n_vertices; ++i)
     if (!tl_v3_isfinite(s->x[i]) || !tl_v3_isfinite(s->v[i]))
       TL_ERROR(TL_ERR_NUMERIC, "vertex %zu has a non-finite position (%g, %g, %g) or velocity "
