@@ -9,6 +9,7 @@
 #include "tl_contact_list.h"
 #include "tl_log.h"
 #include "tl_memory.h"
+#include "tl_parallel.h"
 #include "tl_wall_trisurface.h"
 
 enum { TL_DEM_MAX_LAWS = 16, CHUNK = 64 };
@@ -867,8 +868,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   double el = 0.0, pw = 0.0;
   size_t touching = 0;
   TlStatus status = TL_OK;
-#pragma omp parallel num_threads(nt) reduction(+ : el, pw, touching) if (nt > 1)
-  {
+  TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : el, pw, touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
     ChunkCtx c;
     memset(&c, 0, sizeof c);
@@ -899,10 +899,10 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     pw += c.pw;
     touching += c.touching;
     if (c.status != TL_OK) {
-#pragma omp critical
+      _Pragma("omp critical")
       status = c.status;
     }
-  }
+  });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   acc->elastic += el;
   acc->power += pw;
@@ -983,14 +983,14 @@ static TlStatus compute_forces(TlDem *d)
     d->xr_cap = n + n / 2 + 16;
   }
   double(*xr)[4] = d->xr;
-#pragma omp parallel for num_threads(ntb) if (ntb > 1) schedule(static)
-  for (size_t i = 0; i < n; ++i) {
+  TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
+    for (size_t i = 0; i < n; ++i) {
     P->f[i] = tl_v3_scale(g, P->mass[i]);
     xr[i][0] = P->x[i].x;
     xr[i][1] = P->x[i].y;
     xr[i][2] = P->x[i].z;
     xr[i][3] = P->radius[i];
-  }
+  });
   if (P->f_ext)
     for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
   /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
@@ -1220,8 +1220,8 @@ static TlStatus one_step(TlDem *d)
         d->work_ext += dt * tl_v3_dot(fe, vv);
       }
   const int nt = n >= 8192 ? d->nt : 1;
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(max : v2max, disp2max)
-  for (size_t i = 0; i < n; ++i) {
+  TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
+    for (size_t i = 0; i < n; ++i) {
     if (motion[i] != TL_MOTION_FREE) continue;
     const double hi = h * im[i];
     TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
@@ -1237,7 +1237,7 @@ static TlStatus one_step(TlDem *d)
       double d2 = dx * dx + dy * dy + dz * dz;
       disp2max = d2 > disp2max ? d2 : disp2max;
     }
-  }
+  });
   d->disp2max = disp2max;
   if (!(v2max * dt * dt < d->r_min * d->r_min)) TL_CHECK(report_blowup(d, dt));
   if (rot) {
@@ -1245,8 +1245,8 @@ static TlStatus one_step(TlDem *d)
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
     const int orient = d->orientation;
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
-    for (size_t i = 0; i < n; ++i) {
+    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
+      for (size_t i = 0; i < n; ++i) {
       if (motion[i] != TL_MOTION_FREE) continue;
       const double hi = h * ii[i];
       TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
@@ -1259,7 +1259,7 @@ static TlStatus one_step(TlDem *d)
       q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
       double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
       P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
-    }
+    });
   }
   for (size_t w = 0; w < d->n_walls; ++w)
     if (d->walls[w]->ops->advance) TL_CHECK(d->walls[w]->ops->advance(d->walls[w], d->t, dt));
@@ -1270,22 +1270,22 @@ static TlStatus one_step(TlDem *d)
   TL_CHECK(compute_forces(d));
   /* second half kick; a NaN anywhere poisons the sum and is then located */
   double sum = 0.0;
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static) reduction(+ : sum)
-  for (size_t i = 0; i < n; ++i) {
+  TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
+    for (size_t i = 0; i < n; ++i) {
     const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
     TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
     v[i] = vv;
     sum += vv.x + vv.y + vv.z;
-  }
+  });
   if (rot) {
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
-#pragma omp parallel for num_threads(nt) if (nt > 1) schedule(static)
-    for (size_t i = 0; i < n; ++i) {
+    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
+      for (size_t i = 0; i < n; ++i) {
       const double hi = h * ii[i];
       w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
-    }
+    });
   }
   if (!isfinite(sum)) TL_CHECK(report_blowup(d, dt));
   d->steps++;

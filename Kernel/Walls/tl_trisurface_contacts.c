@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "tl_memory.h"
+#include "tl_parallel.h"
 
 TlStatus tl_tricontacts_create(TlTriContactSet **set)
 {
@@ -193,8 +194,8 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
   TlTriContactRecord *c = set->c;
   int32_t *link = set->link;
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
-  for (long g = 0; g < ng; ++g) {
+  TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
+    for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
     if (g1 - g0 < 2) continue;
@@ -220,7 +221,7 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
       }
     }
     for (size_t i = g0; i < g1; ++i) c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
-  }
+  });
   /* compact */
   size_t m = 0;
   for (size_t i = 0; i < n; ++i)
@@ -258,8 +259,8 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
     while (h < prev->n_groups && pc[prev->group[h]].particle < p) ++h;
     match[g] = (h < prev->n_groups && pc[prev->group[h]].particle == p) ? h : SIZE_MAX;
   }
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
-  for (long g = 0; g < ng; ++g) {
+  TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
+    for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     if (match[g] == SIZE_MAX) continue;
     size_t h = match[g];
@@ -289,7 +290,7 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
       c[i].force_prev = pc[best].force;
       if (hd) memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
     }
-  }
+  });
   return TL_OK;
 }
 
@@ -297,8 +298,8 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
 {
   TlTriContactRecord *c = set->c;
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(dynamic, 64) if (ng > 2048)
-  for (long g = 0; g < ng; ++g) {
+  TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
+    for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1];
     if (g1 - g0 == 1) {
       c[g0].weight = 1.0;
@@ -312,7 +313,7 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
       c[i].force = tl_v3_scale(c[i].force, w);
       c[i].torque = tl_v3_scale(c[i].torque, w);
     }
-  }
+  });
 }
 
 TlStatus tl_tricontacts_append_all(TlTriContactSet *dst, const TlTriContactSet *src)

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "tl_memory.h"
+#include "tl_parallel.h"
 #include "tl_registry.h"
 
 /* Per-thread detection buffers, so that candidate lists grow without locks
@@ -223,11 +224,10 @@ static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallS
   TL_CHECK(tl_wall_trisurface_threads(t, &nthreads));
   for (int k = 0; k < t->n_threads; ++k) t->thread[k].n_pairs = 0;
   TlStatus status = TL_OK;
-#pragma omp parallel num_threads(nthreads) if (nt > 4096)
-  {
+  TL_PARALLEL_IF(nt > 4096, "omp parallel num_threads(nthreads)", {
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
-#pragma omp for schedule(dynamic, 32)
+    _Pragma("omp for schedule(dynamic, 32)")
     for (long it = 0; it < nt; ++it) {
       int32_t tri = selected[it];
       if (local != TL_OK) continue;
@@ -245,10 +245,10 @@ static TlStatus tl_wall_trisurface_build_list(TlWallTriSurface *t, const TlWallS
       }
     }
     if (local != TL_OK) {
-#pragma omp critical(tl_wall_trisurface_error)
+      _Pragma("omp critical(tl_wall_trisurface_error)")
       status = local;
     }
-  }
+  });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   size_t total = 0;
   for (int k = 0; k < t->n_threads; ++k) total += t->thread[k].n_pairs;
@@ -319,11 +319,10 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
   for (int k = 0; k < t->n_threads; ++k) tl_tricontacts_clear(t->thread[k].found);
   TlStatus status = TL_OK;
   long work = use_list ? n : n * (long)p->n;
-#pragma omp parallel num_threads(nthreads) if (work > 8192)
-  {
+  TL_PARALLEL_IF(work > 8192, "omp parallel num_threads(nthreads)", {
     TlTriThread *th = &t->thread[omp_get_thread_num()];
     TlStatus local = TL_OK;
-#pragma omp for schedule(static)
+    _Pragma("omp for schedule(static)")
     for (long it = 0; it < n; ++it) {
       if (local != TL_OK) continue;
       if (use_list) {
@@ -336,10 +335,10 @@ static TlStatus tl_wall_trisurface_detect(TlWallTriSurface *t, const TlWallStep 
       }
     }
     if (local != TL_OK) {
-#pragma omp critical(tl_wall_trisurface_error)
+      _Pragma("omp critical(tl_wall_trisurface_error)")
       status = local;
     }
-  }
+  });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   for (int k = 0; k < t->n_threads; ++k) TL_CHECK(tl_tricontacts_append_all(t->current, t->thread[k].found));
   return TL_OK;
@@ -369,8 +368,8 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   const int rot = p->w != NULL;
   /* geometry records, i = particle, j = wall (tl_contact_law.h) */
   long nl = (long)n;
-#pragma omp parallel for schedule(static) if (nl > 8192)
-  for (long k = 0; k < nl; ++k) {
+  TL_PARALLEL_IF(nl > 8192, "omp parallel for schedule(static)",
+    for (long k = 0; k < nl; ++k) {
     const TlTriContactRecord *r = &set->c[k];
     size_t i = (size_t)r->particle;
     TlContactGeometry *g = &t->geometry[k];
@@ -391,21 +390,21 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
     g->reff = p->radius[i];
     g->history = hd ? set->history + (size_t)k * hd : NULL;
     g->bonded = 0;
-  }
+  });
   /* the law: one batch per thread */
   TlStatus status = TL_OK;
   int nb = n > 8192 ? t->n_threads : 1;
-#pragma omp parallel for num_threads(nb) schedule(static) if (nb > 1)
-  for (int b = 0; b < nb; ++b) {
+  TL_PARALLEL_IF(nb > 1, "omp parallel for num_threads(nb) schedule(static)",
+    for (int b = 0; b < nb; ++b) {
     size_t lo = n * (size_t)b / (size_t)nb, hi = n * (size_t)(b + 1) / (size_t)nb;
     TlContactBatch batch = {.n = hi - lo, .geometry = t->geometry + lo, .result = t->result + lo,
                             .dt = step->dt, .want_energy = step->want_energy};
     TlStatus local = hi > lo ? law->ops->evaluate(law, &batch) : TL_OK;
     if (local != TL_OK) {
-#pragma omp critical(tl_wall_trisurface_error)
+      _Pragma("omp critical(tl_wall_trisurface_error)")
       status = local;
     }
-  }
+  });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   for (size_t k = 0; k < n; ++k) {
     set->c[k].force = t->result[k].force;
@@ -416,8 +415,8 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
 
   /* forces on the particles, one group (particle) per iteration: race-free */
   long ng = (long)set->n_groups;
-#pragma omp parallel for schedule(static) if (ng > 8192)
-  for (long g = 0; g < ng; ++g) {
+  TL_PARALLEL_IF(ng > 8192, "omp parallel for schedule(static)",
+    for (long g = 0; g < ng; ++g) {
     size_t g0 = set->group[g], g1 = set->group[g + 1], i = (size_t)set->c[g0].particle;
     TlVec3 f = tl_v3(0, 0, 0), tq = tl_v3(0, 0, 0);
     for (size_t k = g0; k < g1; ++k) {
@@ -426,7 +425,7 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
     }
     p->f[i] = tl_v3_add(p->f[i], f);
     if (rot) p->torque[i] = tl_v3_add(p->torque[i], tq);
-  }
+  });
   /* accounting */
   TlVec3 fw = tl_v3(0, 0, 0), tw = tl_v3(0, 0, 0);
   double energy = 0.0, power = 0.0, wall_power = 0.0;
