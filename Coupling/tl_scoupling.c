@@ -42,6 +42,7 @@ struct TlSCoupling {
   TlCGSurface *cg;
   int cg_stale;      /* the nodes moved since the last quadrature update */
   double face_size;  /* largest corner-to-corner edge of a face at creation */
+  double bulge;      /* how far a face's (or element's) points reach beyond its nodes' box: 0 when linear */
   /* SCoupling elements, the element of each face and the faces of each
    * element (elem_face[elem_face_ptr[e] .. elem_face_ptr[e + 1] - 1]) */
   size_t n_elements, n_active;
@@ -273,6 +274,7 @@ static TlStatus setup_element_support(TlSCoupling *sc)
                type->header.name, t->header.name);
   }
   TL_CHECK(tl_scoupling_volume_type_create(type, &sc->vt));
+  if (type != &tl_element_hex8 && type != &tl_element_tet4) sc->bulge = sc->face_size;
   const int ne = sc->ne = type->n_nodes;
   size_t *map = NULL;
   TL_CHECK(tl_calloc(&map, m->n_nodes, sizeof *map));
@@ -364,6 +366,9 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
       h = fmax(h, tl_v3_norm(d));
     }
   sc->face_size = h;
+  /* The points of a linear face are convex combinations of its nodes; a
+   * curved one may bulge, by far less than its size. */
+  sc->bulge = face_type == &tl_element_quad4 || face_type == &tl_element_tri3 ? 0.0 : h;
   if (sub == 0) {
     sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
     if (sub < 1) sub = 1;
@@ -578,13 +583,14 @@ static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wa
   }
   sc->n_contacts = m;
   if (total_wall) *total_wall = total;
-  /* The quadrature of the faces within reach of the contacts only (a face
-   * bulges beyond its nodes' box by far less than its size). */
+  /* The quadrature of the faces within reach of the contacts only: those
+   * whose nodes' box, grown by the bulge, lies within c of a contact (the
+   * others' points are beyond the kernel's support). */
   if (m && sc->cg_stale && sc->width > 0.0) {
     if (sc->cg_elem)
-      TL_CHECK(tl_cg_surface_update_near(sc->cg_elem, m, sc->c_point, sc->width + sc->face_size));
+      TL_CHECK(tl_cg_surface_update_near(sc->cg_elem, m, sc->c_point, sc->width + sc->bulge));
     else
-      TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->face_size));
+      TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->bulge));
   }
   if (m) sc->cg_stale = 0;
   return TL_OK;

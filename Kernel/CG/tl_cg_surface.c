@@ -146,6 +146,11 @@ static void quad_shape(double xi, double eta, double N[4], double dxi[4], double
   deta[0] = -0.25 * (1 - xi), deta[1] = -0.25 * (1 + xi), deta[2] = 0.25 * (1 + xi), deta[3] = 0.25 * (1 - xi);
 }
 
+/* The bilinear map on sub-squares, written as interpolation between the
+ * edges xi = -1 (A) and xi = +1 (B) at each eta: the point, its two tangents
+ * and the shape values in a few operations per point, the face's edge
+ * differences computed once (the moving faces near contacts are redone at
+ * every coupled step). */
 static TlStatus quad_quadrature(const TlCGSurface *s, size_t n, const size_t *faces, TlVec3 *xq, double *wq, double *Nq)
 {
   static const double gx[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
@@ -155,28 +160,26 @@ static TlStatus quad_quadrature(const TlCGSurface *s, size_t n, const size_t *fa
   for (size_t i = 0; i < n; ++i) {
     const size_t f = faces ? faces[i] : i;
     const int *v = s->face_node + 4 * f;
-    TlVec3 X[4] = {s->x[v[0]], s->x[v[1]], s->x[v[2]], s->x[v[3]]};
+    const TlVec3 X0 = s->x[v[0]], X1 = s->x[v[1]], X2 = s->x[v[2]], X3 = s->x[v[3]];
+    const TlVec3 d03 = tl_v3_sub(X3, X0), d12 = tl_v3_sub(X2, X1);
     size_t slot = f * (size_t)s->qp_per_face;
     for (int si = 0; si < sub; ++si)
       for (int sj = 0; sj < sub; ++sj)
         for (int gi = 0; gi < 3; ++gi)
           for (int gj = 0; gj < 3; ++gj, ++slot) {
-            double xi = -1.0 + (2.0 * si + 1.0 + gx[gi]) * hs, eta = -1.0 + (2.0 * sj + 1.0 + gx[gj]) * hs;
-            double N[4], dxi[4], deta[4];
-            quad_shape(xi, eta, N, dxi, deta);
-            TlVec3 p = tl_v3(0, 0, 0), a = tl_v3(0, 0, 0), b = tl_v3(0, 0, 0);
-            for (int k = 0; k < 4; ++k) {
-              p = tl_v3_axpy(p, N[k], X[k]);
-              a = tl_v3_axpy(a, dxi[k], X[k]);
-              b = tl_v3_axpy(b, deta[k], X[k]);
-              Nq[slot * 4 + k] = N[k];
-            }
-            double jac = tl_v3_norm(tl_v3_cross(a, b));
+            const double xi = -1.0 + (2.0 * si + 1.0 + gx[gi]) * hs, eta = -1.0 + (2.0 * sj + 1.0 + gx[gj]) * hs;
+            const double sx = 0.5 * (1.0 + xi), se = 0.5 * (1.0 + eta);
+            const TlVec3 A = tl_v3_axpy(X0, se, d03), B = tl_v3_axpy(X1, se, d12), AB = tl_v3_sub(B, A);
+            /* tangents d/dxi = (B - A)/2, d/deta = ((1 - xi) d03 + (1 + xi) d12)/4 */
+            const TlVec3 a = tl_v3_scale(AB, 0.5), b = tl_v3_scale(tl_v3_axpy(tl_v3_scale(d03, 1.0 - sx), sx, d12), 0.5);
+            const double jac = tl_v3_norm(tl_v3_cross(a, b));
             if (!(jac > 0.0))
               TL_ERROR(TL_ERR_NUMERIC, "quadrilateral %zu (nodes %d %d %d %d) has area element %g at (%g, %g)", f,
                        v[0], v[1], v[2], v[3], jac, xi, eta);
-            xq[slot] = p;
+            xq[slot] = tl_v3_axpy(A, sx, AB);
             wq[slot] = gw[gi] * gw[gj] * hs * hs * jac;
+            double *N = Nq + slot * 4;
+            N[0] = (1.0 - sx) * (1.0 - se), N[1] = sx * (1.0 - se), N[2] = sx * se, N[3] = (1.0 - sx) * se;
           }
   }
   return TL_OK;
