@@ -334,6 +334,14 @@ TlStatus tl_cg_surface_create_quads(size_t n_nodes, const TlVec3 *x, size_t n_fa
   return TL_OK;
 }
 
+/* Squared distance from p to the box [lo, hi] (0 inside). */
+static inline double box_distance2(TlVec3 lo, TlVec3 hi, TlVec3 p)
+{
+  const double dx = tl_max(tl_max(lo.x - p.x, p.x - hi.x), 0.0), dy = tl_max(tl_max(lo.y - p.y, p.y - hi.y), 0.0),
+               dz = tl_max(tl_max(lo.z - p.z, p.z - hi.z), 0.0);
+  return dx * dx + dy * dy + dz * dz;
+}
+
 static TlStatus bin_faces(TlCGSurface *s);
 static TlStatus face_box(TlCGSurface *s, size_t f);
 
@@ -388,11 +396,7 @@ TlStatus tl_cg_surface_update_near(TlCGSurface *s, size_t n, const TlVec3 *point
       hi = tl_v3(tl_max(hi.x, p.x), tl_max(hi.y, p.y), tl_max(hi.z, p.z));
     }
     int near = 0;
-    for (size_t k = 0; k < n && !near; ++k) {
-      TlVec3 p = points[k];
-      near = p.x > lo.x - reach && p.x < hi.x + reach && p.y > lo.y - reach && p.y < hi.y + reach &&
-             p.z > lo.z - reach && p.z < hi.z + reach;
-    }
+    for (size_t k = 0; k < n && !near; ++k) near = box_distance2(lo, hi, points[k]) < reach * reach;
     if (near) w->near[w->n_near++] = f;
   }
   TL_CHECK(s->ops->quadrature(s, w->n_near, w->near, s->xq, s->wq, s->Nq));
@@ -403,10 +407,11 @@ TlStatus tl_cg_surface_update_near(TlCGSurface *s, size_t n, const TlVec3 *point
 
 /* ----------------------------------------------------------- evaluation */
 
+/* The kernel's support is the ball of radius c: a face is near p when its
+ * box is closer than c. */
 static inline int face_near(const TlCGSurface *s, size_t f, TlVec3 p, double c)
 {
-  TlVec3 lo = s->face_lo[f], hi = s->face_hi[f];
-  return p.x > lo.x - c && p.x < hi.x + c && p.y > lo.y - c && p.y < hi.y + c && p.z > lo.z - c && p.z < hi.z + c;
+  return box_distance2(s->face_lo[f], s->face_hi[f], p) < c * c;
 }
 
 /* Sorts the faces into a uniform grid by the centre of their boxes. */
