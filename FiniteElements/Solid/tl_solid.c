@@ -1485,6 +1485,10 @@ static TlStatus external_nodes(TlSolid *s, double t, const double *u, double *f_
     double fv[3] = {pf->f.x, pf->f.y, pf->f.z};
     for (int c = 0; c < s->dim; ++c) f_nodes[pf->node * s->dim + c] += a * fv[c];
   }
+  /* Follower (pressure) loads need the deformed faces. */
+  int follower = 0;
+  for (int i = 0; i < s->n_surface; ++i) follower |= s->surface[i].pressure;
+  if (!follower) return TL_OK;
   tl_solid_dofs_to_nodes(s, u, s->un);
   TL_CHECK(pressure_loads(s, t, s->un, f_nodes, 0.0, NULL));
   return TL_OK;
