@@ -985,12 +985,12 @@ static TlStatus compute_forces(TlDem *d)
   double(*xr)[4] = d->xr;
   TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
     for (size_t i = 0; i < n; ++i) {
-    P->f[i] = tl_v3_scale(g, P->mass[i]);
-    xr[i][0] = P->x[i].x;
-    xr[i][1] = P->x[i].y;
-    xr[i][2] = P->x[i].z;
-    xr[i][3] = P->radius[i];
-  });
+      P->f[i] = tl_v3_scale(g, P->mass[i]);
+      xr[i][0] = P->x[i].x;
+      xr[i][1] = P->x[i].y;
+      xr[i][2] = P->x[i].z;
+      xr[i][3] = P->radius[i];
+    });
   if (P->f_ext)
     for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
   /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
@@ -1222,22 +1222,22 @@ static TlStatus one_step(TlDem *d)
   const int nt = n >= 8192 ? d->nt : 1;
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
     for (size_t i = 0; i < n; ++i) {
-    if (motion[i] != TL_MOTION_FREE) continue;
-    const double hi = h * im[i];
-    TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
-    v[i] = vv;
-    double v2 = vv.x * vv.x + vv.y * vv.y + vv.z * vv.z;
-    v2max = v2 > v2max ? v2 : v2max;
-    if (deforming) {
-      x[i] = tl_v3_axpy(tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(x[i], o))), dt, vv);
-    } else {
-      TlVec3 xn = {x[i].x + dt * vv.x, x[i].y + dt * vv.y, x[i].z + dt * vv.z};
-      x[i] = xn;
-      double dx = xn.x - xb[i].x, dy = xn.y - xb[i].y, dz = xn.z - xb[i].z;
-      double d2 = dx * dx + dy * dy + dz * dz;
-      disp2max = d2 > disp2max ? d2 : disp2max;
-    }
-  });
+      if (motion[i] != TL_MOTION_FREE) continue;
+      const double hi = h * im[i];
+      TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
+      v[i] = vv;
+      double v2 = vv.x * vv.x + vv.y * vv.y + vv.z * vv.z;
+      v2max = v2 > v2max ? v2 : v2max;
+      if (deforming) {
+        x[i] = tl_v3_axpy(tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(x[i], o))), dt, vv);
+      } else {
+        TlVec3 xn = {x[i].x + dt * vv.x, x[i].y + dt * vv.y, x[i].z + dt * vv.z};
+        x[i] = xn;
+        double dx = xn.x - xb[i].x, dy = xn.y - xb[i].y, dz = xn.z - xb[i].z;
+        double d2 = dx * dx + dy * dy + dz * dz;
+        disp2max = d2 > disp2max ? d2 : disp2max;
+      }
+    });
   d->disp2max = disp2max;
   if (!(v2max * dt * dt < d->r_min * d->r_min)) TL_CHECK(report_blowup(d, dt));
   if (rot) {
@@ -1247,19 +1247,19 @@ static TlStatus one_step(TlDem *d)
     const int orient = d->orientation;
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
       for (size_t i = 0; i < n; ++i) {
-      if (motion[i] != TL_MOTION_FREE) continue;
-      const double hi = h * ii[i];
-      TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
-      w[i] = ww;
-      if (!orient) continue;
-      /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
-       * then renormalised */
-      TlQuat q = P->q[i];
-      TlQuat dq = tl_q_mul((TlQuat){0.0, ww.x, ww.y, ww.z}, q);
-      q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
-      double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-      P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
-    });
+        if (motion[i] != TL_MOTION_FREE) continue;
+        const double hi = h * ii[i];
+        TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
+        w[i] = ww;
+        if (!orient) continue;
+        /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
+         * then renormalised */
+        TlQuat q = P->q[i];
+        TlQuat dq = tl_q_mul((TlQuat){0.0, ww.x, ww.y, ww.z}, q);
+        q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
+        double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+        P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
+      });
   }
   for (size_t w = 0; w < d->n_walls; ++w)
     if (d->walls[w]->ops->advance) TL_CHECK(d->walls[w]->ops->advance(d->walls[w], d->t, dt));
@@ -1272,20 +1272,20 @@ static TlStatus one_step(TlDem *d)
   double sum = 0.0;
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
     for (size_t i = 0; i < n; ++i) {
-    const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
-    TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
-    v[i] = vv;
-    sum += vv.x + vv.y + vv.z;
-  });
+      const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
+      TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
+      v[i] = vv;
+      sum += vv.x + vv.y + vv.z;
+    });
   if (rot) {
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
       for (size_t i = 0; i < n; ++i) {
-      const double hi = h * ii[i];
-      w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
-    });
+        const double hi = h * ii[i];
+        w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
+      });
   }
   if (!isfinite(sum)) TL_CHECK(report_blowup(d, dt));
   d->steps++;

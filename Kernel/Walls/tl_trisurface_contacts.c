@@ -196,32 +196,32 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
   long ng = (long)set->n_groups;
   TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
     for (long g = 0; g < ng; ++g) {
-    size_t g0 = set->group[g], g1 = set->group[g + 1];
-    for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
-    if (g1 - g0 < 2) continue;
-    for (size_t i = g0; i < g1; ++i) {
-      int32_t t = c[i].triangle;
-      for (int k = 0; k < 3; ++k) {
-        int32_t nb = s->tri_nbr[3 * (size_t)t + k];
-        if (nb <= t) continue; /* each pair once, from its lower triangle */
-        long j = tl_find_triangle(c, g0, g1, nb);
-        if (j < 0) continue;
-        int e = s->tri_edge[3 * (size_t)t + k];
-        int kb = 0;
-        while (kb < 2 && s->tri_edge[3 * (size_t)nb + kb] != e) ++kb;
-        if (!tl_tri_feature_on_edge(c[i].feature, k) && !tl_tri_feature_on_edge(c[j].feature, kb))
-          continue;
-        TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center, c[i].triangle);
-        if (shape == TL_EDGE_CONCAVE) continue;
-        int32_t ri = tl_root(link, (int32_t)i), rj = tl_root(link, (int32_t)j);
-        if (ri == rj) continue;
-        /* the root of a cluster is always its best contact */
-        if (tl_record_better(&c[ri], &c[rj])) link[rj] = ri;
-        else link[ri] = rj;
+      size_t g0 = set->group[g], g1 = set->group[g + 1];
+      for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
+      if (g1 - g0 < 2) continue;
+      for (size_t i = g0; i < g1; ++i) {
+        int32_t t = c[i].triangle;
+        for (int k = 0; k < 3; ++k) {
+          int32_t nb = s->tri_nbr[3 * (size_t)t + k];
+          if (nb <= t) continue; /* each pair once, from its lower triangle */
+          long j = tl_find_triangle(c, g0, g1, nb);
+          if (j < 0) continue;
+          int e = s->tri_edge[3 * (size_t)t + k];
+          int kb = 0;
+          while (kb < 2 && s->tri_edge[3 * (size_t)nb + kb] != e) ++kb;
+          if (!tl_tri_feature_on_edge(c[i].feature, k) && !tl_tri_feature_on_edge(c[j].feature, kb))
+            continue;
+          TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center, c[i].triangle);
+          if (shape == TL_EDGE_CONCAVE) continue;
+          int32_t ri = tl_root(link, (int32_t)i), rj = tl_root(link, (int32_t)j);
+          if (ri == rj) continue;
+          /* the root of a cluster is always its best contact */
+          if (tl_record_better(&c[ri], &c[rj])) link[rj] = ri;
+          else link[ri] = rj;
+        }
       }
-    }
-    for (size_t i = g0; i < g1; ++i) c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
-  });
+      for (size_t i = g0; i < g1; ++i) c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
+    });
   /* compact */
   size_t m = 0;
   for (size_t i = 0; i < n; ++i)
@@ -261,36 +261,36 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
   }
   TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
     for (long g = 0; g < ng; ++g) {
-    size_t g0 = set->group[g], g1 = set->group[g + 1];
-    if (match[g] == SIZE_MAX) continue;
-    size_t h = match[g];
-    size_t h0 = prev->group[h], h1 = prev->group[h + 1];
-    /* the same triangle first */
-    for (size_t i = g0; i < g1; ++i) {
-      long j = tl_find_triangle(pc, h0, h1, c[i].triangle);
-      done[i] = j >= 0;
-      if (j < 0) continue;
-      used[j] = 1;
-      c[i].force_prev = pc[j].force;
-      if (hd) memcpy(set->history + i * hd, prev->history + (size_t)j * hd, hd * sizeof(double));
-    }
-    /* then contacts that moved to another triangle take over the nearest
-     * contact that ended */
-    for (size_t i = g0; i < g1; ++i) {
-      if (done[i]) continue;
-      long best = -1;
-      double best_d2 = INFINITY;
-      for (size_t j = h0; j < h1; ++j) {
-        if (used[j]) continue;
-        double d2 = tl_v3_norm2(tl_v3_sub(c[i].point, pc[j].point));
-        if (d2 < best_d2) best_d2 = d2, best = (long)j;
+      size_t g0 = set->group[g], g1 = set->group[g + 1];
+      if (match[g] == SIZE_MAX) continue;
+      size_t h = match[g];
+      size_t h0 = prev->group[h], h1 = prev->group[h + 1];
+      /* the same triangle first */
+      for (size_t i = g0; i < g1; ++i) {
+        long j = tl_find_triangle(pc, h0, h1, c[i].triangle);
+        done[i] = j >= 0;
+        if (j < 0) continue;
+        used[j] = 1;
+        c[i].force_prev = pc[j].force;
+        if (hd) memcpy(set->history + i * hd, prev->history + (size_t)j * hd, hd * sizeof(double));
       }
-      if (best < 0) continue;
-      used[best] = 1;
-      c[i].force_prev = pc[best].force;
-      if (hd) memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
-    }
-  });
+      /* then contacts that moved to another triangle take over the nearest
+       * contact that ended */
+      for (size_t i = g0; i < g1; ++i) {
+        if (done[i]) continue;
+        long best = -1;
+        double best_d2 = INFINITY;
+        for (size_t j = h0; j < h1; ++j) {
+          if (used[j]) continue;
+          double d2 = tl_v3_norm2(tl_v3_sub(c[i].point, pc[j].point));
+          if (d2 < best_d2) best_d2 = d2, best = (long)j;
+        }
+        if (best < 0) continue;
+        used[best] = 1;
+        c[i].force_prev = pc[best].force;
+        if (hd) memcpy(set->history + i * hd, prev->history + (size_t)best * hd, hd * sizeof(double));
+      }
+    });
   return TL_OK;
 }
 
@@ -300,20 +300,20 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
   long ng = (long)set->n_groups;
   TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
     for (long g = 0; g < ng; ++g) {
-    size_t g0 = set->group[g], g1 = set->group[g + 1];
-    if (g1 - g0 == 1) {
-      c[g0].weight = 1.0;
-      continue;
-    }
-    double sum = 0.0;
-    for (size_t i = g0; i < g1; ++i) sum += tl_v3_norm(c[i].force);
-    for (size_t i = g0; i < g1; ++i) {
-      double w = sum > 0.0 ? tl_v3_norm(c[i].force) / sum : 1.0 / (double)(g1 - g0);
-      c[i].weight = w;
-      c[i].force = tl_v3_scale(c[i].force, w);
-      c[i].torque = tl_v3_scale(c[i].torque, w);
-    }
-  });
+      size_t g0 = set->group[g], g1 = set->group[g + 1];
+      if (g1 - g0 == 1) {
+        c[g0].weight = 1.0;
+        continue;
+      }
+      double sum = 0.0;
+      for (size_t i = g0; i < g1; ++i) sum += tl_v3_norm(c[i].force);
+      for (size_t i = g0; i < g1; ++i) {
+        double w = sum > 0.0 ? tl_v3_norm(c[i].force) / sum : 1.0 / (double)(g1 - g0);
+        c[i].weight = w;
+        c[i].force = tl_v3_scale(c[i].force, w);
+        c[i].torque = tl_v3_scale(c[i].torque, w);
+      }
+    });
 }
 
 TlStatus tl_tricontacts_append_all(TlTriContactSet *dst, const TlTriContactSet *src)

@@ -370,41 +370,41 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   long nl = (long)n;
   TL_PARALLEL_IF(nl > 8192, "omp parallel for schedule(static)",
     for (long k = 0; k < nl; ++k) {
-    const TlTriContactRecord *r = &set->c[k];
-    size_t i = (size_t)r->particle;
-    TlContactGeometry *g = &t->geometry[k];
-    /* lever arm to the middle of the overlap, as between particles and for
-     * the plane; the record keeps the point on the triangle for coupling */
-    TlVec3 branch = tl_v3_scale(r->normal, -(r->radius - 0.5 * r->overlap));
-    TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
-    TlVec3 v_part = p->v[i];
-    if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
-    g->normal = tl_v3_neg(r->normal);
-    g->overlap = r->overlap;
-    g->branch_i = branch;
-    g->branch_j = tl_v3(0, 0, 0);
-    g->vrel = tl_v3_sub(v_wall, v_part);
-    g->spin_mean = rot ? tl_v3_scale(p->w[i], 0.5) : tl_v3(0, 0, 0);
-    g->spin_rel = rot ? tl_v3_neg(p->w[i]) : tl_v3(0, 0, 0);
-    g->meff = p->mass[i];
-    g->reff = p->radius[i];
-    g->history = hd ? set->history + (size_t)k * hd : NULL;
-    g->bonded = 0;
-  });
+      const TlTriContactRecord *r = &set->c[k];
+      size_t i = (size_t)r->particle;
+      TlContactGeometry *g = &t->geometry[k];
+      /* lever arm to the middle of the overlap, as between particles and for
+       * the plane; the record keeps the point on the triangle for coupling */
+      TlVec3 branch = tl_v3_scale(r->normal, -(r->radius - 0.5 * r->overlap));
+      TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
+      TlVec3 v_part = p->v[i];
+      if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
+      g->normal = tl_v3_neg(r->normal);
+      g->overlap = r->overlap;
+      g->branch_i = branch;
+      g->branch_j = tl_v3(0, 0, 0);
+      g->vrel = tl_v3_sub(v_wall, v_part);
+      g->spin_mean = rot ? tl_v3_scale(p->w[i], 0.5) : tl_v3(0, 0, 0);
+      g->spin_rel = rot ? tl_v3_neg(p->w[i]) : tl_v3(0, 0, 0);
+      g->meff = p->mass[i];
+      g->reff = p->radius[i];
+      g->history = hd ? set->history + (size_t)k * hd : NULL;
+      g->bonded = 0;
+    });
   /* the law: one batch per thread */
   TlStatus status = TL_OK;
   int nb = n > 8192 ? t->n_threads : 1;
   TL_PARALLEL_IF(nb > 1, "omp parallel for num_threads(nb) schedule(static)",
     for (int b = 0; b < nb; ++b) {
-    size_t lo = n * (size_t)b / (size_t)nb, hi = n * (size_t)(b + 1) / (size_t)nb;
-    TlContactBatch batch = {.n = hi - lo, .geometry = t->geometry + lo, .result = t->result + lo,
-                            .dt = step->dt, .want_energy = step->want_energy};
-    TlStatus local = hi > lo ? law->ops->evaluate(law, &batch) : TL_OK;
-    if (local != TL_OK) {
-      _Pragma("omp critical(tl_wall_trisurface_error)")
-      status = local;
-    }
-  });
+      size_t lo = n * (size_t)b / (size_t)nb, hi = n * (size_t)(b + 1) / (size_t)nb;
+      TlContactBatch batch = {.n = hi - lo, .geometry = t->geometry + lo, .result = t->result + lo,
+                              .dt = step->dt, .want_energy = step->want_energy};
+      TlStatus local = hi > lo ? law->ops->evaluate(law, &batch) : TL_OK;
+      if (local != TL_OK) {
+        _Pragma("omp critical(tl_wall_trisurface_error)")
+        status = local;
+      }
+    });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   for (size_t k = 0; k < n; ++k) {
     set->c[k].force = t->result[k].force;
@@ -417,15 +417,15 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   long ng = (long)set->n_groups;
   TL_PARALLEL_IF(ng > 8192, "omp parallel for schedule(static)",
     for (long g = 0; g < ng; ++g) {
-    size_t g0 = set->group[g], g1 = set->group[g + 1], i = (size_t)set->c[g0].particle;
-    TlVec3 f = tl_v3(0, 0, 0), tq = tl_v3(0, 0, 0);
-    for (size_t k = g0; k < g1; ++k) {
-      f = tl_v3_add(f, set->c[k].force);
-      tq = tl_v3_add(tq, set->c[k].torque);
-    }
-    p->f[i] = tl_v3_add(p->f[i], f);
-    if (rot) p->torque[i] = tl_v3_add(p->torque[i], tq);
-  });
+      size_t g0 = set->group[g], g1 = set->group[g + 1], i = (size_t)set->c[g0].particle;
+      TlVec3 f = tl_v3(0, 0, 0), tq = tl_v3(0, 0, 0);
+      for (size_t k = g0; k < g1; ++k) {
+        f = tl_v3_add(f, set->c[k].force);
+        tq = tl_v3_add(tq, set->c[k].torque);
+      }
+      p->f[i] = tl_v3_add(p->f[i], f);
+      if (rot) p->torque[i] = tl_v3_add(p->torque[i], tq);
+    });
   /* accounting */
   TlVec3 fw = tl_v3(0, 0, 0), tw = tl_v3(0, 0, 0);
   double energy = 0.0, power = 0.0, wall_power = 0.0;
