@@ -274,7 +274,7 @@ static TlStatus setup_element_support(TlSCoupling *sc)
                type->header.name, t->header.name);
   }
   TL_CHECK(tl_scoupling_volume_type_create(type, &sc->vt));
-  if (type != &tl_element_hex8 && type != &tl_element_tet4) sc->bulge = sc->face_size;
+  if (type->n_nodes != type->n_corners) sc->bulge = sc->face_size;
   const int ne = sc->ne = type->n_nodes;
   size_t *map = NULL;
   TL_CHECK(tl_calloc(&map, m->n_nodes, sizeof *map));
@@ -366,9 +366,10 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
       h = fmax(h, tl_v3_norm(d));
     }
   sc->face_size = h;
-  /* The points of a linear face are convex combinations of its nodes; a
-   * curved one may bulge, by far less than its size. */
-  sc->bulge = face_type == &tl_element_quad4 || face_type == &tl_element_tri3 ? 0.0 : h;
+  /* The points of a face with corner nodes only are convex combinations of
+   * them (non-negative shape functions); one with mid-side nodes may bulge,
+   * by far less than its size. */
+  sc->bulge = face_type->n_nodes == face_type->n_corners ? 0.0 : h;
   if (sub == 0) {
     sub = o.width > 0.0 ? (int)ceil(2.0 * h / o.width) : 1;
     if (sub < 1) sub = 1;
