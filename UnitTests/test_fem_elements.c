@@ -217,6 +217,29 @@ static void test_inverse_map(const TlElementType *t)
   }
 }
 
+/* A type whose table breaks what the others rely on is refused by name. */
+static void test_check_refuses(void)
+{
+  const TlElementType *hex8 = &tl_element_hex8;
+  TlElementType bad = *hex8;
+  static const int inward[6 * 4] = {0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 5, 4, 2, 3, 7, 6, 0, 4, 7, 3, 1, 2, 6, 5};
+  bad.header.name = "hex8_inward";
+  bad.face_nodes = inward;
+  TL_TEST_STATUS(tl_element_type_check(&bad), TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "face 0 is oriented inward") != NULL, "message: %s", tl_error_message());
+  bad = *hex8;
+  static const TlElementOutput wrong = {TL_CELL_HEX27, NULL};
+  bad.output = &wrong;
+  TL_TEST_STATUS(tl_element_type_check(&bad), TL_ERR_ARG);
+  bad = tl_element_hex27;
+  bad.linear = 1;
+  TL_TEST_STATUS(tl_element_type_register(&bad), TL_ERR_ARG);
+  const TlElementType *none = NULL;
+  TL_TEST_STATUS(tl_element_type_find_gmsh(17, &none), TL_ERR_NOT_FOUND);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "12 (hex27)") != NULL, "message lists the codes: %s", tl_error_message());
+  TL_TEST_STATUS(tl_element_type_find("hex20", &none), TL_ERR_NOT_FOUND);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -227,9 +250,17 @@ int main(void)
     const TlOpsHeader *found = NULL;
     TL_TEST_STATUS(tl_registry_find("element", all_types[i]->header.name, &found), TL_OK);
     TL_TEST_ASSERT(found == &all_types[i]->header, "%s not registered", all_types[i]->header.name);
-    TL_TEST_ASSERT(tl_element_from_gmsh(all_types[i]->gmsh_type) == all_types[i], "gmsh code of %s",
+    const TlElementType *by_name = NULL, *by_gmsh = NULL;
+    TL_TEST_STATUS(tl_element_type_find(all_types[i]->header.name, &by_name), TL_OK);
+    TL_TEST_STATUS(tl_element_type_find_gmsh(all_types[i]->gmsh_type, &by_gmsh), TL_OK);
+    TL_TEST_ASSERT(by_name == all_types[i] && by_gmsh == all_types[i], "%s found by name and Gmsh code",
                    all_types[i]->header.name);
+    TL_TEST_STATUS(tl_element_type_check(all_types[i]), TL_OK);
+    TL_TEST_ASSERT(all_types[i]->linear == (all_types[i]->n_nodes == all_types[i]->n_corners), "%s linear flag",
+                   all_types[i]->header.name);
+    TL_TEST_ASSERT(all_types[i]->dim == 1 || all_types[i]->output, "%s has an output cell", all_types[i]->header.name);
   }
+  test_check_refuses();
   for (size_t i = 0; i < sizeof solid_types / sizeof solid_types[0]; ++i) {
     test_faces(solid_types[i]);
     test_inverse_map(solid_types[i]);

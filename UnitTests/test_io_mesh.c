@@ -123,11 +123,13 @@ static void test_two_blocks(void)
 
 static void test_single_block_and_types(void)
 {
-  /* every cell type knows its XDMF name and node count */
-  static const int nodes[TL_CELL_TYPE_COUNT] = {3, 6, 4, 8, 9, 4, 10, 8, 20, 27};
+  /* every cell type knows its XDMF name, VTK code and node count */
+  static const int nodes[TL_CELL_TYPE_COUNT] = {3, 6, 4, 8, 9, 4, 10, 8, 20, 27, 6, 15, 18, 5, 13};
+  static const int vtk[TL_CELL_TYPE_COUNT] = {5, 22, 9, 23, 28, 10, 24, 12, 25, 29, 13, 26, 32, 14, 27};
   for (int t = 0; t < TL_CELL_TYPE_COUNT; ++t) {
     TlCellType back;
     TL_TEST_ASSERT(tl_cell_type_nodes((TlCellType)t) == nodes[t], "type %d nodes", t);
+    TL_TEST_ASSERT(tl_cell_type_vtk((TlCellType)t) == vtk[t], "type %d VTK code", t);
     TL_TEST_STATUS(tl_cell_type_from_name(tl_cell_type_name((TlCellType)t), &back), TL_OK);
     TL_TEST_ASSERT(back == (TlCellType)t, "type %d name round trip", t);
   }

@@ -3,7 +3,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "tl_registry.h"
 
 /* Gauss-Legendre points and weights on [-1, 1], 1 to 5 points. */
 static const double gauss_x[5][5] = {
@@ -257,23 +256,4 @@ void tl_element_face_to_element(const TlElementType *type, int f, const double *
     int a = type->face_nodes[f * type->face_n_nodes + k];
     for (int d = 0; d < type->dim; ++d) xi[d] += N[k] * type->ref_coords[a * type->dim + d];
   }
-}
-
-static const TlElementType *const builtin[] = {
-    &tl_element_line2, &tl_element_line3, &tl_element_tri3,  &tl_element_tri6,
-    &tl_element_quad4, &tl_element_quad8, &tl_element_quad9, &tl_element_tet4,
-    &tl_element_tet10, &tl_element_hex8,  &tl_element_hex27};
-
-TlStatus tl_element_register_all(void)
-{
-  for (size_t i = 0; i < sizeof builtin / sizeof builtin[0]; ++i)
-    TL_CHECK(tl_registry_add(&builtin[i]->header));
-  return TL_OK;
-}
-
-const TlElementType *tl_element_from_gmsh(int gmsh_type)
-{
-  for (size_t i = 0; i < sizeof builtin / sizeof builtin[0]; ++i)
-    if (builtin[i]->gmsh_type == gmsh_type) return builtin[i];
-  return NULL;
 }

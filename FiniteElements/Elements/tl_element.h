@@ -5,8 +5,13 @@
  * their reference gradients, its Gauss rules, its faces (as element types of
  * one dimension less, with node lists ordered so that the face normal
  * dx/ds x dx/dt, or (dy/ds, -dx/ds) for an edge, points out of the element)
- * and its Gmsh element code.  Node ordering is Gmsh's for every type, so
- * imported meshes need no renumbering.
+ * its Gmsh element code, whether it is linear, and the output cell that
+ * draws it.  Node ordering is Gmsh's for every type, so imported meshes need
+ * no renumbering.  Everything other modules need to know about a type is in
+ * its table: no module compares a type with a built-in one, so a type
+ * defined outside the library (one file filling a TlElementType, registered
+ * with tl_element_type_register) is meshed, read from Gmsh files, solved,
+ * written and coupled like a built-in one.
  *
  * Everything here is callable from outside the finite-element module: a
  * coupling that wraps an element type evaluates shape functions at any local
@@ -18,6 +23,7 @@
 
 #include <stddef.h>
 #include "tl_error.h"
+#include "tl_mesh_snapshot.h"
 #include "tl_object.h"
 
 #define TL_ELEMENT_MAX_NODES 27
@@ -35,6 +41,14 @@ typedef enum {
 
 typedef struct TlElementType TlElementType;
 
+/* How the output draws an element: the cell type (its XDMF topology and VTK
+ * cell code, tl_mesh_snapshot.h) and where the type's nodes go there:
+ * output position k holds the type's node order[k] (NULL: the same order). */
+typedef struct {
+  TlCellType cell;
+  const int *order;
+} TlElementOutput;
+
 struct TlElementType {
   TlOpsHeader header;      /* kind "element" */
   int dim;                 /* reference dimension: 1, 2 or 3 */
@@ -48,7 +62,10 @@ struct TlElementType {
   const TlElementType *face_type; /* NULL for line elements */
   int order_stiffness;     /* Gauss points per direction (cube) or collapsed rule order */
   int order_mass;          /* rule integrating N_a N_b exactly on an affine element */
-  int gmsh_type;           /* Gmsh element code */
+  int gmsh_type;           /* Gmsh element code (0: none) */
+  int linear;              /* degree 1: the nodes are the corners, the shape functions are
+                              non-negative, so the element lies within its nodes' hull */
+  const TlElementOutput *output; /* NULL: not drawn (the line types) */
   /* Shape functions at npts points xi (stride 3): N[p*n_nodes + a] and
    * dN[(p*n_nodes + a)*dim + d] = dN_a/dxi_d.  Either output may be NULL. */
   void (*eval)(int npts, const double *xi, double *N, double *dN);
@@ -111,9 +128,22 @@ extern const TlElementType tl_element_quad4, tl_element_quad8, tl_element_quad9;
 extern const TlElementType tl_element_tet4, tl_element_tet10;
 extern const TlElementType tl_element_hex8, tl_element_hex27;
 
-/* Registers all built-in element types (kind "element"). */
+/* Checks a type's table for what the rest of Talus relies on: sizes
+ * within the TL_ELEMENT_MAX_* limits, N_a(x_b) = delta_ab at the nodes and
+ * sum_a dN_a = 0, face node lists in range and oriented outward, the face
+ * type's dimension and node count, the output cell's node count and order
+ * (a permutation), linear only when the nodes are the corners.  The error
+ * names the type and the first failing item. */
+TlStatus tl_element_type_check(const TlElementType *type);
+/* Checks the type, then registers it (kind "element") so that it is found
+ * by name and by Gmsh code.  The table must outlive the registry. */
+TlStatus tl_element_type_register(const TlElementType *type);
+/* The registered type named `name`; the error lists the known names. */
+TlStatus tl_element_type_find(const char *name, const TlElementType **type);
+/* The registered type with Gmsh element code `gmsh_type`; TL_ERR_NOT_FOUND
+ * (listing the registered codes) when none is. */
+TlStatus tl_element_type_find_gmsh(int gmsh_type, const TlElementType **type);
+/* Registers the built-in element types. */
 TlStatus tl_element_register_all(void);
-/* The built-in type with a Gmsh element code, or NULL. */
-const TlElementType *tl_element_from_gmsh(int gmsh_type);
 
 #endif

@@ -263,18 +263,21 @@ static TlStatus read_elements(Reader *r, GmshData *g)
     TL_CHECK(read_long(r, "element type", 1, 1000, &gtype));
     int type_line = r->tok_line;
     TL_CHECK(read_long(r, "elements in block", 0, nel - (long)done, &n));
-    const TlElementType *type = tl_element_from_gmsh((int)gtype);
+    /* Any registered element type, built in or not, by its Gmsh code;
+     * type 15 is a point (node sets only). */
+    const TlElementType *type = NULL;
     int nn = 1;
-    if (type) {
+    if (gtype != 15) {
+      if (tl_element_type_find_gmsh((int)gtype, &type) != TL_OK) {
+        char why[512];
+        snprintf(why, sizeof why, "%s", tl_error_message());
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: Gmsh element type %ld is not supported: %s", r->path, type_line,
+                 gtype, why);
+      }
       nn = type->n_nodes;
       if (type->dim != edim)
         TL_ERROR(TL_ERR_FORMAT, "%s line %d: element type %ld (%s) in an entity of dimension %ld",
                  r->path, type_line, gtype, type->header.name, edim);
-    } else if (gtype != 15) {
-      TL_ERROR(TL_ERR_FORMAT,
-               "%s line %d: Gmsh element type %ld is not supported (supported: 1, 2, 3, 4, 5, 8, "
-               "9, 10, 11, 12, 15, 16)",
-               r->path, type_line, gtype);
     }
     for (long i = 0; i < n; ++i) {
       RawElement *e = &g->elements[done + i];

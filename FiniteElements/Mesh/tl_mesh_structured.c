@@ -36,7 +36,7 @@ static void sector_map(const double u[3], const void *ctx, double x[3])
 
 static int type_degree(const TlElementType *t)
 {
-  return t->n_nodes == t->n_corners ? 1 : 2;
+  return t->linear ? 1 : 2;
 }
 
 static double tet_volume(const double *x, const size_t *c)

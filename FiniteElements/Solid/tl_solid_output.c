@@ -20,24 +20,12 @@ struct TlSolidOutput {
   TlField (*fields)[3];
 };
 
-/* VTK position k holds Gmsh node vtk_from_gmsh[k]; NULL means the same order. */
-static const int hex27_order[27] = {0,  1,  2,  3,  4,  5,  6,  7,  8,  11, 13, 9,  16, 18,
-                                    19, 17, 10, 12, 14, 15, 22, 23, 21, 24, 20, 25, 26};
-static const int tet10_order[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
-
+/* The cell that draws an element type and its node order, from the type. */
 static TlStatus cell_type_of(const TlElementType *t, TlCellType *c, const int **order)
 {
-  *order = NULL;
-  if (t == &tl_element_tri3) *c = TL_CELL_TRI3;
-  else if (t == &tl_element_tri6) *c = TL_CELL_TRI6;
-  else if (t == &tl_element_quad4) *c = TL_CELL_QUAD4;
-  else if (t == &tl_element_quad8) *c = TL_CELL_QUAD8;
-  else if (t == &tl_element_quad9) *c = TL_CELL_QUAD9;
-  else if (t == &tl_element_tet4) *c = TL_CELL_TET4;
-  else if (t == &tl_element_tet10) *c = TL_CELL_TET10, *order = tet10_order;
-  else if (t == &tl_element_hex8) *c = TL_CELL_HEX8;
-  else if (t == &tl_element_hex27) *c = TL_CELL_HEX27, *order = hex27_order;
-  else TL_ERROR(TL_ERR_UNSUPPORTED, "no output cell type for element type %s", t->header.name);
+  if (!t->output) TL_ERROR(TL_ERR_UNSUPPORTED, "element type %s has no output cell type", t->header.name);
+  *c = t->output->cell;
+  *order = t->output->order;
   return TL_OK;
 }
 

@@ -2,7 +2,8 @@
  * opened in ParaView): the reference mesh once, and per step the
  * displacement, the velocity (optional) and per element the volume-averaged
  * second Piola-Kirchhoff stress, Cauchy stress and von Mises stress.
- * Element node order is converted from Gmsh's to VTK's once. */
+ * Each element type names its output cell and node order (its
+ * TlElementOutput); the connectivity is converted to that order once. */
 #ifndef TL_SOLID_OUTPUT_H
 #define TL_SOLID_OUTPUT_H
 

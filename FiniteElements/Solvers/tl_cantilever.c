@@ -44,8 +44,13 @@ TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **out)
   TlCantilever *c = NULL;
   TlStatus s = TL_OK;
   *out = NULL;
-  if (p->type != &tl_element_hex8 && p->type != &tl_element_hex27)
-    TL_ERROR(TL_ERR_ARG, "cantilever elements must be hex8 or hex27, not %s", p->type->header.name);
+  /* The tip weights are products of 1-D weights (weight_1d): true of the
+   * tensor-product Lagrange hexahedra of degree 1 and 2, whose faces hold
+   * (degree + 1)^2 nodes (hex8, hex27). */
+  int quad = !p->type->linear, side = quad ? 3 : 2;
+  if (p->type->shape != TL_SHAPE_HEX || p->type->face_n_nodes != side * side)
+    TL_ERROR(TL_ERR_ARG, "cantilever elements must be tensor-product hexahedra of degree 1 or 2 (hex8, hex27), not %s",
+             p->type->header.name);
   if (p->nx < 1 || p->ny < 1 || p->nz < 1)
     TL_ERROR(TL_ERR_ARG, "cantilever cells %zu x %zu x %zu must be >= 1", p->nx, p->ny, p->nz);
   TL_CHECK(TL_NEW(c));
@@ -63,7 +68,6 @@ TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **out)
   c->n_tip = tip->n;
   TL_CHECK_GOTO(s, tl_calloc(&c->tip_nodes, tip->n, sizeof *c->tip_nodes), fail);
   TL_CHECK_GOTO(s, tl_calloc(&c->tip_weight, tip->n, sizeof *c->tip_weight), fail);
-  int quad = p->type == &tl_element_hex27;
   double area = p->b * p->h, total = 0.0;
   for (size_t k = 0; k < tip->n; ++k) {
     size_t node = tip->nodes[k];

@@ -10,18 +10,29 @@
 /* ---------------------------------------------------------------- cell types */
 static const struct {
   const char *name, *xdmf;
-  int nodes;
+  int vtk, nodes;
 } tl_cell_types[TL_CELL_TYPE_COUNT] = {
-    [TL_CELL_TRI3] = {"tri3", "Triangle", 3},         [TL_CELL_TRI6] = {"tri6", "Triangle_6", 6},
-    [TL_CELL_QUAD4] = {"quad4", "Quadrilateral", 4},  [TL_CELL_QUAD8] = {"quad8", "Quadrilateral_8", 8},
-    [TL_CELL_QUAD9] = {"quad9", "Quadrilateral_9", 9}, [TL_CELL_TET4] = {"tet4", "Tetrahedron", 4},
-    [TL_CELL_TET10] = {"tet10", "Tetrahedron_10", 10}, [TL_CELL_HEX8] = {"hex8", "Hexahedron", 8},
-    [TL_CELL_HEX20] = {"hex20", "Hexahedron_20", 20}, [TL_CELL_HEX27] = {"hex27", "Hexahedron_27", 27},
+    [TL_CELL_TRI3] = {"tri3", "Triangle", 5, 3},
+    [TL_CELL_TRI6] = {"tri6", "Triangle_6", 22, 6},
+    [TL_CELL_QUAD4] = {"quad4", "Quadrilateral", 9, 4},
+    [TL_CELL_QUAD8] = {"quad8", "Quadrilateral_8", 23, 8},
+    [TL_CELL_QUAD9] = {"quad9", "Quadrilateral_9", 28, 9},
+    [TL_CELL_TET4] = {"tet4", "Tetrahedron", 10, 4},
+    [TL_CELL_TET10] = {"tet10", "Tetrahedron_10", 24, 10},
+    [TL_CELL_HEX8] = {"hex8", "Hexahedron", 12, 8},
+    [TL_CELL_HEX20] = {"hex20", "Hexahedron_20", 25, 20},
+    [TL_CELL_HEX27] = {"hex27", "Hexahedron_27", 29, 27},
+    [TL_CELL_WEDGE6] = {"wedge6", "Wedge", 13, 6},
+    [TL_CELL_WEDGE15] = {"wedge15", "Wedge_15", 26, 15},
+    [TL_CELL_WEDGE18] = {"wedge18", "Wedge_18", 32, 18},
+    [TL_CELL_PYRAMID5] = {"pyramid5", "Pyramid", 14, 5},
+    [TL_CELL_PYRAMID13] = {"pyramid13", "Pyramid_13", 27, 13},
 };
 
 static int tl_cell_type_valid(TlCellType t) { return (int)t >= 0 && t < TL_CELL_TYPE_COUNT; }
 const char *tl_cell_type_name(TlCellType t) { return tl_cell_type_valid(t) ? tl_cell_types[t].name : "?"; }
 const char *tl_cell_type_xdmf(TlCellType t) { return tl_cell_type_valid(t) ? tl_cell_types[t].xdmf : "?"; }
+int tl_cell_type_vtk(TlCellType t) { return tl_cell_type_valid(t) ? tl_cell_types[t].vtk : 0; }
 int tl_cell_type_nodes(TlCellType t) { return tl_cell_type_valid(t) ? tl_cell_types[t].nodes : 0; }
 
 TlStatus tl_cell_type_from_name(const char *name, TlCellType *type)
@@ -31,8 +42,10 @@ TlStatus tl_cell_type_from_name(const char *name, TlCellType *type)
       *type = (TlCellType)t;
       return TL_OK;
     }
-  TL_ERROR(TL_ERR_NOT_FOUND, "unknown cell type '%s'; known: tri3 tri6 quad4 quad8 quad9 tet4 tet10 hex8 hex20 hex27",
-           name ? name : "(null)");
+  char known[256] = "";
+  for (int t = 0; t < TL_CELL_TYPE_COUNT; ++t)
+    snprintf(known + strlen(known), sizeof known - strlen(known), " %s", tl_cell_types[t].name);
+  TL_ERROR(TL_ERR_NOT_FOUND, "unknown cell type '%s'; known:%s", name ? name : "(null)", known);
 }
 
 /* ---------------------------------------------------------------- writer */

@@ -23,6 +23,13 @@
  *   hex20  Hexahedron_20   corners, mid-edges 01 12 23 30, 45 56 67 74, 04 15 26 37
  *   hex27  Hexahedron_27   hex20, then face centres x-, x+, y-, y+, z-, z+
  *                          (faces 0473, 1265, 0154, 3762, 0321, 4567), then the body centre
+ *   wedge6   Wedge         triangle 0 1 2, then 3 4 5 above them
+ *   wedge15  Wedge_15      corners, mid-edges 01 12 20, 34 45 53, 03 14 25
+ *   wedge18  Wedge_18      wedge15, then the centres of the quadrilaterals 0143, 1254, 2035
+ *   pyramid5 Pyramid       base 0 1 2 3, apex 4
+ *   pyramid13 Pyramid_13   corners, mid-edges 01 12 23 30, 04 14 24 34
+ * An element type names its cell and the map from its own node order to
+ * this one (tl_element.h), so the writers need no list of element types.
  *
  * Layout of <name>_mesh_<m>.h5:
  *   /                                 attributes format = "talus-mesh", format_version
@@ -59,12 +66,19 @@ typedef enum {
   TL_CELL_HEX8,
   TL_CELL_HEX20,
   TL_CELL_HEX27,
+  TL_CELL_WEDGE6,
+  TL_CELL_WEDGE15,
+  TL_CELL_WEDGE18,
+  TL_CELL_PYRAMID5,
+  TL_CELL_PYRAMID13,
   TL_CELL_TYPE_COUNT
 } TlCellType;
 
-/* Short name ("hex27"), XDMF topology name ("Hexahedron_27"), nodes per cell. */
+/* Short name ("hex27"), XDMF topology name ("Hexahedron_27"), VTK cell
+ * code (29; 0 for an invalid type), nodes per cell. */
 const char *tl_cell_type_name(TlCellType type);
 const char *tl_cell_type_xdmf(TlCellType type);
+int tl_cell_type_vtk(TlCellType type);
 int tl_cell_type_nodes(TlCellType type);
 /* Finds a cell type by short name; error lists the known names. */
 TlStatus tl_cell_type_from_name(const char *name, TlCellType *type);
