@@ -10,11 +10,40 @@
 extern const TlMaterialOps tl_material_hooke_ops, tl_material_hooke_covariant_ops,
     tl_material_neo_hookean_ops;
 
+TlStatus tl_material_register(const TlMaterialOps *ops)
+{
+  if (!ops || !ops->header.name || !ops->header.name[0] || !ops->header.kind || strcmp(ops->header.kind, "material"))
+    TL_ERROR(TL_ERR_ARG, "material ops table without a name or of kind '%s' (expected \"material\")",
+             ops && ops->header.kind ? ops->header.kind : "(null)");
+  const char *name = ops->header.name;
+  if (ops->size < sizeof(TlMaterial))
+    TL_ERROR(TL_ERR_ARG, "material type %s declares size %zu, below the base size %zu", name, ops->size,
+             sizeof(TlMaterial));
+  if (!ops->evaluate) TL_ERROR(TL_ERR_ARG, "material type %s has no evaluate", name);
+  if (ops->n_params < 0 || (ops->n_params > 0 && !ops->params))
+    TL_ERROR(TL_ERR_ARG, "material type %s announces %d parameters and gives %s", name, ops->n_params,
+             ops->params ? "a table" : "none");
+  for (int i = 0; i < ops->n_params; ++i) {
+    const TlParam *p = &ops->params[i];
+    if (!p->name || !strcmp(p->name, "density") || tl_param_find(ops->params, i, p->name))
+      TL_ERROR(TL_ERR_ARG, "material type %s: parameter %d is unnamed, named 'density' or named twice", name, i);
+    if (p->offset < sizeof(TlMaterial) || p->offset + sizeof(double) > ops->size)
+      TL_ERROR(TL_ERR_ARG, "material type %s: parameter %s at offset %zu lies outside the derived part [%zu, %zu)",
+               name, p->name, p->offset, sizeof(TlMaterial), ops->size);
+    if (!(p->lo <= p->def && p->def <= p->hi))
+      TL_ERROR(TL_ERR_ARG, "material type %s: parameter %s has default %g outside [%g, %g]", name, p->name, p->def,
+               p->lo, p->hi);
+  }
+  TlTypeEntry e = {"material", name, ops->header.description, NULL, ops, ops->params, ops->n_params};
+  TL_CHECK(tl_registry_register(&e));
+  return TL_OK;
+}
+
 TlStatus tl_material_register_all(void)
 {
-  TL_CHECK(tl_registry_add(&tl_material_hooke_ops.header));
-  TL_CHECK(tl_registry_add(&tl_material_hooke_covariant_ops.header));
-  TL_CHECK(tl_registry_add(&tl_material_neo_hookean_ops.header));
+  TL_CHECK(tl_material_register(&tl_material_hooke_ops));
+  TL_CHECK(tl_material_register(&tl_material_hooke_covariant_ops));
+  TL_CHECK(tl_material_register(&tl_material_neo_hookean_ops));
   return TL_OK;
 }
 

@@ -146,6 +146,14 @@ static inline double tl_m3_ddot(TlMat3 a, TlMat3 b)
  * The series is summed for |M|_F <= 0.3, the closed form used above. */
 double tl_material_trace_series(TlMat3 M, int kind);
 
+/* Checks a law's ops table (kind "material", size, evaluate, parameter
+ * names, offsets inside the derived struct, defaults within their ranges)
+ * and registers it with its parameter table, so that tl_material_create
+ * makes it by name and -help and catalogues list its parameters.  A law
+ * defined outside the library calls this once (e.g. from its driver's main)
+ * and is then used exactly like a built-in one.  The table must outlive the
+ * registry. */
+TlStatus tl_material_register(const TlMaterialOps *ops);
 /* Registers the built-in laws: "hooke" (seeds/001 Eq. 34 with the
  * contravariant deformed metric, as oomph-lib evaluates it),
  * "hooke_covariant" (Eq. 34 read literally with the covariant metric) and
