@@ -278,6 +278,9 @@ static TlStatus evaluate_all(const TlMaterial *m, size_t npts, const TlMat3 *in,
 {
   if (!m->ready) TL_ERROR(TL_ERR_STATE, "material %s used before setup", m->ops->header.name);
   size_t ss = m->state_size;
+  if (ss > 0 && npts > 0 && (!state_old || !state_new))
+    TL_ERROR(TL_ERR_ARG, "material %s keeps %zu state values per point: state_old and state_new are required",
+             m->ops->header.name, ss);
   for (size_t p0 = 0; p0 < npts; p0 += TL_MATERIAL_CHUNK) {
     size_t n = npts - p0 < TL_MATERIAL_CHUNK ? npts - p0 : TL_MATERIAL_CHUNK;
     TL_CHECK(evaluate_chunk(m, p0, n, in + p0, gradient, state_old ? state_old + p0 * ss : NULL,
