@@ -6,7 +6,9 @@
  *   - rigid rotation: zero stress and zero internal force;
  *   - the S1 cantilever (0.8 x 0.8 x 12 m, clamped at y = 0, tip traction
  *     in -z) solved quasi-statically, against Timoshenko and against the
- *     built-in hex27 on the same mesh, written to XDMF (Hexahedron_20).
+ *     built-in hex27 on the same mesh, written to XDMF (Hexahedron_20) and
+ *     read back (VTK node order);
+ *   - a Gmsh file with one element of type 17 read back as hex20.
  * Prints `summary:` and exits non-zero when a check fails. */
 #include <math.h>
 #include <stdio.h>
@@ -17,6 +19,7 @@
 #include "tl_element.h"
 #include "tl_material.h"
 #include "tl_mesh.h"
+#include "tl_mesh_snapshot.h"
 #include "tl_solid.h"
 #include "tl_solid_output.h"
 #include "tl_stepper.h"
@@ -139,9 +142,36 @@ static TlStatus tip_deflection(const TlMesh *mesh, const double *u_nodes, double
   return TL_OK;
 }
 
+/* Reads a snapshot back: the largest distance of a VTK mid-edge node
+ * (positions 8..19 of a Hexahedron_20 or _27 cell) from the midpoint of its
+ * edge, over all cells. */
+static TlStatus vtk_edge_error(const char *path, double *err)
+{
+  static const int edge[12][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                  {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  TlMeshSnapshot snap;
+  TL_CHECK(tl_mesh_snapshot_read(path, &snap));
+  *err = 0.0;
+  for (size_t b = 0; b < snap.n_blocks; ++b) {
+    const TlMeshSnapshotBlock *blk = &snap.blocks[b];
+    int nn = tl_cell_type_nodes(blk->type);
+    for (size_t e = 0; e < blk->n_cells && nn >= 20; ++e) {
+      const int *c = blk->connectivity + e * (size_t)nn;
+      for (int k = 0; k < 12; ++k) {
+        TlVec3 mid = tl_v3_scale(tl_v3_add(snap.reference[c[edge[k][0]]], snap.reference[c[edge[k][1]]]), 0.5);
+        *err = fmax(*err, tl_v3_norm(tl_v3_sub(snap.reference[c[8 + k]], mid)));
+      }
+    }
+  }
+  tl_mesh_snapshot_free(&snap);
+  return TL_OK;
+}
+
 /* The S1 beam of element type `name` under a tip traction; writes
- * <dir>/beam_<name>.xmf when dir is given. */
-static TlStatus cantilever(const Params *p, const char *name, const char *dir, double *w, size_t *n_nodes)
+ * <dir>/beam_<name>.xmf when dir is given, and checks its VTK node order
+ * (*order_err). */
+static TlStatus cantilever(const Params *p, const char *name, const char *dir, double *w, size_t *n_nodes,
+                           double *order_err)
 {
   const TlElementType *type = NULL;
   TL_CHECK(tl_element_type_find(name, &type));
@@ -174,6 +204,7 @@ static TlStatus cantilever(const Params *p, const char *name, const char *dir, d
     snprintf(base, sizeof base, "beam_%s", name);
     TL_CHECK_GOTO(s, tl_solid_output_create(solid, dir, base, &out), done);
     TL_CHECK_GOTO(s, tl_solid_output_write(out, 0, 1.0, st->u, NULL), done);
+    TL_CHECK_GOTO(s, vtk_edge_error(tl_solid_output_last_path(out), order_err), done);
   }
 done:
   tl_solid_output_destroy(&out);
@@ -183,6 +214,36 @@ done:
   tl_material_destroy(&mat);
   tl_mesh_destroy(&mesh);
   return s;
+}
+
+/* Writes one element of `type` (its reference element mapped onto the unit
+ * cube) as a Gmsh 4.1 file with the physical volume "solid", and reads it
+ * back: the reader finds the type by its Gmsh code through the registry.
+ * *ok: one element of this very type, of volume 1. */
+static TlStatus gmsh_round_trip(const TlElementType *type, const char *dir, int *ok)
+{
+  char path[4200];
+  snprintf(path, sizeof path, "%s/one_%s.msh", dir, type->header.name);
+  FILE *f = fopen(path, "w");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot write '%s'", path);
+  int nn = type->n_nodes;
+  fprintf(f, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n3 1 \"solid\"\n$EndPhysicalNames\n");
+  fprintf(f, "$Entities\n0 0 0 1\n1 0 0 0 1 1 1 1 1 0\n$EndEntities\n");
+  fprintf(f, "$Nodes\n1 %d 1 %d\n3 1 0 %d\n", nn, nn, nn);
+  for (int a = 0; a < nn; ++a) fprintf(f, "%d\n", a + 1);
+  for (int a = 0; a < nn; ++a)
+    fprintf(f, "%.17g %.17g %.17g\n", 0.5 * (1 + type->ref_coords[3 * a]), 0.5 * (1 + type->ref_coords[3 * a + 1]),
+            0.5 * (1 + type->ref_coords[3 * a + 2]));
+  fprintf(f, "$EndNodes\n$Elements\n1 1 1 1\n3 1 %d 1\n1", type->gmsh_type);
+  for (int a = 0; a < nn; ++a) fprintf(f, " %d", a + 1);
+  fprintf(f, "\n$EndElements\n");
+  fclose(f);
+  TlMesh *mesh = NULL;
+  TL_CHECK(tl_mesh_read_gmsh(path, &mesh));
+  *ok = mesh->n_blocks == 1 && mesh->blocks[0].type == type && mesh->blocks[0].n_elements == 1 &&
+        fabs(tl_mesh_volume(mesh) - 1.0) < 1e-14;
+  tl_mesh_destroy(&mesh);
+  return TL_OK;
 }
 
 /* Whether the file at path contains text. */
@@ -247,9 +308,12 @@ static TlStatus run(int argc, char **argv)
   const double w_timo = p.load * L * L * L / (3.0 * p.E * I) + p.load * L / (kappa * G * b * h);
   double w = 0, w_ref = 0;
   size_t nodes = 0, nodes_ref = 0;
-  TL_CHECK_GOTO(s, cantilever(&p, p.elements, dir, &w, &nodes), done);
-  TL_CHECK_GOTO(s, cantilever(&p, p.reference, NULL, &w_ref, &nodes_ref), done);
+  double order_err = 1.0;
+  TL_CHECK_GOTO(s, cantilever(&p, p.elements, dir, &w, &nodes, &order_err), done);
+  TL_CHECK_GOTO(s, cantilever(&p, p.reference, NULL, &w_ref, &nodes_ref, NULL), done);
   double err_timo = (w - w_timo) / w_timo, err_ref = (w - w_ref) / w_ref;
+  int gmsh_ok = 0;
+  TL_CHECK_GOTO(s, gmsh_round_trip(type, dir, &gmsh_ok), done);
   char xmf[4200];
   snprintf(xmf, sizeof xmf, "%s/beam_%s.xmf", dir, p.elements);
   int xdmf_ok = file_contains(xmf, tl_cell_type_xdmf(type->output ? type->output->cell : TL_CELL_HEX8));
@@ -259,10 +323,13 @@ static TlStatus run(int argc, char **argv)
   printf("rigid rotation: |f| / (E h^2) %.2e, |S| / E %.2e\n", rot_force, rot_rel);
   printf("cantilever %ldx%ldx%ld: %s tip %.6f m (%zu nodes), %s %.6f m (%zu nodes), Timoshenko %.6f m\n", p.nx,
          p.ny, p.nx, p.elements, w, nodes, p.reference, w_ref, nodes_ref, w_timo);
-  printf("  error vs Timoshenko %+.3f %%, vs %s %+.3f %%; XDMF %s (%s)\n", 100 * err_timo, p.reference,
-         100 * err_ref, xmf, xdmf_ok ? tl_cell_type_xdmf(type->output->cell) : "topology missing");
+  printf("  error vs Timoshenko %+.3f %%, vs %s %+.3f %%; XDMF %s (%s), VTK mid-edge nodes off their edges by %.1e m\n",
+         100 * err_timo, p.reference, 100 * err_ref, xmf, xdmf_ok ? tl_cell_type_xdmf(type->output->cell) : "topology missing",
+         order_err);
+  printf("Gmsh file with one element of code %d read back as %s: %s\n", type->gmsh_type, p.elements,
+         gmsh_ok ? "yes" : "NO");
   int ok = patch_force < 1e-10 && patch_stress < 1e-10 && rot_rel < 1e-12 && rot_force < 1e-12 && fabs(err_timo) < 0.01 &&
-           fabs(err_ref) < 0.005 && xdmf_ok;
+           fabs(err_ref) < 0.005 && xdmf_ok && order_err < 1e-12 && gmsh_ok;
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_string(&sum, "elements", p.elements);
@@ -274,6 +341,8 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "err_timoshenko", err_timo);
   tl_summary_real(&sum, "err_reference", err_ref);
   tl_summary_int(&sum, "xdmf", xdmf_ok);
+  tl_summary_real(&sum, "vtk_order", order_err);
+  tl_summary_int(&sum, "gmsh", gmsh_ok);
   tl_summary_string(&sum, "check", ok ? "pass" : "fail");
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
   tl_summary_print(&sum, stdout);
