@@ -28,7 +28,7 @@ static void element_box(const TlMeshLocator *l, int b, size_t e, double lo[3], d
   /* Curved quadratic elements may bulge past their nodes a little. */
   double pad = 0.0;
   for (int i = 0; i < 3; ++i) pad = fmax(pad, hi[i] - lo[i]);
-  pad *= blk->type->n_nodes > blk->type->n_corners ? 0.1 : 1e-9;
+  pad *= blk->type->linear ? 1e-9 : 0.1;
   for (int i = 0; i < 3; ++i) lo[i] -= pad, hi[i] += pad;
 }
 
