@@ -302,10 +302,3 @@ TlStatus tl_dem_setup(TlDem *d)
   for (size_t w = 0; w < d->n_walls; ++w) d->walls[w]->contact_work = d->walls[w]->elastic_energy;
   return TL_OK;
 }
-
-TlStatus tl_dem_register_all(void)
-{
-  TL_CHECK(tl_contact_register_all());
-  TL_CHECK(tl_wall_register_plane());
-  return TL_OK;
-}

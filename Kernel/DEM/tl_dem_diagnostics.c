@@ -5,7 +5,6 @@
 #include <math.h>
 #include <string.h>
 #include "tl_memory.h"
-#include "tl_wall_trisurface.h"
 
 TlStatus tl_dem_energy(TlDem *d, TlDemEnergy *e)
 {
@@ -155,31 +154,24 @@ TlStatus tl_dem_visit_contacts(TlDem *d, TlContactVisitor visit, void *ctx)
   return TL_OK;
 }
 
+/* Adds the wall's index to what the wall's own visitor reports. */
+typedef struct {
+  TlWallContactVisitor visit;
+  void *ctx;
+  size_t wall;
+} WallVisit;
+
+static void visit_wall_contact(void *ctx, size_t i, TlVec3 force, TlVec3 point, TlVec3 center)
+{
+  const WallVisit *v = ctx;
+  v->visit(v->ctx, v->wall, i, force, point, center);
+}
+
 TlStatus tl_dem_visit_wall_contacts(TlDem *d, TlWallContactVisitor visit, void *ctx)
 {
-  const TlParticles *P = d->P;
   for (size_t k = 0; k < d->n_walls; ++k) {
-    const TlWall *W = d->walls[k];
-    if (tl_wall_is_trisurface(W)) {
-      const TlTriContactSet *c = tl_wall_trisurface_contacts(W);
-      for (size_t q = 0; c && q < c->count; ++q) {
-        const TlTriContactRecord *r = &c->c[q];
-        if (!r->active) continue;
-        visit(ctx, k, (size_t)r->particle, r->force, r->point, r->center);
-      }
-    } else if (strcmp(W->ops->header.name, "plane") == 0) {
-      TlVec3 point, normal;
-      tl_wall_plane_get(W, &point, &normal);
-      for (size_t i = 0; i < P->n; ++i) {
-        TlVec3 f;
-        if (!tl_wall_plane_contact_force(W, i, &f)) continue;
-        double s = tl_v3_dot(tl_v3_sub(P->x[i], point), normal);
-        visit(ctx, k, i, f, tl_v3_axpy(P->x[i], -s, normal), P->x[i]);
-      }
-    } else {
-      TL_ERROR(TL_ERR_ARG, "wall %zu '%s' is of type '%s', whose contacts cannot be visited (plane and trisurface can)", k,
-               W->name, W->ops->header.name);
-    }
+    WallVisit v = {visit, ctx, k};
+    TL_CHECK(tl_wall_visit_contacts(d->walls[k], d->P, visit_wall_contact, &v));
   }
   return TL_OK;
 }
