@@ -35,7 +35,10 @@
  * dt_c = ½ sqrt(m_min / k_max) (sqrt(1 + ζ²) - ζ).  Hertz stiffness is taken
  * at an overlap of 10 % of the smallest radius.  A dt above dt_c is refused
  * with both
- * numbers unless the override is set, in which case it is logged. */
+ * numbers unless the override is set, in which case it is logged.
+ *
+ * The implementation is split by concern over Kernel/DEM/tl_dem*.c; the
+ * list is in tl_dem_private.h. */
 #ifndef TL_DEM_H
 #define TL_DEM_H
 
