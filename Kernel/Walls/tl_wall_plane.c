@@ -342,6 +342,7 @@ TlStatus tl_wall_plane_create(TlVec3 point, TlVec3 normal, TlWall **w)
 
 TlStatus tl_wall_plane_set_velocity(TlWall *w, TlVec3 velocity)
 {
+  /* the type's own downcast guard (not a dispatch) */
   if (w->ops != &plane_ops) TL_ERROR(TL_ERR_ARG, "wall '%s' is not a plane", w->ops->header.name);
   if (!tl_v3_isfinite(velocity)) TL_ERROR(TL_ERR_ARG, "plane wall: velocity not finite");
   ((TlWallPlane *)w)->velocity = velocity;
