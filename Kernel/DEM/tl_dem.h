@@ -35,7 +35,10 @@
  * dt_c = ½ sqrt(m_min / k_max) (sqrt(1 + ζ²) - ζ).  Hertz stiffness is taken
  * at an overlap of 10 % of the smallest radius.  A dt above dt_c is refused
  * with both
- * numbers unless the override is set, in which case it is logged. */
+ * numbers unless the override is set, in which case it is logged.
+ *
+ * The implementation is split by concern over Kernel/DEM/tl_dem*.c; the
+ * list is in tl_dem_private.h. */
 #ifndef TL_DEM_H
 #define TL_DEM_H
 
@@ -73,9 +76,6 @@ typedef struct {
   size_t n_contacts;   /* touching pairs at the last step */
   size_t n_pairs;      /* neighbour-list pairs */
 } TlDemStats;
-
-/* Registers the built-in contact laws and the plane wall (tl_initialize). */
-TlStatus tl_dem_register_all(void);
 
 TlStatus tl_dem_create(TlDem **dem);
 void tl_dem_destroy(TlDem **dem);
@@ -187,9 +187,9 @@ TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
 /* Visits every wall contact of the last force evaluation with the force the
  * DEM computed: wall index, particle i, force on the particle, contact point
  * on the wall surface, and the particle centre the contact was computed with
- * (the nearest periodic image for walls that see images).  Plane walls and
- * triangulated surfaces (after the edge corrections) are visited; another
- * wall type is refused with its name. */
+ * (the nearest periodic image for walls that see images), through each
+ * wall's visit_contacts op (tl_wall.h); a wall type without the op is
+ * refused with its name. */
 typedef void (*TlWallContactVisitor)(void *ctx, size_t wall, size_t i, TlVec3 force_on_particle, TlVec3 contact_point,
                                      TlVec3 particle_center);
 TlStatus tl_dem_visit_wall_contacts(TlDem *dem, TlWallContactVisitor visit, void *ctx);
