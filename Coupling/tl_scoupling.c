@@ -6,19 +6,8 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include "tl_log.h"
 #include "tl_memory.h"
 #include "tl_scoupling_faces.h"
-
-/* The SCoupling element type on one element block: the block kernel it
- * wraps and the coupling whose elements it completes.  Allocated on its
- * own so that a wrapper another coupling stacked above can keep calling
- * through it after the coupling is gone (see tl_scoupling_destroy). */
-typedef struct {
-  TlSCoupling *sc; /* NULL: pass-through */
-  int block;
-  TlSolidBlockKernel inner;
-} SCouplingBlock;
 
 _Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 arrays are checkpointed as doubles");
 
@@ -57,9 +46,9 @@ struct TlSCoupling {
   TlVec3 *face_F;
   unsigned char *face_touched;
   size_t *touched_faces, n_touched;
-  /* the block wrappers */
-  int n_blocks;
-  SCouplingBlock **blocks;
+  /* the SCoupling element type over each block holding coupled faces */
+  int n_wrappers;
+  TlSolidWrapper **wrappers;
   /* per-contact scratch */
   size_t capacity, n_contacts;
   size_t *c_face;
@@ -150,20 +139,19 @@ done:
   return s;
 }
 
-/* The SCoupling element type's residual (§5.3.1): the wrapped element
- * kernel's, then for every active SCoupling element of the block its
- * faces' share of the coupling load subtracted,
+/* The SCoupling element type's load (§5.3.1): for every active SCoupling
+ * element of the block its faces' share of the coupling load, an external
+ * load on the element's nodes,
  *   R_a = f_int,a - f_ext,a - int_{Gamma_e} N_a t dA   (Eq. 15; Eq. 16 for c = 0).
  * Within an FE step the load is dead: the DEM forces of the step are fixed
  * before it and do not depend on the solid's trial state, so there is no
- * tangent term and no stored energy. */
-static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
-                                double c_u, TlSparse *K, double *W)
+ * tangent term. */
+static TlStatus scoupling_loads(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+                                double c, TlSparse *K)
 {
-  const SCouplingBlock *w = ctx;
-  TL_CHECK(w->inner.fn(w->inner.ctx, solid, b, t, u_nodes, f_nodes, c_u, K, W));
-  const TlSCoupling *sc = w->sc;
-  if (!sc || !f_nodes) return TL_OK;
+  (void)solid, (void)t, (void)u_nodes, (void)c, (void)K;
+  const TlSCoupling *sc = ctx;
+  if (!f_nodes) return TL_OK;
   const size_t nf = (size_t)sc->nf;
   for (size_t k = 0; k < sc->n_active; k++) {
     const size_t e = sc->active_index[k];
@@ -174,9 +162,9 @@ static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, cons
       const TlVec3 *F = sc->elem_F + e * (size_t)sc->ne;
       for (int a = 0; a < sc->ne; a++) {
         double *f = f_nodes + 3 * sc->vnode[q[a]];
-        f[0] -= F[a].x;
-        f[1] -= F[a].y;
-        f[2] -= F[a].z;
+        f[0] += F[a].x;
+        f[1] += F[a].y;
+        f[2] += F[a].z;
       }
       continue;
     }
@@ -187,78 +175,40 @@ static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, cons
       const TlVec3 *F = sc->face_F + face * nf;
       for (size_t a = 0; a < nf; a++) {
         double *f = f_nodes + 3 * sc->node[q[a]];
-        f[0] -= F[a].x;
-        f[1] -= F[a].y;
-        f[2] -= F[a].z;
+        f[0] += F[a].x;
+        f[1] += F[a].y;
+        f[2] += F[a].z;
       }
     }
   }
   return TL_OK;
 }
 
-/* Wraps the kernel of every block holding SCoupling elements. */
+static const TlSolidWrapperOps scoupling_element_ops = {
+    .header = {"solid_wrapper", "scoupling", "SCoupling element: the surface coupling's load on its elements"},
+    .external = scoupling_loads,
+};
+
+/* The SCoupling element type over every block holding SCoupling elements. */
 static TlStatus install_wrappers(TlSCoupling *sc)
 {
   const int nb = sc->mesh->n_blocks;
-  TL_CHECK(tl_calloc(&sc->blocks, (size_t)nb, sizeof *sc->blocks));
+  TL_CHECK(tl_calloc(&sc->wrappers, (size_t)nb, sizeof *sc->wrappers));
   for (int b = 0; b < nb; b++) {
     int holds = 0;
     for (size_t e = 0; e < sc->n_elements && !holds; e++) holds = sc->elements[e].block == b;
     if (!holds) continue;
-    SCouplingBlock *w = NULL;
-    TL_CHECK(TL_NEW(w));
-    w->sc = sc;
-    w->block = b;
-    TlSolidBlockKernel mine = {scoupling_block, w};
-    TlStatus s = tl_solid_wrap_block(sc->solid, b, mine, &w->inner);
-    if (s != TL_OK) {
-      tl_free(&w);
-      return tl_error_trace(s, __FILE__, __LINE__);
-    }
-    sc->blocks[sc->n_blocks++] = w;
+    TL_CHECK(tl_solid_add_wrapper(sc->solid, b, &scoupling_element_ops, sc, &sc->wrappers[sc->n_wrappers]));
+    sc->n_wrappers++;
   }
   return TL_OK;
 }
 
-/* Takes the coupling's wrappers out of the solid's chains: a wrapper on
- * top is replaced by the kernel it wrapped; one below other SCoupling
- * wrappers is spliced out of the chain (the one above it calls through to
- * what it wrapped).  One below a wrapper of another kind cannot be reached:
- * it stays as a pass-through, which the solid adopts (frees when it is
- * destroyed), so that the chain keeps working (destroy couplings in the
- * reverse order of creation). */
 static void remove_wrappers(TlSCoupling *sc)
 {
-  for (int k = sc->n_blocks - 1; k >= 0; k--) {
-    SCouplingBlock *w = sc->blocks[k];
-    TlSolidBlockKernel now = tl_solid_block_kernel(sc->solid, w->block);
-    int removed = 0;
-    if (now.fn == scoupling_block && now.ctx == w) {
-      removed = tl_solid_wrap_block(sc->solid, w->block, w->inner, NULL) == TL_OK;
-    } else {
-      for (TlSolidBlockKernel at = now; at.fn == scoupling_block && !removed;) {
-        SCouplingBlock *above = at.ctx;
-        if (above->inner.fn == scoupling_block && above->inner.ctx == w) {
-          above->inner = w->inner;
-          removed = 1;
-        }
-        at = above->inner;
-      }
-    }
-    if (removed) {
-      tl_free(&w);
-    } else {
-      tl_warn("surface coupling destroyed under another kind of wrapper of block %d: its kernel stays as a "
-              "pass-through (destroy couplings in the reverse order of creation)", w->block);
-      w->sc = NULL;
-      if (tl_solid_adopt(sc->solid, w) != TL_OK)
-        tl_warn("the pass-through of block %d could not be handed to the solid: %zu bytes stay allocated", w->block,
-                sizeof *w);
-    }
-    sc->blocks[k] = NULL;
-  }
-  sc->n_blocks = 0;
-  tl_free(&sc->blocks);
+  for (int k = 0; k < sc->n_wrappers; k++) tl_solid_remove_wrapper(sc->solid, &sc->wrappers[k]);
+  sc->n_wrappers = 0;
+  tl_free(&sc->wrappers);
 }
 
 /* The SCoupling elements as the kernel's support: their nodes, one element
@@ -459,7 +409,7 @@ void tl_scoupling_destroy(TlSCoupling **psc)
 {
   TlSCoupling *sc = *psc;
   if (!sc) return;
-  if (sc->blocks) remove_wrappers(sc);
+  if (sc->wrappers) remove_wrappers(sc);
   if (!sc->wall_given) tl_wall_destroy(&sc->wall);
   tl_cg_surface_destroy(&sc->cg);
   tl_cg_surface_destroy(&sc->cg_elem);

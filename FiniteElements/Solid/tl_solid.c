@@ -107,13 +107,7 @@ void tl_solid_destroy_content(TlMechSystem *sys)
     tl_free(&w->ue);
     tl_free(&w->dofs);
   }
-  for (int i = 0; i < s->n_terms; ++i) {
-    tl_free(&s->terms[i].group_ptr);
-    tl_free(&s->terms[i].group_nodes);
-  }
-  tl_free(&s->terms);
-  for (size_t i = 0; i < s->n_adopted; ++i) tl_free(&s->adopted[i]);
-  tl_free(&s->adopted);
+  tl_solid_free_wrappers(s);
   tl_free(&s->scratch);
   tl_free(&s->blocks);
   tl_free(&s->constraint);

@@ -118,32 +118,6 @@ TlStatus tl_solid_prescribe(TlSolid *s, const char *node_set, int component, TlP
   return TL_OK;
 }
 
-TlStatus tl_solid_add_term(TlSolid *s, TlSolidTerm fn, void *ctx, int symmetric, size_t n_groups,
-                           const size_t *group_ptr, const size_t *group_nodes)
-{
-  TL_CHECK(tl_solid_not_after_setup(s, "add_term"));
-  if (!fn) TL_ERROR(TL_ERR_ARG, "solid: NULL force term");
-  size_t total = n_groups ? group_ptr[n_groups] : 0;
-  for (size_t i = 0; i < total; ++i)
-    if (group_nodes[i] >= s->n_nodes)
-      TL_ERROR(TL_ERR_ARG, "solid: force term group node %zu, the mesh has %zu nodes", group_nodes[i], s->n_nodes);
-  TL_CHECK(tl_realloc(&s->terms, s->n_terms + 1, sizeof *s->terms));
-  Term *t = &s->terms[s->n_terms];
-  memset(t, 0, sizeof *t);
-  t->fn = fn;
-  t->ctx = ctx;
-  t->symmetric = symmetric;
-  t->n_groups = n_groups;
-  s->n_terms++;
-  if (n_groups) {
-    TL_CHECK(tl_calloc(&t->group_ptr, n_groups + 1, sizeof(size_t)));
-    TL_CHECK(tl_calloc(&t->group_nodes, total ? total : 1, sizeof(size_t)));
-    memcpy(t->group_ptr, group_ptr, (n_groups + 1) * sizeof(size_t));
-    memcpy(t->group_nodes, group_nodes, total * sizeof(size_t));
-  }
-  return TL_OK;
-}
-
 TlStatus tl_solid_matrix_add_nodes(const TlSolid *s, TlSparse *K, int n, const size_t *nodes, double scale,
                                    const double *Ke)
 {
@@ -302,11 +276,13 @@ TlStatus tl_solid_external_nodes(TlSolid *s, double t, const double *u, double *
     double fv[3] = {pf->f.x, pf->f.y, pf->f.z};
     for (int c = 0; c < s->dim; ++c) f_nodes[pf->node * s->dim + c] += a * fv[c];
   }
-  /* Follower (pressure) loads need the deformed faces. */
-  int follower = 0;
+  /* Follower (pressure) loads and the wrappers' loads need the deformed
+   * state. */
+  int follower = 0, wrapped = tl_solid_has_wrapper_loads(s);
   for (int i = 0; i < s->n_surface; ++i) follower |= s->surface[i].pressure;
-  if (!follower) return TL_OK;
+  if (!follower && !wrapped) return TL_OK;
   tl_solid_dofs_to_nodes(s, u, s->un);
-  TL_CHECK(tl_solid_pressure_loads(s, t, s->un, f_nodes, 0.0, NULL));
+  if (follower) TL_CHECK(tl_solid_pressure_loads(s, t, s->un, f_nodes, 0.0, NULL));
+  if (wrapped) TL_CHECK(tl_solid_wrapper_loads(s, t, s->un, f_nodes, 0.0, NULL));
   return TL_OK;
 }

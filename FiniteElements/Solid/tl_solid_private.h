@@ -7,6 +7,7 @@
  *   tl_solid_kernel.c     the general element kernel (any dim, any law)
  *   tl_solid_residual.c   the component-major residual path (3-D, no state)
  *   tl_solid_system.c     the TlMechSystem ops the steppers call
+ *   tl_solid_wrapper.c    wrappers over blocks (coupling element types)
  *   tl_solid_post.c       stresses, energies, work, reactions
  *   tl_solid_checkpoint.c committed material state
  *   tl_solid_rigid.c      the rigid-mode check */
@@ -39,7 +40,7 @@ typedef struct {
   size_t *colour_ptr; /* n_colours + 1 */
   size_t *colour_elements;
   size_t offset; /* index of the block's first element in the global list */
-  TlSolidBlockKernel kernel; /* what evaluates the block (own_block unless wrapped) */
+  TlSolidWrapper *wrappers; /* the block's wrappers, in installation order */
   /* Weights of the block's equations (seeds/001 Eq. 26), NULL when unset.
    * They multiply wdet and wdetm once at setup, so the element kernel
    * carries them without a single extra operation. */
@@ -86,13 +87,13 @@ typedef struct {
   void *ctx;
 } DeadLoad;
 
-typedef struct {
-  TlSolidTerm fn;
+/* A wrapper over a block (tl_solid_add_wrapper): one link of its list. */
+struct TlSolidWrapper {
+  const TlSolidWrapperOps *ops;
   void *ctx;
-  int symmetric;
-  size_t n_groups;
-  size_t *group_ptr, *group_nodes;
-} Term;
+  int block;
+  TlSolidWrapper *next;
+};
 
 /* Per-thread scratch, sized at setup. */
 typedef struct {
@@ -128,13 +129,9 @@ struct TlSolid {
   Scratch *scratch;
   int n_threads;
   int max_nd, max_nq;
-  Term *terms;
-  int n_terms;
-  size_t n_pattern; /* elements plus term node groups in the matrix pattern */
+  size_t n_pattern; /* the elements of the matrix pattern */
   char constraint_sets[256];
   int ready;
-  void **adopted; /* wrapper states freed with the solid (tl_solid_adopt) */
-  size_t n_adopted;
 };
 
 
@@ -172,6 +169,15 @@ void tl_solid_element_forces(const SolidBlock *B, int dim, size_t e, const TlMat
 TlStatus tl_solid_block_residual(TlSolid *s, int b, const double *u_nodes, double *f_nodes);
 /* Consistent mass of element e of block b: Mab[a][b] = int rho N_a N_b. */
 void tl_solid_element_mass(const TlSolid *s, int b, size_t e, double *Mab);
+
+/* Wrappers (tl_solid_wrapper.c): block b with its wrappers' internal terms,
+ * and every wrapper's external loads. */
+TlStatus tl_solid_block_evaluate(TlSolid *s, int b, double t, const double *u_nodes, double *f_nodes, double c_u,
+                                 TlSparse *K, double *W);
+TlStatus tl_solid_wrapper_loads(TlSolid *s, double t, const double *u_nodes, double *f_nodes, double c, TlSparse *K);
+/* Some wrapper has external loads. */
+int tl_solid_has_wrapper_loads(const TlSolid *s);
+void tl_solid_free_wrappers(TlSolid *s);
 
 /* System ops (tl_solid_system.c): internal force and tangent in node space. */
 TlStatus tl_solid_internal_nodes(TlSolid *s, double t, const double *u, double *f_nodes, double c_u,

@@ -153,7 +153,6 @@ TlStatus tl_solid_setup(TlSolid *s)
     symmetric &= tl_material_symmetric_tangent(m);
   }
   for (int i = 0; i < s->n_surface; ++i) symmetric &= !s->surface[i].pressure;
-  for (int i = 0; i < s->n_terms; ++i) symmetric &= s->terms[i].symmetric;
   /* Without path-dependent state the system has no commit or rollback
    * (the contract's "elastic"): a stepper then need not evaluate the
    * accepted iterate to commit its trial state. */
@@ -199,12 +198,8 @@ TlStatus tl_solid_setup(TlSolid *s)
       memcpy(B->state_new, B->state_old, nst * ss * sizeof(double));
     }
   }
-  size_t n_groups = 0, total = 0;
-  for (int i = 0; i < s->n_terms; ++i) {
-    n_groups += s->terms[i].n_groups;
-    if (s->terms[i].n_groups) total += s->terms[i].group_ptr[s->terms[i].n_groups] * dim;
-  }
-  s->n_pattern = s->n_elements + n_groups;
+  size_t total = 0;
+  s->n_pattern = s->n_elements;
   TL_CHECK(tl_calloc(&s->elem_ptr, s->n_pattern + 1, sizeof(TlSparseIndex)));
   for (int b = 0; b < mesh->n_blocks; ++b) total += mesh->blocks[b].n_elements * s->blocks[b].nd;
   TL_CHECK(tl_calloc(&s->elem_dofs, total ? total : 1, sizeof(TlSparseIndex)));
@@ -217,13 +212,6 @@ TlStatus tl_solid_setup(TlSolid *s)
         for (int c = 0; c < dim; ++c) s->elem_dofs[k++] = s->dof[blk->conn[e * blk->type->n_nodes + a] * dim + c];
     }
   }
-  /* Node groups of the force terms: extra entries of the pattern. */
-  for (int i = 0; i < s->n_terms; ++i)
-    for (size_t q = 0; q < s->terms[i].n_groups; ++q, ++g) {
-      s->elem_ptr[g] = (TlSparseIndex)k;
-      for (size_t j = s->terms[i].group_ptr[q]; j < s->terms[i].group_ptr[q + 1]; ++j)
-        for (int c = 0; c < dim; ++c) s->elem_dofs[k++] = s->dof[s->terms[i].group_nodes[j] * dim + c];
-    }
   s->elem_ptr[g] = (TlSparseIndex)k;
   /* Lumped masses. */
   TL_CHECK(tl_calloc(&s->lumped_nodes, nc, sizeof(double)));

@@ -6,52 +6,11 @@
 
 #include "tl_memory.h"
 
-/* The block's own kernel, the innermost of any wrappers. */
-static TlStatus own_block(void *ctx, TlSolid *s, int b, double t, const double *u_nodes, double *f_nodes,
-                          double c_u, TlSparse *K, double *W)
-{
-  (void)ctx, (void)t;
-  return tl_solid_block_forces(s, b, u_nodes, f_nodes, c_u, K, W);
-}
-
-TlStatus tl_solid_wrap_block(TlSolid *s, int b, TlSolidBlockKernel kernel, TlSolidBlockKernel *wrapped)
-{
-  if (b < 0 || b >= s->mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "solid: block %d outside [0, %d)", b, s->mesh->n_blocks);
-  if (!kernel.fn) TL_ERROR(TL_ERR_ARG, "solid: block %d wrapped by a kernel without a function", b);
-  if (wrapped) *wrapped = tl_solid_block_kernel(s, b);
-  s->blocks[b].kernel = kernel;
-  return TL_OK;
-}
-
-TlStatus tl_solid_adopt(TlSolid *s, void *memory)
-{
-  TL_CHECK(tl_realloc(&s->adopted, s->n_adopted + 1, sizeof *s->adopted));
-  s->adopted[s->n_adopted++] = memory;
-  return TL_OK;
-}
-
-TlSolidBlockKernel tl_solid_block_kernel(const TlSolid *s, int b)
-{
-  TlSolidBlockKernel k = s->blocks[b].kernel;
-  if (!k.fn) k.fn = own_block, k.ctx = NULL;
-  return k;
-}
-
-static TlStatus block_kernel(TlSolid *s, int b, double t, const double *u_nodes, double *f_nodes, double c_u,
-                             TlSparse *K, double *W)
-{
-  const TlSolidBlockKernel *k = &s->blocks[b].kernel;
-  if (!k->fn) return tl_solid_block_forces(s, b, u_nodes, f_nodes, c_u, K, W);
-  return k->fn(k->ctx, s, b, t, u_nodes, f_nodes, c_u, K, W);
-}
-
 TlStatus tl_solid_internal_nodes(TlSolid *s, double t, const double *u, double *f_nodes, double c_u, TlSparse *K)
 {
   tl_solid_dofs_to_nodes(s, u, s->un);
   if (f_nodes) memset(f_nodes, 0, s->n_nodes * s->dim * sizeof(double));
-  for (int b = 0; b < s->mesh->n_blocks; ++b) TL_CHECK(block_kernel(s, b, t, s->un, f_nodes, c_u, K, NULL));
-  for (int i = 0; i < s->n_terms; ++i)
-    TL_CHECK(s->terms[i].fn(s->terms[i].ctx, s, t, s->un, f_nodes, c_u, K));
+  for (int b = 0; b < s->mesh->n_blocks; ++b) TL_CHECK(tl_solid_block_evaluate(s, b, t, s->un, f_nodes, c_u, K, NULL));
   return TL_OK;
 }
 
@@ -96,6 +55,7 @@ static TlStatus op_external_tangent(TlMechSystem *sys, double t, const double *u
   TlSolid *s = (TlSolid *)sys;
   tl_solid_dofs_to_nodes(s, u, s->un);
   TL_CHECK(tl_solid_pressure_loads(s, t, s->un, NULL, c, K));
+  TL_CHECK(tl_solid_wrapper_loads(s, t, s->un, NULL, c, K));
   return TL_OK;
 }
 
@@ -167,7 +127,7 @@ TlStatus tl_solid_strain_energy(TlSolid *s, const double *u, double *W)
 {
   tl_solid_dofs_to_nodes(s, u, s->un);
   *W = 0.0;
-  for (int b = 0; b < s->mesh->n_blocks; ++b) TL_CHECK(block_kernel(s, b, NAN, s->un, NULL, 0.0, NULL, W));
+  for (int b = 0; b < s->mesh->n_blocks; ++b) TL_CHECK(tl_solid_block_evaluate(s, b, NAN, s->un, NULL, 0.0, NULL, W));
   return TL_OK;
 }
 
