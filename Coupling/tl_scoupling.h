@@ -51,7 +51,8 @@
 
 /* Where the kernel of c > 0 is normalised and integrated: over the coupled
  * surface (Eq. 15 as printed) or over the SCoupling elements' integration
- * points (the code of the published runs; tl_scoupling_faces.h). */
+ * points (the code of the published runs; tl_scoupling_faces.h); one
+ * strategy each, tl_scoupling_support_*.c. */
 enum { TL_SCOUPLING_SUPPORT_SURFACE = 0, TL_SCOUPLING_SUPPORT_ELEMENTS = 1 };
 
 typedef struct {
