@@ -229,11 +229,13 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   } else {
     if ((s = tl_cg_kernel_create("dirac", 0.0, 3, &sc->kernel)) != TL_OK) goto fail;
   }
-  /* Linear faces through the CG module's own triangle and quadrilateral
+  /* Faces whose nodes are their corners (bilinear quadrilaterals, linear
+   * triangles) through the CG module's own quadrilateral and triangle
    * types, any other through the face type's shape functions. */
-  if (face_type == &tl_element_quad4)
+  const int corners_only = face_type->n_nodes == face_type->n_corners;
+  if (corners_only && face_type->shape == TL_SHAPE_QUAD && face_type->n_corners == 4)
     s = tl_cg_surface_create_quads(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
-  else if (face_type == &tl_element_tri3)
+  else if (corners_only && face_type->shape == TL_SHAPE_TRI && face_type->n_corners == 3)
     s = tl_cg_surface_create_triangles(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
   else
     s = tl_cg_surface_create_element_faces(sc->ft, sc->n_local, sc->xs, n_faces, sc->face_local, &sc->cg);

@@ -215,7 +215,7 @@ TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
     TL_ERROR(TL_ERR_ARG, "system matrix has %lld rows for %lld dofs", (long long)st->J->n,
              (long long)st->n);
   /* The consistent mass shares the Jacobian's pattern (one matrix, one axpy). */
-  if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops == &tl_stepper_newmark_ops) {
+  if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops->consistent_mass) {
     TL_CHECK(tl_sparse_duplicate(st->J, &st->M));
     TL_CHECK(st->sys->ops->consistent_mass(st->sys, 1.0, st->M));
     TL_CHECK(tl_sparse_compress(st->M, &st->M_apply));

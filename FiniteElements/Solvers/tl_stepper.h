@@ -77,6 +77,8 @@ typedef struct TlStepper TlStepper;
 typedef struct {
   TlOpsHeader header; /* kind "stepper" */
   int implicit;
+  int consistent_mass; /* integrates with the system's consistent mass when it has one (unless
+                        * options.lumped): tl_stepper_implicit_setup assembles it */
   TlStatus (*setup)(TlStepper *st);               /* allocate, analyse */
   TlStatus (*initialise)(TlStepper *st);          /* a at t from u, v */
   TlStatus (*step)(TlStepper *st, double dt);     /* t -> t + dt */

@@ -207,6 +207,7 @@ static void newmark_destroy(TlStepper *st)
 const TlStepperOps tl_stepper_newmark_ops = {
     .header = {"stepper", "newmark", "implicit Newmark-beta with Newton iterations (KINSOL or SUNNonlinSol_Newton)"},
     .implicit = 1,
+    .consistent_mass = 1,
     .setup = newmark_setup,
     .initialise = newmark_initialise,
     .step = newmark_step,
