@@ -1,4 +1,5 @@
 /* Error messages and traces, memory helpers, registry, timers, summary line. */
+#include <stddef.h>
 #include <string.h>
 
 #include "talus.h"
@@ -24,6 +25,20 @@ static double twice(double x) { return 2 * x; }
 static const FakeOps fake_a = {{"fake", "alpha", "doubles"}, twice};
 static const FakeOps fake_b = {{"fake", "beta", "doubles too"}, twice};
 static const FakeOps fake_dup = {{"fake", "alpha", "a second alpha"}, twice};
+
+/* A kind with a constructor and a parameter table, as a type from outside
+ * the library registers it. */
+typedef struct {
+  double gain;
+} Widget;
+typedef TlStatus (*WidgetCreate)(double gain, Widget *w);
+static TlStatus widget_create(double gain, Widget *w)
+{
+  if (!(gain > 0)) TL_ERROR(TL_ERR_ARG, "widget gain %g must be positive", gain);
+  w->gain = gain;
+  return TL_OK;
+}
+static const TlParam widget_params[] = {{"gain", 2.0, 0.0, 10.0, "1", "amplification", offsetof(Widget, gain)}};
 
 int main(void)
 {
@@ -59,7 +74,28 @@ int main(void)
   TL_TEST_ASSERT(tl_registry_list("fake", names, 4) == 2, "list count");
   const FakeOps *obj_ops = &fake_a;
   TL_TEST_ASSERT(strcmp(tl_type_name(&obj_ops), "alpha") == 0, "type name");
+
+  TlTypeEntry we = {"widget", "amplifier", "a widget", (TlConstructor)widget_create, NULL, widget_params, 1};
+  TL_TEST_STATUS(tl_registry_register(&we), TL_OK);
+  TL_TEST_STATUS(tl_registry_register(&we), TL_OK); /* idempotent */
+  TlTypeEntry other = we;
+  other.create = (TlConstructor)twice;
+  TL_TEST_STATUS(tl_registry_register(&other), TL_ERR_ARG);
+  const TlTypeEntry *e;
+  TL_TEST_STATUS(tl_registry_lookup("widget", "amplifier", &e), TL_OK);
+  const TlParam *gp = tl_param_find(e->params, e->n_params, "gain");
+  TL_TEST_ASSERT(gp && gp->def == 2.0 && !tl_param_find(e->params, e->n_params, "loss"), "parameter table");
+  Widget w;
+  TL_TEST_STATUS(((WidgetCreate)e->create)(gp->def, &w), TL_OK);
+  TL_TEST_ASSERT(w.gain == 2.0, "constructor by name");
+  TL_TEST_STATUS(tl_registry_find("widget", "amplifier", &found), TL_ERR_UNSUPPORTED); /* no ops table */
+  TL_TEST_ASSERT(tl_registry_entry("widget", 0) == e && tl_registry_entry("widget", 1) == NULL, "entries");
+  /* the built-ins are registered by the modules themselves, found without
+   * an explicit tl_initialize(), and again after the registry was emptied */
+  TL_TEST_STATUS(tl_registry_find("cg_kernel", "lucy", &found), TL_OK);
   tl_registry_clear();
+  TL_TEST_STATUS(tl_registry_lookup("widget", "amplifier", &e), TL_ERR_NOT_FOUND);
+  TL_TEST_STATUS(tl_registry_find("material", "hooke", &found), TL_OK);
   TL_TEST_STATUS(tl_initialize(), TL_OK);
 
   TlTimers t;

@@ -24,18 +24,13 @@
 #include "tl_error.h"
 #include "tl_math.h"
 #include "tl_object.h"
+#include "tl_registry.h"
 
 typedef struct TlMaterial TlMaterial;
 
-/* A real parameter of a law, stored as a double at `offset` in the derived
- * struct; drivers list them with their units. */
-typedef struct {
-  const char *name;
-  double def, lo, hi; /* default and the closed admissible range */
-  const char *unit;
-  const char *help;
-  size_t offset;
-} TlMaterialParam;
+/* A real parameter of a law (tl_registry.h), stored as a double at
+ * `offset` in the derived struct; drivers list them with their units. */
+typedef TlParam TlMaterialParam;
 
 typedef struct {
   TlOpsHeader header; /* kind "material" */

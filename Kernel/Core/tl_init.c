@@ -2,33 +2,42 @@
 
 #include <stdio.h>
 
-/* Each module's registration function.  A module that adds a registered type
- * adds it to its own tl_<module>_register_all(); a new module adds one line
- * here. */
+/* The registration function of every module, collected by the build from
+ * the library's sources (tl_modules.inc: one TL_MODULE(fn) a line), so that
+ * a new module registers its types without an edit here. */
+#define TL_MODULE(fn) TlStatus fn(void);
+#include "tl_modules.inc"
+#undef TL_MODULE
+
 typedef TlStatus (*TlRegisterAll)(void);
-TlStatus tl_cg_register_all(void);
-TlStatus tl_fem_register_all(void);
-TlStatus tl_stepper_register_all(void);
-TlStatus tl_dem_register_all(void);
-TlStatus tl_walls_register_all(void);
 static const TlRegisterAll tl_modules[] = {
-    tl_cg_register_all,
-    tl_fem_register_all,
-    tl_stepper_register_all,
-    tl_dem_register_all,
-    tl_walls_register_all,
-    NULL, /* keeps the table non-empty before any module registers */
+#define TL_MODULE(fn) fn,
+#include "tl_modules.inc"
+#undef TL_MODULE
+    NULL, /* keeps the table non-empty */
 };
+
+/* 0: not yet, 1: registering (a module that looks a type up meanwhile must
+ * not start again), 2: done. */
+static int tl_init_state;
 
 TlStatus tl_initialize(void)
 {
-  static int done = 0;
-  if (done) return TL_OK;
+  if (tl_init_state) return TL_OK;
+  tl_init_state = 1;
   for (size_t i = 0; i < sizeof tl_modules / sizeof tl_modules[0]; ++i)
-    if (tl_modules[i]) TL_CHECK(tl_modules[i]());
-  done = 1;
+    if (tl_modules[i]) {
+      TlStatus s = tl_modules[i]();
+      if (s != TL_OK) {
+        tl_init_state = 0;
+        return tl_error_trace(s, __FILE__, __LINE__);
+      }
+    }
+  tl_init_state = 2;
   return TL_OK;
 }
+
+void tl_initialize_forget(void) { tl_init_state = 0; }
 
 int tl_driver_exit(TlStatus status)
 {
