@@ -34,19 +34,6 @@ void tl_coupled_loop_options_default(TlCoupledLoopOptions *o)
   o->average_forces = 0;
 }
 
-/* The stepper's account of the work its loads did, and the explicit
- * stepper's energy budget for the blow-up test, see the coupling load as
- * they did when it came through the step hook: the load applied in the
- * step (F) times the displacement increment, added after the step.  The
- * SCoupling elements put the load into f_int, which the steppers do not
- * count as work. */
-static void stepper_work(TlCoupledLoop *L, const double *F)
-{
-  double w = 0.0;
-  for (size_t i = 0; i < 3 * L->n_nodes; i++) w += F[i] * (L->u_nodes[i] - L->u_prev[i]);
-  tl_stepper_add_work(L->stepper, w);
-}
-
 /* Starts a new accumulation of the couplings' forces. */
 static void clear_forces(TlCoupledLoop *L)
 {
@@ -193,7 +180,6 @@ static TlStatus step_staggered(TlCoupledLoop *L)
   double w = 0.0;
   for (size_t i = 0; i < nn; i++) w += 0.5 * (L->F_prev[i] + L->F_nodes[i]) * (L->u_nodes[i] - L->u_prev[i]);
   L->work_on_solid += w;
-  stepper_work(L, L->F_nodes);
   memcpy(L->F_prev, L->F_nodes, nn * sizeof(double));
   clear_forces(L);
   for (size_t i = 0; i < nn; i++) L->v_mid[i] = (L->u_nodes[i] - L->u_prev[i]) / Dt;
@@ -258,7 +244,6 @@ TlStatus tl_coupled_loop_step(TlCoupledLoop *L)
     double w = 0.0;
     for (size_t i = 0; i < nn; i++) w += 0.5 * (L->F_prev[i] + L->F_nodes[i]) * (L->u_nodes[i] - L->u_prev[i]);
     L->work_on_solid += w;
-    stepper_work(L, L->F_nodes);
     /* The walls stay where the DEM used them: the next step moves them
      * before its DEM step does (onto the predictor, or from u_{n-1}), and
      * a restart places them on the state (loop_load).  Moving them here as

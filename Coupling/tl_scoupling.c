@@ -1,87 +1,12 @@
 /* Surface coupling: walls from FE faces and CG nodal forces (seeds/001 §5.1, §5.3.1). */
-#include "tl_scoupling.h"
+#include "tl_scoupling_private.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include "tl_log.h"
 #include "tl_memory.h"
-#include "tl_scoupling_faces.h"
-
-/* The SCoupling element type on one element block: the block kernel it
- * wraps and the coupling whose elements it completes.  Allocated on its
- * own so that a wrapper another coupling stacked above can keep calling
- * through it after the coupling is gone (see tl_scoupling_destroy). */
-typedef struct {
-  TlSCoupling *sc; /* NULL: pass-through */
-  int block;
-  TlSolidBlockKernel inner;
-} SCouplingBlock;
-
-_Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 arrays are checkpointed as doubles");
-
-struct TlSCoupling {
-  TlSolid *solid;
-  const TlMesh *mesh;
-  double width;
-  size_t n_faces;
-  TlFaceRef *faces;
-  int nf;            /* nodes per face */
-  TlSCouplingFaceType *ft; /* wall pieces and CG quadrature of the face type */
-  size_t n_local;    /* distinct FE nodes of the faces */
-  size_t *node;      /* local -> global node */
-  int *face_local;   /* n_faces x nf local node numbers */
-  TlVec3 *X0, *xs;   /* reference and current positions of the local nodes */
-  size_t n_vertices; /* wall vertices: local nodes, then the extra points of each face */
-  double *vx, *vv;   /* 3 x n_vertices scratch for the wall */
-  TlWall *wall;
-  int wall_given;    /* the world owns the wall */
-  TlCGKernel *kernel;
-  TlCGSurface *cg;
-  int cg_stale;      /* the nodes moved since the last quadrature update */
-  double face_size;  /* largest corner-to-corner edge of a face at creation */
-  double bulge;      /* how far a face's (or element's) points reach beyond its nodes' box: 0 when linear */
-  /* SCoupling elements, the element of each face and the faces of each
-   * element (elem_face[elem_face_ptr[e] .. elem_face_ptr[e + 1] - 1]) */
-  size_t n_elements, n_active;
-  TlFaceRef *elements, *active;
-  size_t *active_index;  /* n_active: element numbers (into elements) of the active ones */
-  size_t *face_element;
-  size_t *elem_face_ptr, *elem_face;
-  unsigned char *elem_active;
-  /* accumulated per-face coupling forces (Eq. 15/16, n_faces x nf): the
-   * load the wrappers put on the next FE step; the faces holding them, in
-   * the order first touched */
-  TlVec3 *face_F;
-  unsigned char *face_touched;
-  size_t *touched_faces, n_touched;
-  /* the block wrappers */
-  int n_blocks;
-  SCouplingBlock **blocks;
-  /* per-contact scratch */
-  size_t capacity, n_contacts;
-  size_t *c_face;
-  TlVec3 *c_point, *c_force;
-  TlVec3 *nodal;
-  /* Element support of the kernel (TL_SCOUPLING_SUPPORT_ELEMENTS, c > 0):
-   * the SCoupling elements' nodes (own local numbering), their current
-   * positions, the CG support over their integration points, and the
-   * accumulated per-element nodal forces with the elements holding them */
-  int support;
-  size_t n_vlocal;
-  size_t *vnode;
-  int *elem_local;   /* n_elements x ne */
-  int ne;
-  TlVec3 *xv;
-  TlSCouplingVolumeType *vt;
-  TlCGSurface *cg_elem;
-  TlVec3 *elem_F;    /* n_elements x ne */
-  unsigned char *elem_touched;
-  size_t *touched_elems, n_touched_elems;
-  size_t *c_elem;    /* per contact: its face's element */
-};
 
 void tl_scoupling_options_default(TlSCouplingOptions *o)
 {
@@ -150,164 +75,58 @@ done:
   return s;
 }
 
-/* The SCoupling element type's residual (§5.3.1): the wrapped element
- * kernel's, then for every active SCoupling element of the block its
- * faces' share of the coupling load subtracted,
+/* The SCoupling element type's load (§5.3.1): for every active SCoupling
+ * element of the block its faces' share of the coupling load, an external
+ * load on the element's nodes,
  *   R_a = f_int,a - f_ext,a - int_{Gamma_e} N_a t dA   (Eq. 15; Eq. 16 for c = 0).
  * Within an FE step the load is dead: the DEM forces of the step are fixed
  * before it and do not depend on the solid's trial state, so there is no
- * tangent term and no stored energy. */
-static TlStatus scoupling_block(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
-                                double c_u, TlSparse *K, double *W)
+ * tangent term. */
+static TlStatus scoupling_loads(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+                                double c, TlSparse *K)
 {
-  const SCouplingBlock *w = ctx;
-  TL_CHECK(w->inner.fn(w->inner.ctx, solid, b, t, u_nodes, f_nodes, c_u, K, W));
-  const TlSCoupling *sc = w->sc;
-  if (!sc || !f_nodes) return TL_OK;
-  const size_t nf = (size_t)sc->nf;
+  (void)solid, (void)t, (void)u_nodes, (void)c, (void)K;
+  const TlSCoupling *sc = ctx;
+  if (!f_nodes) return TL_OK;
   for (size_t k = 0; k < sc->n_active; k++) {
     const size_t e = sc->active_index[k];
-    if (sc->elements[e].block != b) continue;
-    if (sc->cg_elem) {
-      if (!sc->elem_touched[e]) continue;
-      const int *q = sc->elem_local + e * (size_t)sc->ne;
-      const TlVec3 *F = sc->elem_F + e * (size_t)sc->ne;
-      for (int a = 0; a < sc->ne; a++) {
-        double *f = f_nodes + 3 * sc->vnode[q[a]];
-        f[0] -= F[a].x;
-        f[1] -= F[a].y;
-        f[2] -= F[a].z;
-      }
-      continue;
-    }
-    for (size_t j = sc->elem_face_ptr[e]; j < sc->elem_face_ptr[e + 1]; j++) {
-      const size_t face = sc->elem_face[j];
-      if (!sc->face_touched[face]) continue;
-      const int *q = sc->face_local + face * nf;
-      const TlVec3 *F = sc->face_F + face * nf;
-      for (size_t a = 0; a < nf; a++) {
-        double *f = f_nodes + 3 * sc->node[q[a]];
-        f[0] -= F[a].x;
-        f[1] -= F[a].y;
-        f[2] -= F[a].z;
-      }
-    }
+    if (sc->elements[e].block == b) sc->support->element_load(sc, e, f_nodes);
   }
   return TL_OK;
 }
 
-/* Wraps the kernel of every block holding SCoupling elements. */
+static const TlSolidWrapperOps scoupling_element_ops = {
+    .header = {"solid_wrapper", "scoupling", "SCoupling element: the surface coupling's load on its elements"},
+    .external = scoupling_loads,
+};
+
+/* The SCoupling element type over every block holding SCoupling elements. */
 static TlStatus install_wrappers(TlSCoupling *sc)
 {
   const int nb = sc->mesh->n_blocks;
-  TL_CHECK(tl_calloc(&sc->blocks, (size_t)nb, sizeof *sc->blocks));
+  TL_CHECK(tl_calloc(&sc->wrappers, (size_t)nb, sizeof *sc->wrappers));
   for (int b = 0; b < nb; b++) {
     int holds = 0;
     for (size_t e = 0; e < sc->n_elements && !holds; e++) holds = sc->elements[e].block == b;
     if (!holds) continue;
-    SCouplingBlock *w = NULL;
-    TL_CHECK(TL_NEW(w));
-    w->sc = sc;
-    w->block = b;
-    TlSolidBlockKernel mine = {scoupling_block, w};
-    TlStatus s = tl_solid_wrap_block(sc->solid, b, mine, &w->inner);
-    if (s != TL_OK) {
-      tl_free(&w);
-      return tl_error_trace(s, __FILE__, __LINE__);
-    }
-    sc->blocks[sc->n_blocks++] = w;
+    TL_CHECK(tl_solid_add_wrapper(sc->solid, b, &scoupling_element_ops, sc, &sc->wrappers[sc->n_wrappers]));
+    sc->n_wrappers++;
   }
   return TL_OK;
 }
 
-/* Takes the coupling's wrappers out of the solid's chains: a wrapper on
- * top is replaced by the kernel it wrapped; one below other SCoupling
- * wrappers is spliced out of the chain (the one above it calls through to
- * what it wrapped).  One below a wrapper of another kind cannot be reached:
- * it stays as a pass-through, which the solid adopts (frees when it is
- * destroyed), so that the chain keeps working (destroy couplings in the
- * reverse order of creation). */
 static void remove_wrappers(TlSCoupling *sc)
 {
-  for (int k = sc->n_blocks - 1; k >= 0; k--) {
-    SCouplingBlock *w = sc->blocks[k];
-    TlSolidBlockKernel now = tl_solid_block_kernel(sc->solid, w->block);
-    int removed = 0;
-    if (now.fn == scoupling_block && now.ctx == w) {
-      removed = tl_solid_wrap_block(sc->solid, w->block, w->inner, NULL) == TL_OK;
-    } else {
-      for (TlSolidBlockKernel at = now; at.fn == scoupling_block && !removed;) {
-        SCouplingBlock *above = at.ctx;
-        if (above->inner.fn == scoupling_block && above->inner.ctx == w) {
-          above->inner = w->inner;
-          removed = 1;
-        }
-        at = above->inner;
-      }
-    }
-    if (removed) {
-      tl_free(&w);
-    } else {
-      tl_warn("surface coupling destroyed under another kind of wrapper of block %d: its kernel stays as a "
-              "pass-through (destroy couplings in the reverse order of creation)", w->block);
-      w->sc = NULL;
-      if (tl_solid_adopt(sc->solid, w) != TL_OK)
-        tl_warn("the pass-through of block %d could not be handed to the solid: %zu bytes stay allocated", w->block,
-                sizeof *w);
-    }
-    sc->blocks[k] = NULL;
-  }
-  sc->n_blocks = 0;
-  tl_free(&sc->blocks);
+  for (int k = 0; k < sc->n_wrappers; k++) tl_solid_remove_wrapper(sc->solid, &sc->wrappers[k]);
+  sc->n_wrappers = 0;
+  tl_free(&sc->wrappers);
 }
 
-/* The SCoupling elements as the kernel's support: their nodes, one element
- * type (refused otherwise, naming both), their integration points. */
-static TlStatus setup_element_support(TlSCoupling *sc)
-{
-  const TlMesh *m = sc->mesh;
-  const TlElementType *type = m->blocks[sc->elements[0].block].type;
-  for (size_t e = 1; e < sc->n_elements; e++) {
-    const TlElementType *t = m->blocks[sc->elements[e].block].type;
-    if (t != type)
-      TL_ERROR(TL_ERR_UNSUPPORTED, "element CG support needs one element type: SCoupling elements are %s and %s",
-               type->header.name, t->header.name);
-  }
-  TL_CHECK(tl_scoupling_volume_type_create(type, &sc->vt));
-  if (type->n_nodes != type->n_corners) sc->bulge = sc->face_size;
-  const int ne = sc->ne = type->n_nodes;
-  size_t *map = NULL;
-  TL_CHECK(tl_calloc(&map, m->n_nodes, sizeof *map));
-  for (size_t i = 0; i < m->n_nodes; i++) map[i] = SIZE_MAX;
-  TlStatus s = TL_OK;
-  if ((s = tl_calloc(&sc->elem_local, sc->n_elements * (size_t)ne, sizeof *sc->elem_local)) != TL_OK ||
-      (s = tl_calloc(&sc->vnode, sc->n_elements * (size_t)ne, sizeof *sc->vnode)) != TL_OK)
-    goto done;
-  sc->n_vlocal = 0;
-  for (size_t e = 0; e < sc->n_elements; e++) {
-    const size_t *conn = m->blocks[sc->elements[e].block].conn + sc->elements[e].element * (size_t)ne;
-    for (int a = 0; a < ne; a++) {
-      if (map[conn[a]] == SIZE_MAX) {
-        map[conn[a]] = sc->n_vlocal;
-        sc->vnode[sc->n_vlocal++] = conn[a];
-      }
-      sc->elem_local[e * (size_t)ne + (size_t)a] = (int)map[conn[a]];
-    }
-  }
-  if ((s = tl_calloc(&sc->xv, sc->n_vlocal, sizeof *sc->xv)) != TL_OK ||
-      (s = tl_calloc(&sc->elem_F, sc->n_elements * (size_t)ne, sizeof *sc->elem_F)) != TL_OK ||
-      (s = tl_calloc(&sc->elem_touched, sc->n_elements, 1)) != TL_OK ||
-      (s = tl_calloc(&sc->touched_elems, sc->n_elements, sizeof *sc->touched_elems)) != TL_OK)
-    goto done;
-  for (size_t i = 0; i < sc->n_vlocal; i++) {
-    const double *X = m->x + 3 * sc->vnode[i];
-    sc->xv[i] = tl_v3(X[0], X[1], X[2]);
-  }
-  s = tl_cg_surface_create_element_volumes(sc->vt, sc->n_vlocal, sc->xv, sc->n_elements, sc->elem_local, &sc->cg_elem);
-done:
-  tl_free(&map);
-  return s;
-}
+/* The support strategies, by the value of TlSCouplingOptions.support. */
+static const TlSCouplingSupportOps *const supports[] = {
+    [TL_SCOUPLING_SUPPORT_SURFACE] = &tl_scoupling_support_surface,
+    [TL_SCOUPLING_SUPPORT_ELEMENTS] = &tl_scoupling_support_elements,
+};
 
 TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *faces,
                              const TlSCouplingOptions *options, TlSCoupling **out)
@@ -319,6 +138,8 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   if (options) o = *options;
   if (!(o.width >= 0.0) || !isfinite(o.width)) TL_ERROR(TL_ERR_ARG, "CG width c = %g must be finite and >= 0", o.width);
   if (o.subdivisions < 0 || o.subdivisions > 64) TL_ERROR(TL_ERR_ARG, "CG subdivisions %d outside [0, 64]", o.subdivisions);
+  if (o.support < 0 || o.support >= (int)(sizeof supports / sizeof *supports))
+    TL_ERROR(TL_ERR_ARG, "CG support %d is none of SURFACE (0), ELEMENTS (1)", o.support);
   const TlMesh *mesh = tl_solid_mesh(solid);
   if (mesh->dim != 3) TL_ERROR(TL_ERR_ARG, "surface coupling needs a 3-D mesh (dimension %d)", mesh->dim);
   const TlElementType *face_type = NULL;
@@ -341,7 +162,8 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   sc->solid = solid;
   sc->mesh = mesh;
   sc->width = o.width;
-  sc->support = o.width > 0.0 ? o.support : TL_SCOUPLING_SUPPORT_SURFACE;
+  /* The Dirac limit has no kernel to normalise: always on the faces. */
+  sc->support = supports[o.width > 0.0 ? o.support : TL_SCOUPLING_SUPPORT_SURFACE];
   sc->n_faces = n_faces;
   sc->nf = nf;
   if ((s = tl_calloc(&sc->faces, n_faces, sizeof *sc->faces)) != TL_OK) goto fail;
@@ -407,21 +229,18 @@ TlStatus tl_scoupling_create(TlSolid *solid, size_t n_faces, const TlFaceRef *fa
   } else {
     if ((s = tl_cg_kernel_create("dirac", 0.0, 3, &sc->kernel)) != TL_OK) goto fail;
   }
-  /* Linear faces through the CG module's own triangle and quadrilateral
+  /* Faces whose nodes are their corners (bilinear quadrilaterals, linear
+   * triangles) through the CG module's own quadrilateral and triangle
    * types, any other through the face type's shape functions. */
-  if (face_type == &tl_element_quad4)
+  const int corners_only = face_type->n_nodes == face_type->n_corners;
+  if (corners_only && face_type->shape == TL_SHAPE_QUAD && face_type->n_corners == 4)
     s = tl_cg_surface_create_quads(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
-  else if (face_type == &tl_element_tri3)
+  else if (corners_only && face_type->shape == TL_SHAPE_TRI && face_type->n_corners == 3)
     s = tl_cg_surface_create_triangles(sc->n_local, sc->xs, n_faces, sc->face_local, sub, &sc->cg);
   else
     s = tl_cg_surface_create_element_faces(sc->ft, sc->n_local, sc->xs, n_faces, sc->face_local, &sc->cg);
   if (s != TL_OK) goto fail;
-  if (o.width > 0.0 && o.support == TL_SCOUPLING_SUPPORT_ELEMENTS) {
-    if ((s = setup_element_support(sc)) != TL_OK) goto fail;
-  } else if (o.support != TL_SCOUPLING_SUPPORT_SURFACE && o.support != TL_SCOUPLING_SUPPORT_ELEMENTS) {
-    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "CG support %d is none of SURFACE (0), ELEMENTS (1)", o.support);
-    goto fail;
-  }
+  if ((s = sc->support->setup(sc)) != TL_OK) goto fail;
   /* The SCoupling element type on every block holding coupled faces. */
   if ((s = install_wrappers(sc)) != TL_OK) goto fail;
   *out = sc;
@@ -459,18 +278,11 @@ void tl_scoupling_destroy(TlSCoupling **psc)
 {
   TlSCoupling *sc = *psc;
   if (!sc) return;
-  if (sc->blocks) remove_wrappers(sc);
+  if (sc->wrappers) remove_wrappers(sc);
   if (!sc->wall_given) tl_wall_destroy(&sc->wall);
+  if (sc->support) sc->support->destroy(sc);
   tl_cg_surface_destroy(&sc->cg);
-  tl_cg_surface_destroy(&sc->cg_elem);
   tl_scoupling_face_type_destroy(&sc->ft);
-  tl_scoupling_volume_type_destroy(&sc->vt);
-  tl_free(&sc->vnode);
-  tl_free(&sc->elem_local);
-  tl_free(&sc->xv);
-  tl_free(&sc->elem_F);
-  tl_free(&sc->elem_touched);
-  tl_free(&sc->touched_elems);
   tl_free(&sc->c_elem);
   tl_cg_kernel_destroy(&sc->kernel);
   tl_free(&sc->faces);
@@ -509,11 +321,7 @@ TlWall *tl_scoupling_wall(TlSCoupling *sc) { return sc->wall; }
 
 TlStatus tl_scoupling_set_kinematics(TlSCoupling *sc, const double *u, const double *v)
 {
-  for (size_t i = 0; i < sc->n_vlocal; i++) {
-    const size_t n = sc->vnode[i];
-    const double *X = sc->mesh->x + 3 * n;
-    sc->xv[i] = u ? tl_v3(X[0] + u[3 * n], X[1] + u[3 * n + 1], X[2] + u[3 * n + 2]) : tl_v3(X[0], X[1], X[2]);
-  }
+  if (sc->support->move) sc->support->move(sc, u);
   int bad = 0;
   for (size_t i = 0; i < sc->n_local; i++) {
     const size_t n = sc->node[i];
@@ -587,19 +395,15 @@ static TlStatus collect_contacts(TlSCoupling *sc, double scale, TlVec3 *total_wa
   /* The quadrature of the faces within reach of the contacts only: those
    * whose nodes' box, grown by the bulge, lies within c of a contact (the
    * others' points are beyond the kernel's support). */
-  if (m && sc->cg_stale && sc->width > 0.0) {
-    if (sc->cg_elem)
-      TL_CHECK(tl_cg_surface_update_near(sc->cg_elem, m, sc->c_point, sc->width + sc->bulge));
-    else
-      TL_CHECK(tl_cg_surface_update_near(sc->cg, m, sc->c_point, sc->width + sc->bulge));
-  }
+  if (m && sc->cg_stale && sc->width > 0.0)
+    TL_CHECK(tl_cg_surface_update_near(sc->cg_support, m, sc->c_point, sc->width + sc->bulge));
   if (m) sc->cg_stale = 0;
   return TL_OK;
 }
 
-/* Step 1 of §5.3.1: the owners of the faces touched since position n0 of
- * the list become active (in the order their faces were first touched). */
-static void activate_element(TlSCoupling *sc, size_t e)
+/* Step 1 of §5.3.1: the owner of a face (or an element) the forces
+ * reached becomes active, in the order first reached. */
+void tl_scoupling_activate_element(TlSCoupling *sc, size_t e)
 {
   if (sc->elem_active[e]) return;
   sc->elem_active[e] = 1;
@@ -607,87 +411,22 @@ static void activate_element(TlSCoupling *sc, size_t e)
   sc->active[sc->n_active++] = sc->elements[e];
 }
 
-/* With the element support: the elements touched since position n0. */
-static void activate_elements(TlSCoupling *sc, size_t n0)
-{
-  for (size_t t = n0; t < sc->n_touched_elems; t++) activate_element(sc, sc->touched_elems[t]);
-}
-
-static void activate(TlSCoupling *sc, size_t n0)
-{
-  for (size_t t = n0; t < sc->n_touched; t++) {
-    const size_t e = sc->face_element[sc->touched_faces[t]];
-    if (sc->elem_active[e]) continue;
-    sc->elem_active[e] = 1;
-    sc->active_index[sc->n_active] = e;
-    sc->active[sc->n_active++] = sc->elements[e];
-  }
-}
-
 TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *total_wall)
 {
   if (!isfinite(scale)) TL_ERROR(TL_ERR_ARG, "coupling force scale %g is not finite", scale);
   TL_CHECK(collect_contacts(sc, scale, total_wall));
   if (sc->n_contacts == 0) return TL_OK;
-  if (sc->cg_elem) {
-    const size_t n0 = sc->n_touched_elems;
-    TL_CHECK(tl_cg_surface_face_forces(sc->cg_elem, sc->kernel, sc->n_contacts, sc->c_elem, sc->c_point, sc->c_force,
-                                       sc->elem_F, sc->elem_touched, sc->touched_elems, &sc->n_touched_elems));
-    activate_elements(sc, n0);
-    return TL_OK;
-  }
-  const size_t n0 = sc->n_touched;
-  TL_CHECK(tl_cg_surface_face_forces(sc->cg, sc->kernel, sc->n_contacts, sc->c_face, sc->c_point, sc->c_force,
-                                     sc->face_F, sc->face_touched, sc->touched_faces, &sc->n_touched));
-  activate(sc, n0);
-  return TL_OK;
+  return sc->support->spread(sc);
 }
 
 void tl_scoupling_clear_forces(TlSCoupling *sc)
 {
-  const size_t nf = (size_t)sc->nf;
-  for (size_t t = 0; t < sc->n_touched; t++) {
-    const size_t f = sc->touched_faces[t];
-    memset(sc->face_F + f * nf, 0, nf * sizeof *sc->face_F);
-    sc->face_touched[f] = 0;
-  }
-  for (size_t t = 0; t < sc->n_touched_elems; t++) {
-    const size_t e = sc->touched_elems[t];
-    memset(sc->elem_F + e * (size_t)sc->ne, 0, (size_t)sc->ne * sizeof *sc->elem_F);
-    sc->elem_touched[e] = 0;
-  }
-  sc->n_touched_elems = 0;
+  sc->support->clear(sc);
   for (size_t k = 0; k < sc->n_active; k++) sc->elem_active[sc->active_index[k]] = 0;
-  sc->n_touched = 0;
   sc->n_active = 0;
 }
 
-void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes)
-{
-  for (size_t t = 0; t < sc->n_touched_elems; t++) {
-    const size_t e = sc->touched_elems[t];
-    const int *q = sc->elem_local + e * (size_t)sc->ne;
-    const TlVec3 *F = sc->elem_F + e * (size_t)sc->ne;
-    for (int a = 0; a < sc->ne; a++) {
-      double *out = f_nodes + 3 * sc->vnode[q[a]];
-      out[0] += F[a].x;
-      out[1] += F[a].y;
-      out[2] += F[a].z;
-    }
-  }
-  const size_t nf = (size_t)sc->nf;
-  for (size_t t = 0; t < sc->n_touched; t++) {
-    const size_t f = sc->touched_faces[t];
-    const int *q = sc->face_local + f * nf;
-    const TlVec3 *F = sc->face_F + f * nf;
-    for (size_t a = 0; a < nf; a++) {
-      double *out = f_nodes + 3 * sc->node[q[a]];
-      out[0] += F[a].x;
-      out[1] += F[a].y;
-      out[2] += F[a].z;
-    }
-  }
-}
+void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes) { sc->support->assemble(sc, f_nodes); }
 
 size_t tl_scoupling_n_faces(const TlSCoupling *sc) { return sc->n_faces; }
 const TlFaceRef *tl_scoupling_faces(const TlSCoupling *sc) { return sc->faces; }
@@ -712,30 +451,7 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   return TL_OK;
 }
 
-/* The per-item nodal forces of faces (Eq. 15/16) or of elements (the
- * element support), with the items holding them in the order first
- * touched: as checkpointed ("touched_<item>s", "<item>_forces"). */
-typedef struct {
-  const char *item;
-  size_t n_items;
-  int per_item;
-  TlVec3 *F;
-  unsigned char *touched;
-  size_t *list, *n_touched;
-} ForceSet;
-
-static ForceSet face_set(const TlSCoupling *sc)
-{
-  return (ForceSet){"face", sc->n_faces, sc->nf, sc->face_F, sc->face_touched, sc->touched_faces, (size_t *)&sc->n_touched};
-}
-
-static ForceSet element_set(const TlSCoupling *sc)
-{
-  return (ForceSet){"element", sc->n_elements, sc->ne, sc->elem_F, sc->elem_touched, sc->touched_elems,
-                    (size_t *)&sc->n_touched_elems};
-}
-
-static TlStatus save_force_set(const ForceSet *fs, TlCheckpointWriter *w, const char *group, const char *prefix)
+TlStatus tl_scoupling_save_force_set(const TlSCouplingForceSet *fs, TlCheckpointWriter *w, const char *group, const char *prefix)
 {
   char name[128];
   int64_t *list = NULL;
@@ -751,7 +467,7 @@ static TlStatus save_force_set(const ForceSet *fs, TlCheckpointWriter *w, const 
 }
 
 /* Into a cleared set: the same items, in the same order, and their forces. */
-static TlStatus load_force_set(const ForceSet *fs, TlCheckpointReader *r, const char *group, const char *prefix)
+TlStatus tl_scoupling_load_force_set(const TlSCouplingForceSet *fs, TlCheckpointReader *r, const char *group, const char *prefix)
 {
   char name[128];
   size_t n = 0;
@@ -786,14 +502,10 @@ static TlStatus load_force_set(const ForceSet *fs, TlCheckpointReader *r, const 
 
 TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix)
 {
-  const ForceSet faces = face_set(sc);
-  TL_CHECK(save_force_set(&faces, w, group, prefix));
   char name[128];
   snprintf(name, sizeof name, "%scg_support", prefix);
-  TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support));
-  if (!sc->cg_elem) return TL_OK;
-  const ForceSet elems = element_set(sc);
-  return save_force_set(&elems, w, group, prefix);
+  TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support->id));
+  return sc->support->save(sc, w, group, prefix);
 }
 
 TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
@@ -802,19 +514,12 @@ TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const 
   int64_t support = 0;
   snprintf(name, sizeof name, "%scg_support", prefix);
   TL_CHECK(tl_checkpoint_read_int64(r, group, name, &support));
-  if (support != sc->support)
-    TL_ERROR(TL_ERR_ARG, "checkpoint was written with CG support %lld (0 surface, 1 elements), this coupling has %d",
-             (long long)support, sc->support);
+  if (support != sc->support->id)
+    TL_ERROR(TL_ERR_ARG, "checkpoint was written with CG support %lld (0 surface, 1 elements), this coupling has %d (%s)",
+             (long long)support, sc->support->id, sc->support->header.name);
   /* The same faces (elements), active elements and order as when saved. */
   tl_scoupling_clear_forces(sc);
-  const ForceSet faces = face_set(sc);
-  TL_CHECK(load_force_set(&faces, r, group, prefix));
-  activate(sc, 0);
-  if (!sc->cg_elem) return TL_OK;
-  const ForceSet elems = element_set(sc);
-  TL_CHECK(load_force_set(&elems, r, group, prefix));
-  activate_elements(sc, 0);
-  return TL_OK;
+  return sc->support->load(sc, r, group, prefix);
 }
 
 size_t tl_scoupling_n_elements(const TlSCoupling *sc) { return sc->n_elements; }
@@ -824,4 +529,4 @@ const TlFaceRef *tl_scoupling_active_elements(const TlSCoupling *sc) { return sc
 size_t tl_scoupling_n_contacts(const TlSCoupling *sc) { return sc->n_contacts; }
 double tl_scoupling_width(const TlSCoupling *sc) { return sc->width; }
 TlSolid *tl_scoupling_solid(const TlSCoupling *sc) { return sc->solid; }
-const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg_elem ? sc->cg_elem : sc->cg; }
+const TlCGSurface *tl_scoupling_cg_surface(const TlSCoupling *sc) { return sc->cg_support; }

@@ -22,19 +22,19 @@
  * (momentum balance).
  *
  * The SCoupling element type (§5.3.1, Fig. 7): at creation the coupling
- * wraps the element kernel of every block holding coupled faces
- * (tl_solid_wrap_block; any 3-D element type, FiniteElements/ untouched).
- * The wrapper calls through to the wrapped kernel, then for each ACTIVE
- * SCoupling element subtracts its faces' accumulated coupling forces at the
- * element's nodes: R_a = f_int - f_ext - int_{Gamma_e} N_a t dA.  The active
+ * installs a wrapper over every block holding coupled faces
+ * (tl_solid_add_wrapper; any 3-D element type, FiniteElements/ untouched).
+ * The block's elements are evaluated as before, and for each ACTIVE
+ * SCoupling element the wrapper adds its faces' accumulated coupling forces
+ * at the element's nodes to the external load:
+ * R_a = f_int - f_ext - int_{Gamma_e} N_a t dA, so the steppers count their
+ * work as that of any external load.  The active
  * elements (step 1 of §5.3.1) are the owners of the faces that received a
  * contribution since the forces were last cleared: the contacts' faces, and
  * with c > 0 every face within the kernel's reach of a contact.  Within an
  * FE step the load is dead (the DEM forces of the step are fixed before
  * it), so the wrapper adds no tangent and no stored energy.  Destroying the
- * coupling restores the wrapped kernels (in any order among surface
- * couplings; under another kind of wrapper, such as a volume coupling's,
- * destroy in the reverse order of creation).
+ * coupling removes its wrappers (in any order among the block's wrappers).
  */
 #ifndef TL_SCOUPLING_H
 #define TL_SCOUPLING_H
@@ -51,7 +51,8 @@
 
 /* Where the kernel of c > 0 is normalised and integrated: over the coupled
  * surface (Eq. 15 as printed) or over the SCoupling elements' integration
- * points (the code of the published runs; tl_scoupling_faces.h). */
+ * points (the code of the published runs; tl_scoupling_faces.h); one
+ * strategy each, tl_scoupling_support_*.c. */
 enum { TL_SCOUPLING_SUPPORT_SURFACE = 0, TL_SCOUPLING_SUPPORT_ELEMENTS = 1 };
 
 typedef struct {
@@ -96,7 +97,7 @@ TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *t
 void tl_scoupling_clear_forces(TlSCoupling *sc);
 /* Adds the accumulated forces, assembled node-wise, to f_nodes (n_nodes x 3,
  * forces acting on the solid): for work, energy and momentum diagnostics.
- * Equals what the wrappers subtract from the internal force. */
+ * Equals what the wrappers add to the external force. */
 void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes);
 /* The accumulated per-face forces (n_faces x nodes_per_face, in the order
  * of tl_scoupling_faces) and the faces holding them, in the order first

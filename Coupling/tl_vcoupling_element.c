@@ -1,5 +1,5 @@
 /* The VCoupling element type: the solid side of the volume coupling as a
- * wrapper of the block kernel (seeds/001 §5.3.2, Eqs. 26 and 31). */
+ * wrapper over the element block (seeds/001 §5.3.2, Eqs. 26 and 31). */
 #include "tl_vcoupling_element.h"
 
 #include <math.h>
@@ -12,7 +12,7 @@ struct TlVCouplingElement {
   TlSolid *solid;
   int block;
   size_t n_nodes;
-  TlSolidBlockKernel inner; /* the kernel wrapped */
+  TlSolidWrapper *wrapper;  /* the element type over the block */
   double *w_solid;          /* n_nodes: 1 - w_i */
   double *du_p, *u_start;   /* the step's data */
   size_t cap_p, np;
@@ -24,14 +24,14 @@ struct TlVCouplingElement {
   int active;               /* set_step called since the last clear */
 };
 
-/* The block's evaluation: the weighted element kernel, then -F (the
- * coupling force is external: the residual f_int - f_ext) and its
- * derivative +eps M in the tangent. */
-static TlStatus vcoupling_block(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+/* After the weighted elements of the block: -F (the coupling force on the
+ * solid, in the residual f_int - f_ext) and its derivative +eps M in the
+ * tangent, inside every evaluation (the penalty depends on the iterate). */
+static TlStatus vcoupling_terms(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
                                 double c_u, TlSparse *K, double *W)
 {
+  (void)b, (void)t, (void)W;
   TlVCouplingElement *el = ctx;
-  TL_CHECK(el->inner.fn(el->inner.ctx, solid, b, t, u_nodes, f_nodes, c_u, K, W));
   if (!el->active) return TL_OK;
   if (f_nodes) {
     memset(el->F, 0, 3 * el->n_nodes * sizeof *el->F);
@@ -54,6 +54,11 @@ static TlStatus vcoupling_block(void *ctx, TlSolid *solid, int b, double t, cons
   }
   return TL_OK;
 }
+
+static const TlSolidWrapperOps vcoupling_element_ops = {
+    .header = {"solid_wrapper", "vcoupling", "VCoupling element: the volume coupling's penalty on its elements"},
+    .internal = vcoupling_terms,
+};
 
 static void free_arrays(TlVCouplingElement *el)
 {
@@ -94,7 +99,7 @@ TlStatus tl_vcoupling_element_create(TlVCoupling *vc, TlSolid *solid, TlVCouplin
   TL_CHECK_GOTO(s, tl_calloc(&el->Kab, (size_t)el->nn * el->nn, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&el->nodes, (size_t)el->nn, sizeof(size_t)), fail);
   TL_CHECK_GOTO(s, tl_solid_set_node_weights(solid, block, el->w_solid), fail);
-  TL_CHECK_GOTO(s, tl_solid_wrap_block(solid, block, (TlSolidBlockKernel){vcoupling_block, el}, &el->inner), fail);
+  TL_CHECK_GOTO(s, tl_solid_add_wrapper(solid, block, &vcoupling_element_ops, el, &el->wrapper), fail);
   *out = el;
   return TL_OK;
 fail:
@@ -107,8 +112,7 @@ void tl_vcoupling_element_destroy(TlVCouplingElement **pel)
 {
   TlVCouplingElement *el = *pel;
   if (!el) return;
-  TlSolidBlockKernel now = tl_solid_block_kernel(el->solid, el->block);
-  if (now.ctx == el) tl_solid_wrap_block(el->solid, el->block, el->inner, NULL);
+  tl_solid_remove_wrapper(el->solid, &el->wrapper);
   free_arrays(el);
   tl_free(pel);
 }

@@ -1,5 +1,5 @@
 /* The VCoupling element type (seeds/001 §5.3.2): the solid side of a volume
- * coupling as a wrapper of the element block's kernel (tl_solid_wrap_block).
+ * coupling as a wrapper over the element block (tl_solid_add_wrapper).
  *
  * For the block a TlVCoupling was built on, it
  *   - weights the solid's equations by 1 - w (Eq. 26): the nodal particle
@@ -9,8 +9,9 @@
  *     factor; the wrapper owns these weights;
  *   - adds the coupling body force b^C = eps (u^DE - u^FE) of Eq. 31,
  *     integrated against the shape functions, F_i = eps sum_j M_ij r_j, for
- *     its elements, inside every evaluation of the block (so inside Newton
- *     iterations), with its derivative -eps M_ij in the tangent.  The
+ *     its elements, as an internal term (-F in f_int) inside every
+ *     evaluation of the block (so inside Newton iterations), with its
+ *     derivative -eps M_ij in the tangent.  The
  *     mismatch is the paper's, Eq. 29, on the displacement over the step:
  *     r_j = u_j^DE - (u_j - u_j^start), u^DE = Pi du_p.
  * The particle side takes f_a^C = -sum_i Pi_ia F_i (Eq. 32) at the solid's
@@ -22,7 +23,7 @@
  *             tl_vcoupling_element_set_step(el, du_p, u_start),
  *             the solid's step (the wrapper adds the coupling force),
  *             tl_vcoupling_element_particle_forces(el, u_end, f_p, &diag)
- *   tl_vcoupling_element_destroy(&el)             unwraps the block
+ *   tl_vcoupling_element_destroy(&el)             removes the wrapper
  * Until the first set_step the wrapper adds nothing. */
 #ifndef TL_VCOUPLING_ELEMENT_H
 #define TL_VCOUPLING_ELEMENT_H
@@ -37,7 +38,7 @@ typedef struct TlVCouplingElement TlVCouplingElement;
  * sets its weights 1 - w_i; both objects are borrowed and must outlive the
  * element.  Refused after tl_solid_setup (the masses are built there). */
 TlStatus tl_vcoupling_element_create(TlVCoupling *vc, TlSolid *solid, TlVCouplingElement **el);
-/* Restores the kernel it wrapped (it must be the outermost wrapper). */
+/* Removes its wrapper from the block (in any order among wrappers). */
 void tl_vcoupling_element_destroy(TlVCouplingElement **el);
 
 /* The step's data for the coupling force: du_p, the particle displacements

@@ -517,17 +517,15 @@ static void uniaxial_test(const char *law, double lambda)
   tl_mesh_destroy(&mesh);
 }
 
-/* A spring of stiffness k between two far-apart nodes (a, b): a force term
- * whose tangent needs an extra node group in the pattern. */
+/* A spring of stiffness k between two nodes (a, b) of one element, with
+ * its tangent (inside the element's pattern). */
 typedef struct {
   size_t a, b;
   double k;
 } Spring;
 
-static TlStatus spring_term(void *ctx, TlSolid *solid, double t, const double *u, double *f, double c_u, TlSparse *K)
+static TlStatus spring_term(const Spring *sp, TlSolid *solid, const double *u, double *f, double c_u, TlSparse *K)
 {
-  (void)t;
-  const Spring *sp = ctx;
   int dim = tl_solid_mesh(solid)->dim;
   if (f)
     for (int c = 0; c < dim; ++c) {
@@ -548,69 +546,44 @@ static TlStatus spring_term(void *ctx, TlSolid *solid, double t, const double *u
   return TL_OK;
 }
 
-static void term_test(void)
-{
-  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
-  TlMaterial *mat = make_law("neo_hookean", 0.3);
-  if (!mesh || !mat) return;
-  Spring sp = {0, mesh->n_nodes - 1, 3e7};
-  size_t ptr[2] = {0, 2}, nodes[2] = {sp.a, sp.b};
-  TlSolid *solid = NULL;
-  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
-  tl_solid_set_material(solid, NULL, mat);
-  TL_TEST_STATUS(tl_solid_add_term(solid, spring_term, &sp, 1, 1, ptr, nodes), TL_OK);
-  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
-  TlMechSystem *sys = tl_solid_system(solid);
-  TL_TEST_ASSERT(sys->symmetric, "symmetric term and law: symmetric system");
-  size_t n = (size_t)sys->ndof;
-  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp),
-         *rm = calloc(n, sizeof *rm), *Kd = calloc(n, sizeof *Kd);
-  for (size_t i = 0; i < n; ++i) u[i] = 0.02 * urand(), d[i] = urand();
-  TlSparse *K = NULL;
-  TL_TEST_STATUS(sys->ops->create_matrix(sys, 1, &K), TL_OK);
-  if (!K) return;
-  TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K), TL_OK);
-  tl_sparse_matvec(K, d, Kd);
-  double h = 1e-7;
-  for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
-  sys->ops->internal_force(sys, 0.0, up, NULL, rp);
-  for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
-  sys->ops->internal_force(sys, 0.0, up, NULL, rm);
-  double err = 0.0;
-  for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
-  TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "tangent with a force term off by %g of %g", err, max_abs(Kd, n));
-  /* The term's force is there: moving node a alone by 1 mm along x changes
-   * f at node b by -k * 1 mm. */
-  memset(u, 0, n * sizeof *u);
-  u[tl_solid_dof(solid, sp.a, 0)] = 1e-3;
-  sys->ops->internal_force(sys, 0.0, u, NULL, rp);
-  TL_TEST_CLOSE(rp[tl_solid_dof(solid, sp.b, 0)], -sp.k * 1e-3, 1e-12);
-  tl_sparse_destroy(&K);
-  free(u), free(d), free(up), free(rp), free(rm), free(Kd);
-  tl_solid_destroy(&solid);
-  tl_material_destroy(&mat);
-  tl_mesh_destroy(&mesh);
-}
-
-/* A block wrapper (what coupling element types do): calls through to the
- * kernel it wrapped, then adds a spring between two nodes of element 0 and
- * counts its calls.  Its tangent lies inside the element's pattern. */
+/* A block wrapper (what coupling element types do): the solid evaluates
+ * the block's elements, then the wrapper adds a spring between two nodes of
+ * element 0 (an internal term) and counts its calls; a second wrapper puts
+ * a dead point load on a node (an external load). */
 typedef struct {
   Spring spring;
-  TlSolidBlockKernel inner;
   int calls;
   double t_seen;
 } Wrapper;
 
-static TlStatus wrapped_block(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
-                              TlSparse *K, double *W)
+static TlStatus wrapper_spring(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
+                               TlSparse *K, double *W)
 {
+  (void)b, (void)W;
   Wrapper *w = ctx;
-  TL_CHECK(w->inner.fn(w->inner.ctx, solid, b, t, u, f, c_u, K, W));
   w->calls++;
   w->t_seen = t;
-  return spring_term(&w->spring, solid, t, u, f, c_u, K);
+  return spring_term(&w->spring, solid, u, f, c_u, K);
 }
+
+typedef struct {
+  size_t node;
+  double f;
+} PointLoad;
+
+static TlStatus wrapper_load(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c,
+                             TlSparse *K)
+{
+  (void)b, (void)t, (void)u, (void)c, (void)K;
+  const PointLoad *p = ctx;
+  if (f) f[p->node * tl_solid_mesh(solid)->dim + 1] += p->f;
+  return TL_OK;
+}
+
+static const TlSolidWrapperOps spring_ops = {.header = {"solid_wrapper", "test_spring", "spring"},
+                                             .internal = wrapper_spring};
+static const TlSolidWrapperOps load_ops = {.header = {"solid_wrapper", "test_load", "point load"},
+                                           .external = wrapper_load};
 
 static void wrap_test(void)
 {
@@ -618,7 +591,8 @@ static void wrap_test(void)
   TlMaterial *mat = make_law("neo_hookean", 0.3);
   if (!mesh || !mat) return;
   const size_t *conn = mesh->blocks[0].conn;
-  Wrapper w = {{conn[0], conn[6], 3e7}, {NULL, NULL}, 0, 0.0};
+  Wrapper w = {{conn[0], conn[6], 3e7}, 0, 0.0};
+  PointLoad pl = {conn[6], 250.0};
   TlSolid *solid = NULL;
   TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
   tl_solid_set_material(solid, NULL, mat);
@@ -626,13 +600,16 @@ static void wrap_test(void)
   TlMechSystem *sys = tl_solid_system(solid);
   size_t n = (size_t)sys->ndof;
   double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *rp = calloc(n, sizeof *rp),
-         *rm = calloc(n, sizeof *rm), *Kd = calloc(n, sizeof *Kd), *f0 = calloc(n, sizeof *f0);
+         *rm = calloc(n, sizeof *rm), *Kd = calloc(n, sizeof *Kd), *f0 = calloc(n, sizeof *f0), *g0 = calloc(n, sizeof *g0);
   for (size_t i = 0; i < n; ++i) u[i] = 0.02 * urand(), d[i] = urand();
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
-  TlSolidBlockKernel mine = {wrapped_block, &w};
-  TL_TEST_STATUS(tl_solid_wrap_block(solid, 1, mine, NULL), TL_ERR_ARG);
-  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, mine, &w.inner), TL_OK);
-  TL_TEST_ASSERT(w.inner.fn != NULL && tl_solid_block_kernel(solid, 0).ctx == &w, "wrapper installed");
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g0), TL_OK);
+  TlSolidWrapper *hs = NULL, *hl = NULL, *bad = NULL;
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 1, &spring_ops, &w, &bad), TL_ERR_ARG);
+  TL_TEST_ASSERT(bad == NULL, "refused wrapper: no handle");
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 0, &spring_ops, &w, &hs), TL_OK);
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 0, &load_ops, &pl, &hl), TL_OK);
+  TL_TEST_ASSERT(hs && hl && tl_solid_n_wrappers(solid, 0) == 2, "two wrappers installed (%d)", tl_solid_n_wrappers(solid, 0));
   TL_TEST_STATUS(sys->ops->internal_force(sys, 2.5, u, NULL, rp), TL_OK);
   TL_TEST_ASSERT(w.calls == 1 && w.t_seen == 2.5, "wrapper called once with t = 2.5 (got %d, %g)", w.calls, w.t_seen);
   /* The force added is the spring's, exactly where it acts. */
@@ -646,6 +623,11 @@ static void wrap_test(void)
       worst = fmax(worst, fabs(rp[i] - f0[i] - expect));
     }
   TL_TEST_ASSERT(worst < 1e-12 * max_abs(f0, n), "wrapped block adds the spring force (off by %g)", worst);
+  /* The external load enters f_ext, exactly, and nothing else moves. */
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, rm), TL_OK);
+  worst = 0.0;
+  for (size_t i = 0; i < n; ++i) worst = fmax(worst, fabs(rm[i] - g0[i] - (i == (size_t)tl_solid_dof(solid, pl.node, 1) ? pl.f : 0.0)));
+  TL_TEST_ASSERT(worst == 0.0, "the wrapper's external load is in f_ext (off by %g)", worst);
   /* Its tangent enters the system's through the element pattern. */
   TlSparse *K = NULL;
   TL_TEST_STATUS(sys->ops->create_matrix(sys, 1, &K), TL_OK);
@@ -659,12 +641,21 @@ static void wrap_test(void)
   sys->ops->internal_force(sys, 0.0, up, NULL, rm);
   for (size_t i = 0; i < n; ++i) err = fmax(err, fabs((rp[i] - rm[i]) / (2 * h) - Kd[i]));
   TL_TEST_ASSERT(err < 1e-6 * max_abs(Kd, n), "tangent of a wrapped block off by %g of %g", err, max_abs(Kd, n));
-  /* Unwrapping restores the solid's own kernel, bit for bit. */
-  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, w.inner, NULL), TL_OK);
+  /* Removed in the order of installation (the first under the second): the
+   * solid's own force and load again, bit for bit. */
+  tl_solid_remove_wrapper(solid, &hs);
+  TL_TEST_ASSERT(hs == NULL && tl_solid_n_wrappers(solid, 0) == 1, "first wrapper removed from under the second");
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, rp), TL_OK);
-  TL_TEST_ASSERT(memcmp(rp, f0, n * sizeof *rp) == 0, "unwrapped block gives the own kernel's force");
+  TL_TEST_ASSERT(memcmp(rp, f0, n * sizeof *rp) == 0, "without the spring: the own kernel's force");
+  tl_solid_remove_wrapper(solid, &hl);
+  tl_solid_remove_wrapper(solid, &hl); /* a removed handle is NULL: nothing */
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, rm), TL_OK);
+  TL_TEST_ASSERT(memcmp(rm, g0, n * sizeof *rm) == 0 && tl_solid_n_wrappers(solid, 0) == 0,
+                 "unwrapped block gives the own external force");
+  /* A wrapper left on is freed with the solid. */
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 0, &spring_ops, &w, &hs), TL_OK);
   tl_sparse_destroy(&K);
-  free(u), free(d), free(up), free(rp), free(rm), free(Kd), free(f0);
+  free(u), free(d), free(up), free(rp), free(rm), free(Kd), free(f0), free(g0);
   tl_solid_destroy(&solid);
   tl_material_destroy(&mat);
   tl_mesh_destroy(&mesh);
@@ -1117,7 +1108,6 @@ int main(void)
   system_test(&tl_element_tet10);
   system_test(&tl_element_quad8);
   reaction_test();
-  term_test();
   wrap_test();
   weights_test(&tl_element_hex8);
   weights_test(&tl_element_tet10);

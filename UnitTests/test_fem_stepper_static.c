@@ -1,6 +1,6 @@
 /* Quasi-static Newton (KINSOL) on the nonlinear spring chain: exact
  * equilibria with each linear solver, non-symmetric loads, prescribed
- * dofs, the step hook, modified Newton, load stepping, and a Newton failure
+ * dofs, modified Newton, load stepping, and a Newton failure
  * that reports its residual history and leaves the state untouched. */
 #include <math.h>
 #include <string.h>
@@ -14,17 +14,6 @@ static double max_error_linear(const TlStepper *st, double delta)
   double e = 0;
   for (TlSparseIndex i = 0; i < st->n; ++i) e = fmax(e, fabs(st->u[i] - (double)(i + 1) * delta));
   return e;
-}
-
-static TlStatus tip_hook(void *ctx, double t, double dt, const double *u, const double *v, double *f)
-{
-  (void)t;
-  (void)dt;
-  (void)u;
-  (void)v;
-  const TlSpringChainParams *p = ctx;
-  f[p->n - 1] += 2.0;
-  return TL_OK;
 }
 
 int main(void)
@@ -133,22 +122,6 @@ int main(void)
     TL_TEST_STATUS(tl_stepper_step(st, 0.5), TL_OK);
     TL_TEST_ASSERT(max_error_linear(st, 2.0 / 20.0) < 1e-9, "prescribed error %g",
                    max_error_linear(st, 0.1));
-    tl_stepper_destroy(&st);
-    tl_mech_system_destroy(&sys);
-  }
-
-  /* The step hook supplies the tip force instead of the system. */
-  {
-    TlSpringChainParams q = p;
-    q.tip_force = 0.0;
-    TlMechSystem *sys = NULL;
-    TlStepper *st = NULL;
-    TL_TEST_STATUS(tl_spring_chain_create(&q, &sys), TL_OK);
-    tl_mech_system_set_step_hook(sys, tip_hook, &q);
-    TL_TEST_STATUS(tl_stepper_create("quasi_static", sys, NULL, &st), TL_OK);
-    TL_TEST_STATUS(tl_stepper_set_state(st, 0.0, NULL, NULL), TL_OK);
-    TL_TEST_STATUS(tl_stepper_step(st, 1.0), TL_OK);
-    TL_TEST_ASSERT(max_error_linear(st, 1.0) < 1e-9, "hook error %g", max_error_linear(st, 1.0));
     tl_stepper_destroy(&st);
     tl_mech_system_destroy(&sys);
   }

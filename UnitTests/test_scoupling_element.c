@@ -1,19 +1,20 @@
-/* The SCoupling element type (seeds/001 §5.3.1, Fig. 7): the coupling wraps
- * the element kernel of the blocks holding coupled faces and adds the
- * coupling's residual contribution, R_a = f_int - f_ext - int N_a t dA.
+/* The SCoupling element type (seeds/001 §5.3.1, Fig. 7): the coupling puts
+ * a wrapper over the blocks holding coupled faces, which adds the
+ * coupling's load to the external force, R_a = f_int - f_ext - int N_a t dA.
  * On short hex8 and tet10 beams with particles pressing on faces, edges and
  * a corner, for c = 0 (Eq. 16) and c > 0 (Eq. 15):
- *   - the internal force with the accumulated forces minus the one without
- *     is exactly minus the assembled nodal forces (to round-off), and it is
- *     the same bit for bit before accumulating and after clearing;
+ *   - the external force with the accumulated forces minus the one without
+ *     is exactly the assembled nodal forces (to round-off), it is the same
+ *     bit for bit before accumulating and after clearing, and the internal
+ *     force does not move;
  *   - no tangent and no stored energy is added (a dead load within the step);
  *   - the active SCoupling elements are the owners of the contacted faces
  *     (c = 0) or of every face with a quadrature point within c of a
  *     contact (c > 0: the contacted faces' owners and their neighbours);
  *   - accumulating twice with scale 1/2 equals once with scale 1;
- *   - destroying the coupling restores the wrapped kernel;
- *   - two couplings on one block chain their wrappers, and come off in
- *     either order. */
+ *   - destroying the coupling removes its wrapper;
+ *   - two couplings on one block stack their wrappers, which come off in
+ *     either order, also from under a wrapper of another kind. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -72,7 +73,7 @@ static void test_element(const TlElementType *type, double width, int support)
   TlMesh *mesh = NULL;
   TlMaterial *mat = NULL;
   TlSolid *solid = beam(type, &mesh, &mat);
-  const TlSolidBlockKernel own = tl_solid_block_kernel(solid, 0);
+  TL_TEST_ASSERT(tl_solid_n_wrappers(solid, 0) == 0, "%s: a bare block", name);
   TlSCouplingOptions so;
   tl_scoupling_options_default(&so);
   so.width = width;
@@ -82,7 +83,7 @@ static void test_element(const TlElementType *type, double width, int support)
   TL_TEST_STATUS(tl_scoupling_create_boundary(solid, 1, clamped, &so, &sc), TL_OK);
   if (!sc) return;
   const int on_elements = support == TL_SCOUPLING_SUPPORT_ELEMENTS && width > 0.0;
-  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn != own.fn, "%s: the coupling wraps the block's kernel", name);
+  TL_TEST_ASSERT(tl_solid_n_wrappers(solid, 0) == 1, "%s: the coupling wraps the block", name);
   /* Particles pressing on the top face, an edge, the free-end corner and the bottom face. */
   const double r = 0.1;
   int sp, law;
@@ -110,8 +111,10 @@ static void test_element(const TlElementType *type, double width, int support)
   TL_TEST_STATUS(tl_scoupling_set_kinematics(sc, u_nodes, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_compute_forces(dem), TL_OK);
   double *f0 = calloc(nd, sizeof *f0), *f1 = calloc(nd, sizeof *f1), *f2 = calloc(nd, sizeof *f2), *f_own = calloc(nd, sizeof *f_own);
+  double *g0 = calloc(nd, sizeof *g0), *g1 = calloc(nd, sizeof *g1);
   double *F_nodes = calloc(nn, sizeof *F_nodes), *F = calloc(nd, sizeof *F);
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g0), TL_OK);
   /* Accumulate the forces of the current contacts. */
   TlVec3 wall;
   TL_TEST_STATUS(tl_scoupling_accumulate_forces(sc, 1.0, &wall), TL_OK);
@@ -119,12 +122,14 @@ static void test_element(const TlElementType *type, double width, int support)
   tl_scoupling_assemble_forces(sc, F_nodes);
   tl_solid_nodes_to_dofs(solid, F_nodes, F);
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g1), TL_OK);
+  TL_TEST_ASSERT(memcmp(f1, f0, nd * sizeof *f0) == 0, "%s: the coupling load leaves the internal force bit for bit", name);
   /* Momentum: the assembled forces (clamped nodes included) balance the wall's. */
   TlVec3 sum = tl_v3(0, 0, 0);
   for (size_t n = 0; n < mesh->n_nodes; ++n) sum = tl_v3_add(sum, tl_v3(F_nodes[3 * n], F_nodes[3 * n + 1], F_nodes[3 * n + 2]));
   const double balance = tl_v3_norm(tl_v3_add(sum, wall)) / tl_v3_norm(wall);
   double diff = 0.0;
-  for (size_t i = 0; i < nd; ++i) diff = fmax(diff, fabs((f1[i] - f0[i]) + F[i]));
+  for (size_t i = 0; i < nd; ++i) diff = fmax(diff, fabs((g1[i] - g0[i]) - F[i]));
   const double Fmax = max_abs(F, nd), fmax0 = max_abs(f0, nd);
   /* Active elements against the contacted faces and the kernel's reach. */
   const TlTriSurface *ws = tl_wall_trisurface_surface(tl_scoupling_wall(sc));
@@ -169,12 +174,12 @@ static void test_element(const TlElementType *type, double width, int support)
   for (size_t k = 0; k < n_active; ++k) dup += has_element(active, k, active[k]);
   size_t owners_active = 0;
   for (size_t k = 0; k < n_contacted; ++k) owners_active += has_element(active, n_active, owners[k]);
-  printf("%s, c = %g, %s support: %zu contacts; residual change vs -F: %.3g (|F| %.3g N, |f_int| %.3g N); momentum %.2g; %zu active "
+  printf("%s, c = %g, %s support: %zu contacts; external force change vs F: %.3g (|F| %.3g N, |f_int| %.3g N); momentum %.2g; %zu active "
          "SCoupling elements of %zu (%zu own a contacted face, %zu expected)\n",
          name, width, on_elements ? "element" : "surface", n_contacts, diff, Fmax, fmax0, balance, n_active, tl_scoupling_n_elements(sc), n_contacted, n_expected);
   TL_TEST_ASSERT(n_contacts >= 4 && Fmax > 100.0, "%s: the particles press on the beam (%zu contacts, %g N)", name,
                  n_contacts, Fmax);
-  TL_TEST_ASSERT(diff <= 1e-13 * (Fmax + fmax0), "%s, c = %g: wrapped residual - own = -F off by %g", name, width, diff);
+  TL_TEST_ASSERT(diff <= 1e-13 * (Fmax + fmax0), "%s, c = %g: external force with the load - without = F off by %g", name, width, diff);
   TL_TEST_ASSERT(balance < 1e-14, "%s, c = %g: momentum defect %g", name, width, balance);
   TL_TEST_ASSERT(missing == 0 && dup == 0 && n_active == n_expected, "%s, c = %g: active %zu, expected %zu, %zu missing, %zu twice",
                  name, width, n_active, n_expected, missing, dup);
@@ -192,63 +197,62 @@ static void test_element(const TlElementType *type, double width, int support)
   TL_TEST_STATUS(sys->ops->create_matrix(sys, 0, &K1), TL_OK);
   double W1 = 0.0, W0 = 0.0;
   TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K1), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_tangent(sys, 0.0, u, -1.0, K1), TL_OK);
   TL_TEST_STATUS(sys->ops->strain_energy(sys, u, &W1), TL_OK);
   /* Twice with scale 1/2 equals once with scale 1. */
   tl_scoupling_clear_forces(sc);
   TL_TEST_ASSERT(tl_scoupling_n_active_elements(sc) == 0 && tl_scoupling_n_touched_faces(sc) == 0, "%s: cleared", name);
-  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f2), TL_OK);
-  TL_TEST_ASSERT(memcmp(f2, f0, nd * sizeof *f0) == 0, "%s: cleared coupling leaves the residual bit for bit", name);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, f2), TL_OK);
+  TL_TEST_ASSERT(memcmp(f2, g0, nd * sizeof *g0) == 0, "%s: cleared coupling leaves the external force bit for bit", name);
   TL_TEST_STATUS(sys->ops->internal_tangent(sys, 0.0, u, NULL, 1.0, 0.0, K0), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_tangent(sys, 0.0, u, -1.0, K0), TL_OK);
   TL_TEST_STATUS(sys->ops->strain_energy(sys, u, &W0), TL_OK);
   if (K0 && K1)
     TL_TEST_ASSERT(memcmp(K0->values, K1->values, (size_t)K0->nnz * sizeof(double)) == 0 && W0 == W1,
                    "%s: the coupling adds no tangent and no stored energy", name);
   TL_TEST_STATUS(tl_scoupling_accumulate_forces(sc, 0.5, NULL), TL_OK);
   TL_TEST_STATUS(tl_scoupling_accumulate_forces(sc, 0.5, NULL), TL_OK);
-  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f2), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, f2), TL_OK);
   double half = 0.0;
-  for (size_t i = 0; i < nd; ++i) half = fmax(half, fabs(f2[i] - f1[i]));
+  for (size_t i = 0; i < nd; ++i) half = fmax(half, fabs(f2[i] - g1[i]));
   TL_TEST_ASSERT(half <= 1e-13 * (Fmax + fmax0) && tl_scoupling_n_active_elements(sc) == n_active,
                  "%s: two half-scaled accumulations differ from one by %g", name, half);
-  /* Unwrapped on destroy: the solid's own kernel, the residual without coupling. */
+  /* Unwrapped on destroy: the solid's own forces, without the coupling. */
   tl_dem_destroy(&dem);
   tl_scoupling_destroy(&sc);
-  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "%s: destroy restores the wrapped kernel", name);
-  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f_own), TL_OK);
-  TL_TEST_ASSERT(memcmp(f_own, f0, nd * sizeof *f0) == 0, "%s: own kernel after the coupling is gone", name);
+  TL_TEST_ASSERT(tl_solid_n_wrappers(solid, 0) == 0, "%s: destroy removes the wrapper", name);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, f_own), TL_OK);
+  TL_TEST_ASSERT(memcmp(f_own, g0, nd * sizeof *g0) == 0, "%s: own external force after the coupling is gone", name);
   tl_sparse_destroy(&K0);
   tl_sparse_destroy(&K1);
   free(reached), free(contacted), free(expected), free(owners);
-  free(u), free(u_nodes), free(f0), free(f1), free(f2), free(f_own), free(F_nodes), free(F);
+  free(u), free(u_nodes), free(f0), free(f1), free(f2), free(f_own), free(g0), free(g1), free(F_nodes), free(F);
   tl_solid_destroy(&solid);
   tl_material_destroy(&mat);
   tl_mesh_destroy(&mesh);
 }
 
-/* A wrapper of another kind (as a volume coupling's would be): calls
- * through and counts its calls. */
-typedef struct {
-  TlSolidBlockKernel inner;
-  int calls;
-} Foreign;
-
-static TlStatus foreign_block(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
+/* A wrapper of another kind (as a volume coupling's would be): an internal
+ * term that adds nothing and counts its calls. */
+static TlStatus foreign_terms(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c_u,
                               TlSparse *K, double *W)
 {
-  Foreign *w = ctx;
-  w->calls++;
-  return w->inner.fn(w->inner.ctx, solid, b, t, u, f, c_u, K, W);
+  (void)solid, (void)b, (void)t, (void)u, (void)f, (void)c_u, (void)K, (void)W;
+  (*(int *)ctx)++;
+  return TL_OK;
 }
 
+static const TlSolidWrapperOps foreign_ops = {.header = {"solid_wrapper", "test_foreign", "counts its calls"},
+                                              .internal = foreign_terms};
+
 /* Two couplings on the same block (top and bottom faces): the wrappers
- * chain, the residual carries both loads, and destroying them in the
- * reverse order of creation restores the solid's own kernel. */
+ * stack, the external force carries both loads, and destroying them in
+ * either order leaves the solid's own forces. */
 static void test_two_couplings(void)
 {
   TlMesh *mesh = NULL;
   TlMaterial *mat = NULL;
   TlSolid *solid = beam(&tl_element_hex8, &mesh, &mat);
-  const TlSolidBlockKernel own = tl_solid_block_kernel(solid, 0);
   const char *sets[2] = {"zmax", "zmin"};
   TlSCoupling *sc[2] = {NULL, NULL};
   const double r = 0.1;
@@ -273,8 +277,10 @@ static void test_two_couplings(void)
   TlMechSystem *sys = tl_solid_system(solid);
   const size_t nd = (size_t)sys->ndof, nn = 3 * mesh->n_nodes;
   double *u = calloc(nd, sizeof *u), *f0 = calloc(nd, sizeof *f0), *f1 = calloc(nd, sizeof *f1);
+  double *g0 = calloc(nd, sizeof *g0), *g1 = calloc(nd, sizeof *g1);
   double *F_nodes = calloc(nn, sizeof *F_nodes), *F = calloc(nd, sizeof *F);
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f0), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g0), TL_OK);
   size_t contacts = 0;
   for (int k = 0; k < 2; ++k) {
     TL_TEST_STATUS(tl_scoupling_accumulate_forces(sc[k], 1.0, NULL), TL_OK);
@@ -282,39 +288,42 @@ static void test_two_couplings(void)
     contacts += tl_scoupling_n_contacts(sc[k]) > 0;
   }
   tl_solid_nodes_to_dofs(solid, F_nodes, F);
-  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g1), TL_OK);
   double diff = 0.0;
-  for (size_t i = 0; i < nd; ++i) diff = fmax(diff, fabs(f1[i] - f0[i] + F[i]));
-  printf("two couplings on one block: residual change vs -(F_top + F_bottom) %.3g (|F| %.3g N)\n", diff, max_abs(F, nd));
+  for (size_t i = 0; i < nd; ++i) diff = fmax(diff, fabs(g1[i] - g0[i] - F[i]));
+  printf("two couplings on one block: external force change vs F_top + F_bottom %.3g (|F| %.3g N)\n", diff, max_abs(F, nd));
   TL_TEST_ASSERT(contacts == 2 && max_abs(F, nd) > 100.0, "both couplings are loaded (%zu)", contacts);
-  TL_TEST_ASSERT(diff <= 1e-14 * max_abs(F, nd), "two wrappers: residual off by %g", diff);
+  TL_TEST_ASSERT(diff <= 1e-14 * max_abs(F, nd) && tl_solid_n_wrappers(solid, 0) == 2, "two wrappers: external force off by %g", diff);
   tl_dem_destroy(&dem);
   tl_scoupling_destroy(&sc[1]);
   tl_scoupling_destroy(&sc[0]);
-  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "the solid's own kernel after both couplings");
-  /* Destroyed in the creation order: the first is spliced out from under
-   * the second, then the second restores the own kernel. */
+  TL_TEST_ASSERT(tl_solid_n_wrappers(solid, 0) == 0, "the solid's own block after both couplings");
+  /* Destroyed in the creation order: the first comes off from under the
+   * second, then the second. */
   for (int k = 0; k < 2; ++k) {
     const TlFaceSet *set = NULL;
     TL_TEST_STATUS(tl_mesh_find_face_set(mesh, sets[k], &set), TL_OK);
     if (set) TL_TEST_STATUS(tl_scoupling_create(solid, set->n, set->faces, NULL, &sc[k]), TL_OK);
   }
   tl_scoupling_destroy(&sc[0]);
-  TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
-  TL_TEST_ASSERT(memcmp(f1, f0, nd * sizeof *f0) == 0 && tl_solid_block_kernel(solid, 0).fn != own.fn,
-                 "first coupling destroyed: the second still wraps, the residual bit for bit");
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g1), TL_OK);
+  TL_TEST_ASSERT(memcmp(g1, g0, nd * sizeof *g0) == 0 && tl_solid_n_wrappers(solid, 0) == 1,
+                 "first coupling destroyed: the second still wraps, the external force bit for bit");
   tl_scoupling_destroy(&sc[1]);
-  TL_TEST_ASSERT(tl_solid_block_kernel(solid, 0).fn == own.fn, "destroyed in creation order: the own kernel again");
-  /* Under a wrapper of another kind the coupling stays as a pass-through
-   * (with a warning) and the chain keeps working. */
+  TL_TEST_ASSERT(tl_solid_n_wrappers(solid, 0) == 0, "destroyed in creation order: the bare block again");
+  /* From under a wrapper of another kind: it stays and keeps working. */
   TL_TEST_STATUS(tl_scoupling_create_boundary(solid, 1, sets, NULL, &sc[0]), TL_OK);
-  Foreign fw = {{NULL, NULL}, 0};
-  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, (TlSolidBlockKernel){foreign_block, &fw}, &fw.inner), TL_OK);
+  int calls = 0;
+  TlSolidWrapper *fw = NULL;
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 0, &foreign_ops, &calls, &fw), TL_OK);
   tl_scoupling_destroy(&sc[0]);
   TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f1), TL_OK);
-  TL_TEST_ASSERT(fw.calls == 1 && memcmp(f1, f0, nd * sizeof *f0) == 0, "pass-through under a foreign wrapper");
-  TL_TEST_STATUS(tl_solid_wrap_block(solid, 0, fw.inner, NULL), TL_OK);
-  free(u), free(f0), free(f1), free(F_nodes), free(F);
+  TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, u, g1), TL_OK);
+  TL_TEST_ASSERT(calls == 1 && tl_solid_n_wrappers(solid, 0) == 1 && memcmp(f1, f0, nd * sizeof *f0) == 0 &&
+                     memcmp(g1, g0, nd * sizeof *g0) == 0,
+                 "the wrapper above a destroyed coupling keeps working");
+  tl_solid_remove_wrapper(solid, &fw);
+  free(u), free(f0), free(f1), free(g0), free(g1), free(F_nodes), free(F);
   tl_solid_destroy(&solid);
   tl_material_destroy(&mat);
   tl_mesh_destroy(&mesh);

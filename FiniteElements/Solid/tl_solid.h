@@ -17,11 +17,9 @@
  * time (tl_solid_fix) are eliminated (tl_solid_dof() = -1); prescribed ones
  * (tl_solid_prescribe) stay in the numbering as Dirichlet dofs.
  *
- * Couplings add forces through the system's step hook
- * (tl_mech_system_set_step_hook), through a term (tl_solid_add_term) or,
- * per element block, by wrapping the block's kernel (tl_solid_wrap_block):
- * the coupling element types of seeds/001 §5.3 hold the kernel they wrap,
- * call through to it and add their residual terms. */
+ * Couplings reach the solid in one way: a wrapper over an element block
+ * (tl_solid_add_wrapper), the coupling element types of seeds/001 §5.3,
+ * which add their internal terms and external loads to the block's. */
 #ifndef TL_SOLID_H
 #define TL_SOLID_H
 
@@ -68,19 +66,6 @@ TlStatus tl_solid_fix(TlSolid *solid, const char *node_set, int component_mask);
 /* Prescribes component c of a node set as a function of time and position. */
 TlStatus tl_solid_prescribe(TlSolid *solid, const char *node_set, int component, TlPrescribed fn,
                             void *ctx);
-/* A force term added to the internal force inside every evaluation (so
- * inside Newton iterations, unlike the step hook): with f_nodes non-NULL it
- * ADDS its nodal forces (n_nodes x dim, same sign as f_int), with K non-NULL
- * it ADDS c_u times their derivative through tl_solid_matrix_add_nodes().
- * Volume couplings and penalty constraints use it. */
-typedef TlStatus (*TlSolidTerm)(void *ctx, TlSolid *solid, double t, const double *u_nodes,
-                                double *f_nodes, double c_u, TlSparse *K);
-/* Registers a term.  symmetric = 0 if its tangent is not symmetric.  Its
- * tangent may couple the nodes of one element, or the nodes of each of
- * n_groups groups (group q: group_nodes[group_ptr[q] .. group_ptr[q+1]-1]),
- * which enter the matrix pattern. */
-TlStatus tl_solid_add_term(TlSolid *solid, TlSolidTerm fn, void *ctx, int symmetric, size_t n_groups,
-                           const size_t *group_ptr, const size_t *group_nodes);
 /* K += scale * Ke on the dofs of n nodes (Ke: (n dim)^2, row-major, node
  * major); clamped components are skipped. */
 TlStatus tl_solid_matrix_add_nodes(const TlSolid *solid, TlSparse *K, int n, const size_t *nodes,
@@ -121,7 +106,7 @@ TlSparseIndex tl_solid_dof(const TlSolid *solid, size_t node, int component);
 void tl_solid_dofs_to_nodes(const TlSolid *solid, const double *u, double *u_nodes);
 void tl_solid_nodes_to_dofs(const TlSolid *solid, const double *f_nodes, double *f);
 
-/* The block kernel, callable from outside (couplings wrap it): adds the
+/* The block's own elements (what its wrappers wrap): adds the
  * internal force of every element of block b at node-space displacements
  * u_nodes into f_nodes (n_nodes x dim; may be NULL), c_u times the tangent
  * into K (may be NULL), and the stored energy into *W (may be NULL).
@@ -129,30 +114,45 @@ void tl_solid_nodes_to_dofs(const TlSolid *solid, const double *f_nodes, double 
 TlStatus tl_solid_block_forces(TlSolid *solid, int b, const double *u_nodes, double *f_nodes,
                                double c_u, TlSparse *K, double *W);
 
-/* The kernel evaluating element block b inside every internal-force,
- * tangent and stored-energy evaluation: tl_solid_block_forces() unless a
- * coupling wrapped it.  Same contract as tl_solid_block_forces(), plus the
- * time t of the evaluation (NAN when only the stored energy is asked).
- * A wrapper (an SCoupling or VCoupling element type) keeps the kernel it
- * replaced, calls through to it, then adds its own residual terms (same
- * sign as f_int) and c_u times their tangent for its elements, within the
- * element's matrix pattern; the finite-element code is not edited. */
-typedef TlStatus (*TlSolidBlockFn)(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes,
-                                   double *f_nodes, double c_u, TlSparse *K, double *W);
+/* Wrappers: the one way a coupling element type wraps an element type
+ * (the SCoupling and VCoupling elements of seeds/001 §5.3; the
+ * finite-element code is not edited).  A wrapper is installed over element
+ * block b and evaluated wherever the block is: the solid first evaluates
+ * what it wraps (the block's own elements, then the wrappers installed on
+ * the block before it), then the wrapper's ops, each optional:
+ *   internal  ADDS internal force terms (same sign as f_int) into f_nodes,
+ *             c_u times their tangent into K and stored energy into *W
+ *             (each output may be NULL; t is NAN when only the energy is
+ *             asked).  Called inside every internal-force, tangent and
+ *             stored-energy evaluation, so inside Newton iterations.
+ *   external  ADDS external loads (same sign as f_ext: the force on the
+ *             solid) into f_nodes and c times their derivative d f/du into
+ *             K (either may be NULL).  Called inside every external-force
+ *             and load-tangent evaluation: the steppers count these loads
+ *             as external work, and reactions and tl_solid_work_increment
+ *             see them.
+ * u_nodes and f_nodes are node-space (n_nodes x dim).  Tangent terms must
+ * lie within the block's element pattern (tl_solid_matrix_add_nodes on an
+ * element's nodes) and keep the system's symmetry.  A wrapper keeps no
+ * pointer to what it wraps: the wrappers of a block are an ordered list
+ * (installation order), each removed by its handle in any order, at any
+ * time; the solid frees those left when it is destroyed. */
 typedef struct {
-  TlSolidBlockFn fn;
-  void *ctx;
-} TlSolidBlockKernel;
-/* Installs `kernel` for block b; *wrapped (may be NULL) receives the kernel
- * it replaces, to call through to.  Unwrapping is installing *wrapped
- * again (wrappers come off in the reverse order). */
-TlStatus tl_solid_wrap_block(TlSolid *solid, int b, TlSolidBlockKernel kernel, TlSolidBlockKernel *wrapped);
-/* The kernel evaluating block b now. */
-TlSolidBlockKernel tl_solid_block_kernel(const TlSolid *solid, int b);
-/* Hands `memory` (from tl_calloc) to the solid, which frees it when it is
- * destroyed: the state of a wrapper that must stay in a chain after its
- * owner is gone, because a wrapper above it calls through to it. */
-TlStatus tl_solid_adopt(TlSolid *solid, void *memory);
+  TlOpsHeader header; /* kind "solid_wrapper"; the name is used in messages */
+  TlStatus (*internal)(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+                       double c_u, TlSparse *K, double *W);
+  TlStatus (*external)(void *ctx, TlSolid *solid, int b, double t, const double *u_nodes, double *f_nodes,
+                       double c, TlSparse *K);
+} TlSolidWrapperOps;
+typedef struct TlSolidWrapper TlSolidWrapper;
+/* Installs a wrapper with ops (borrowed, must outlive it) and context ctx
+ * over block b, after those already there; *handle identifies it. */
+TlStatus tl_solid_add_wrapper(TlSolid *solid, int b, const TlSolidWrapperOps *ops, void *ctx,
+                              TlSolidWrapper **handle);
+/* Removes the wrapper *handle (NULL: nothing) and nulls *handle. */
+void tl_solid_remove_wrapper(TlSolid *solid, TlSolidWrapper **handle);
+/* Number of wrappers over block b. */
+int tl_solid_n_wrappers(const TlSolid *solid, int b);
 
 /* Energies: kinetic 1/2 v.M v with the consistent mass; strain energy
  * (integral of the stored energy density); external work of the loads over

@@ -1,10 +1,11 @@
 /* The abstract mechanical system the time steppers drive:
  *
- *     M a + f_int(u, v) = f_ext(t, u) + f_hook
+ *     M a + f_int(u, v) = f_ext(t, u)
  *
  * over ndof unknowns u (displacements), v = du/dt, a = dv/dt.
  *
- * Contract (the solid implements it; couplings use the hook)
+ * Contract (the solid implements it; couplings load the solid through its
+ * wrappers, tl_solid.h, which enter f_int and f_ext)
  * - Dof numbering is the system's own: 0 .. ndof-1.  Dofs clamped at zero
  *   for all time may simply be left out of the numbering (negative dof in
  *   the element lists of tl_sparse.h).  Dofs with a prescribed, possibly
@@ -26,12 +27,7 @@
  *   material).  commit() is called once per accepted step; rollback() when a
  *   step is rejected (Newton failure).  Both optional (NULL = elastic).
  * - Errors: any op may fail (inverted element, NaN); the stepper stops and
- *   propagates the message.
- * - The step hook: tl_mech_system_set_step_hook() registers one function the
- *   steppers call at the start of each step (t_n -> t_n + dt) with the state
- *   at t_n; it ADDS extra nodal forces into f_hook (zeroed by the stepper),
- *   which are held constant over the step and added to f_ext.  Couplings use
- *   it for contact/CG tractions. */
+ *   propagates the message. */
 #ifndef TL_MECH_SYSTEM_H
 #define TL_MECH_SYSTEM_H
 
@@ -41,9 +37,6 @@
 #include "tl_sparse.h"
 
 typedef struct TlMechSystem TlMechSystem;
-
-typedef TlStatus (*TlMechStepHook)(void *ctx, double t, double dt, const double *u, const double *v,
-                                   double *f_hook);
 
 typedef struct {
   TlOpsHeader header; /* kind "mech_system" */
@@ -93,16 +86,7 @@ struct TlMechSystem {
   int damped;    /* f_int depends on v */
   TlSparseIndex n_dirichlet;
   TlSparseIndex *dirichlet_dofs; /* owned by the derived type */
-  TlMechStepHook step_hook;
-  void *step_hook_ctx;
 };
-
-/* Sets (or, with hook = NULL, removes) the step hook. */
-static inline void tl_mech_system_set_step_hook(TlMechSystem *sys, TlMechStepHook hook, void *ctx)
-{
-  sys->step_hook = hook;
-  sys->step_hook_ctx = ctx;
-}
 
 /* Calls ops->destroy, frees the object and nulls *sys.  The derived type is
  * allocated as one block whose first member is the TlMechSystem. */

@@ -88,7 +88,7 @@ TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperO
   TL_CHECK_GOTO(s, check_options(&st->opt), fail);
   size_t n = (size_t)st->n;
   double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
-                     &st->f_ext, &st->f_ext0, &st->f_hook, &st->f_int, &st->work};
+                     &st->f_ext, &st->f_ext0, &st->f_int, &st->work};
   for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k)
     TL_CHECK_GOTO(s, tl_calloc(vecs[k], n, sizeof(double)), fail);
   TL_CHECK_GOTO(s, so->lumped_mass(sys, st->m), fail);
@@ -131,10 +131,6 @@ TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const do
   }
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, t, st->u, st->v, st->a));
   st->W_ext = 0.0;
-  /* The initial acceleration balances the hook's forces too (a coupling
-   * that already loads the solid at t). */
-  memset(st->f_hook, 0, bytes);
-  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, t, 0.0, st->u, st->v, st->f_hook));
   TL_CHECK(st->ops->initialise(st));
   TL_CHECK(sys->ops->external_force(sys, t, st->u, st->f_ext));
   return TL_OK;
@@ -152,12 +148,6 @@ TlStatus tl_stepper_step(TlStepper *st, double dt)
   }
   st->stats.steps++;
   return TL_OK;
-}
-
-void tl_stepper_add_work(TlStepper *st, double dW)
-{
-  st->W_ext += dW;
-  st->energy_budget += fabs(dW);
 }
 
 TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e)
@@ -199,7 +189,7 @@ void tl_stepper_destroy(TlStepper **stp)
   tl_sparse_destroy(&st->M);
   tl_sparse_destroy(&st->M_apply);
   double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
-                     &st->f_ext, &st->f_ext0, &st->f_hook, &st->f_int, &st->work};
+                     &st->f_ext, &st->f_ext0, &st->f_int, &st->work};
   for (size_t k = 0; k < sizeof vecs / sizeof vecs[0]; ++k) tl_free(vecs[k]);
   tl_free(stp);
 }
@@ -225,7 +215,7 @@ TlStatus tl_stepper_implicit_setup(TlStepper *st, TlNewtonResidual residual,
     TL_ERROR(TL_ERR_ARG, "system matrix has %lld rows for %lld dofs", (long long)st->J->n,
              (long long)st->n);
   /* The consistent mass shares the Jacobian's pattern (one matrix, one axpy). */
-  if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops == &tl_stepper_newmark_ops) {
+  if (st->sys->ops->consistent_mass && !st->opt.lumped && st->ops->consistent_mass) {
     TL_CHECK(tl_sparse_duplicate(st->J, &st->M));
     TL_CHECK(st->sys->ops->consistent_mass(st->sys, 1.0, st->M));
     TL_CHECK(tl_sparse_compress(st->M, &st->M_apply));

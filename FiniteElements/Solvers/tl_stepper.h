@@ -1,4 +1,4 @@
-/* Time steppers for a TlMechSystem (M a + f_int(u, v) = f_ext(t, u) + f_hook),
+/* Time steppers for a TlMechSystem (M a + f_int(u, v) = f_ext(t, u)),
  * as ops types found by name:
  *
  *  "newmark"            implicit Newmark-beta (any beta, gamma; default the
@@ -77,6 +77,8 @@ typedef struct TlStepper TlStepper;
 typedef struct {
   TlOpsHeader header; /* kind "stepper" */
   int implicit;
+  int consistent_mass; /* integrates with the system's consistent mass when it has one (unless
+                        * options.lumped): tl_stepper_implicit_setup assembles it */
   TlStatus (*setup)(TlStepper *st);               /* allocate, analyse */
   TlStatus (*initialise)(TlStepper *st);          /* a at t from u, v */
   TlStatus (*step)(TlStepper *st, double dt);     /* t -> t + dt */
@@ -92,7 +94,7 @@ struct TlStepper {
   double *u, *v, *a;             /* state at t */
   double *u0, *v0, *a0;          /* state at the start of the step (rollback) */
   double *m;                     /* lumped mass */
-  double *f_ext, *f_ext0, *f_hook, *f_int, *work;
+  double *f_ext, *f_ext0, *f_int, *work;
   TlSparse *M;                   /* consistent mass, NULL when lumped */
   TlSparse *M_apply;             /* M without its structural zeros, for products */
   TlSparse *J;                   /* Jacobian (implicit) */
@@ -119,11 +121,6 @@ TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperO
 TlStatus tl_stepper_set_state(TlStepper *st, double t, const double *u, const double *v);
 TlStatus tl_stepper_step(TlStepper *st, double dt);
 TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e);
-/* Work dW (J) that loads outside the stepper's view did on the system in
- * the step just taken (a coupling element's load enters f_int, which the
- * stepper does not count): added to the external work, and its magnitude
- * to the explicit stepper's energy budget for the blow-up test. */
-void tl_stepper_add_work(TlStepper *st, double dW);
 /* Explicit: the critical step 2 / omega_max, omega_max^2 from Lanczos
  * iteration on M^-1 K at the current state (the largest Ritz value converges
  * from below: sharp), or from the system's own upper bound when

@@ -2,7 +2,7 @@
  * form (one internal-force evaluation per step):
  *
  *   v_{n+1/2} = v_n + dt/2 a_n,   u_{n+1} = u_n + dt v_{n+1/2}
- *   a_{n+1}   = m^-1 (f_ext(t_{n+1}, u_{n+1}) + f_hook - f_int(u_{n+1}, v_{n+1/2}))
+ *   a_{n+1}   = m^-1 (f_ext(t_{n+1}, u_{n+1}) - f_int(u_{n+1}, v_{n+1/2}))
  *   v_{n+1}   = v_{n+1/2} + dt/2 a_{n+1}
  *
  * Stable for dt <= 2 / omega_max (undamped); omega_max^2 is the largest
@@ -24,7 +24,7 @@ static TlStatus cd_accelerations(TlStepper *st, double t, const double *vel)
   TL_CHECK(sys->ops->internal_force(sys, t, st->u, vel, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, t, st->u, st->f_ext));
   for (TlSparseIndex i = 0; i < st->n; ++i)
-    st->a[i] = (st->f_ext[i] + st->f_hook[i] - st->f_int[i]) / st->m[i];
+    st->a[i] = (st->f_ext[i] - st->f_int[i]) / st->m[i];
   for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) st->a[sys->dirichlet_dofs[k]] = 0.0;
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, t, NULL, NULL, st->a));
   return TL_OK;
@@ -32,7 +32,7 @@ static TlStatus cd_accelerations(TlStepper *st, double t, const double *vel)
 
 static TlStatus cd_initialise(TlStepper *st)
 {
-  TL_CHECK(cd_accelerations(st, st->t, st->v)); /* f_hook: set by tl_stepper_set_state */
+  TL_CHECK(cd_accelerations(st, st->t, st->v));
   TL_CHECK(tl_stepper_critical_dt(st, &st->dt_crit));
   TlEnergies e;
   TL_CHECK(tl_stepper_energies(st, &e));
@@ -43,15 +43,12 @@ static TlStatus cd_initialise(TlStepper *st)
 static TlStatus cd_step(TlStepper *st, double dt)
 {
   TlMechSystem *sys = st->sys;
-  size_t bytes = (size_t)st->n * sizeof(double);
   if (dt > st->dt_crit && !st->opt.allow_unstable)
     TL_ERROR(TL_ERR_UNSTABLE,
              "time step dt = %.6g exceeds the critical step 2/omega_max = %.6g of the central "
              "difference scheme (omega_max^2 of M^-1 K at t = %g)",
              dt, st->dt_crit, st->t);
   tl_stepper_save_start(st);
-  memset(st->f_hook, 0, bytes);
-  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
   double *vh = st->work;
   for (TlSparseIndex i = 0; i < st->n; ++i) {
     vh[i] = st->v[i] + 0.5 * dt * st->a[i];
@@ -65,7 +62,7 @@ static TlStatus cd_step(TlStepper *st, double dt)
   for (TlSparseIndex i = 0; i < st->n; ++i) {
     st->v[i] = vh[i] + 0.5 * dt * st->a[i];
     kin += st->m[i] * st->v[i] * st->v[i];
-    work += (st->u[i] - st->u0[i]) * (0.5 * (st->f_ext0[i] + st->f_ext[i]) + st->f_hook[i]);
+    work += (st->u[i] - st->u0[i]) * (0.5 * (st->f_ext0[i] + st->f_ext[i]));
   }
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, t1, NULL, st->v, NULL));
   kin *= 0.5;

@@ -1,7 +1,7 @@
 /* Checkpoint section of the steppers: everything a later step reads.
  *
  * Per step the steppers recompute u0/v0/a0, the force scale, the predictor
- * and the hook forces from the state at t, so the state is t, u, v, a,
+ * from the state at t, so the state is t, u, v, a,
  * f_ext (the start-of-step external force of the work integral), W_ext, the
  * last dt (kept factors are dropped when it changes), the explicit
  * stepper's critical step and energy budget, and the kept factors. */

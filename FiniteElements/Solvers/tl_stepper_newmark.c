@@ -2,7 +2,7 @@
  *
  *   a(u) = (u - u_n - dt v_n) / (beta dt^2) - (1/(2 beta) - 1) a_n
  *   v(u) = v_n + dt ((1 - gamma) a_n + gamma a(u))
- *   R(u) = M a(u) + f_int(u, v(u)) - f_ext(t_{n+1}, u) - f_hook = 0
+ *   R(u) = M a(u) + f_int(u, v(u)) - f_ext(t_{n+1}, u) = 0
  *   dR/du = M / (beta dt^2) + gamma / (beta dt) C + K - K_ext
  *
  * Prescribed dofs carry R = u - u_prescribed(t_{n+1}) and identity rows and
@@ -52,7 +52,7 @@ static TlStatus newmark_residual(void *ctx, const double *x, double *r)
   TL_CHECK(sys->ops->internal_force(sys, st->t_new, x, st->v, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, x, st->f_ext));
   tl_stepper_mass_times(st, st->a, r);
-  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] += st->f_int[i] - st->f_ext[i] - st->f_hook[i];
+  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] += st->f_int[i] - st->f_ext[i];
   for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) {
     TlSparseIndex i = sys->dirichlet_dofs[k];
     r[i] = x[i] - st->u[i]; /* st->u holds the prescribed values during the step */
@@ -96,7 +96,7 @@ static TlStatus newmark_initialise(TlStepper *st)
   double *r = st->work;
   TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, st->v, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t, st->u, st->f_ext));
-  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] = st->f_ext[i] + st->f_hook[i] - st->f_int[i];
+  for (TlSparseIndex i = 0; i < st->n; ++i) r[i] = st->f_ext[i] - st->f_int[i];
   if (!st->M) {
     for (TlSparseIndex i = 0; i < st->n; ++i) st->a[i] = r[i] / st->m[i];
   } else {
@@ -145,8 +145,6 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   if (dt != st->dt) tl_newton_invalidate(st->newton);
   st->dt = dt;
   st->t_new = st->t + dt;
-  memset(st->f_hook, 0, bytes);
-  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, dt, st->u, st->v, st->f_hook));
   /* Predictor; prescribed values at t_{n+1}.  The last displacement unless
    * every mode is resolved: the trapezoidal rule keeps the unresolved
    * element modes (omega dt >> 1) in a_n undamped, and dt^2/2 a_n moves them
@@ -169,7 +167,7 @@ static TlStatus newmark_step(TlStepper *st, double dt)
    * prescribed motion of the step). */
   double inertia = 0.0;
   for (TlSparseIndex i = 0; i < st->n; ++i) inertia = tl_max(inertia, fabs(st->m[i] * st->a0[i]));
-  double scale = fmax(inertia, tl_stepper_max_abs(st->f_ext0, st->n) + tl_stepper_max_abs(st->f_hook, st->n));
+  double scale = fmax(inertia, tl_stepper_max_abs(st->f_ext0, st->n));
   TL_CHECK(newmark_residual(st, nm->x, st->work));
   scale = fmax(scale, fmax(tl_stepper_max_abs(st->work, st->n), fmax(tl_stepper_max_abs(st->f_int, st->n), tl_stepper_max_abs(st->f_ext, st->n))));
   st->force_scale = scale;
@@ -191,7 +189,7 @@ static TlStatus newmark_step(TlStepper *st, double dt)
   newmark_kinematics(st, st->u, st->a, st->v);
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
   for (TlSparseIndex i = 0; i < st->n; ++i)
-    st->W_ext += (st->u[i] - st->u0[i]) * (0.5 * (st->f_ext0[i] + st->f_ext[i]) + st->f_hook[i]);
+    st->W_ext += (st->u[i] - st->u0[i]) * (0.5 * (st->f_ext0[i] + st->f_ext[i]));
   if (sys->ops->commit) TL_CHECK(sys->ops->commit(sys));
   st->t = st->t_new;
   return TL_OK;
@@ -209,6 +207,7 @@ static void newmark_destroy(TlStepper *st)
 const TlStepperOps tl_stepper_newmark_ops = {
     .header = {"stepper", "newmark", "implicit Newmark-beta with Newton iterations (KINSOL or SUNNonlinSol_Newton)"},
     .implicit = 1,
+    .consistent_mass = 1,
     .setup = newmark_setup,
     .initialise = newmark_initialise,
     .step = newmark_step,

@@ -1,6 +1,6 @@
 /* Quasi-static equilibrium with load stepping:
  *
- *   R(u) = f_int(u, 0) - lambda(t) f_ext(t, u) - f_hook = 0,
+ *   R(u) = f_int(u, 0) - lambda(t) f_ext(t, u) = 0,
  *   lambda(t) = min(t / ramp_time, 1)  (1 when ramp_time = 0),
  *   dR/du = K - lambda K_ext,
  *
@@ -32,7 +32,7 @@ static TlStatus qs_residual(void *ctx, const double *x, double *r)
   TL_CHECK(sys->ops->internal_force(sys, st->t_new, x, qs->zero, st->f_int));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, x, st->f_ext));
   for (TlSparseIndex i = 0; i < st->n; ++i)
-    r[i] = st->f_int[i] - st->lambda * st->f_ext[i] - st->f_hook[i];
+    r[i] = st->f_int[i] - st->lambda * st->f_ext[i];
   for (TlSparseIndex k = 0; k < sys->n_dirichlet; ++k) {
     TlSparseIndex i = sys->dirichlet_dofs[k];
     r[i] = x[i] - st->u[i];
@@ -79,11 +79,9 @@ static TlStatus qs_increment(TlStepper *st, double h)
   tl_stepper_save_start(st);
   st->t_new = st->t + h;
   st->lambda = load_factor(st, st->t_new);
-  memset(st->f_hook, 0, bytes);
-  if (sys->step_hook) TL_CHECK(sys->step_hook(sys->step_hook_ctx, st->t, h, st->u, st->v, st->f_hook));
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
   TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, qs->zero, st->f_int));
-  st->force_scale = fmax(st->lambda * tl_stepper_max_abs(st->f_ext, st->n) + tl_stepper_max_abs(st->f_hook, st->n),
+  st->force_scale = fmax(st->lambda * tl_stepper_max_abs(st->f_ext, st->n),
                          tl_stepper_max_abs(st->f_int, st->n));
   memcpy(qs->x, st->u, bytes);
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, qs->x, NULL, NULL));
@@ -95,7 +93,7 @@ static TlStatus qs_increment(TlStepper *st, double h)
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
   for (TlSparseIndex i = 0; i < st->n; ++i)
     st->W_ext += (st->u[i] - st->u0[i]) *
-                 (0.5 * (lambda0 * st->f_ext0[i] + st->lambda * st->f_ext[i]) + st->f_hook[i]);
+                 (0.5 * (lambda0 * st->f_ext0[i] + st->lambda * st->f_ext[i]));
   if (sys->ops->commit) TL_CHECK(sys->ops->commit(sys));
   st->t = st->t_new;
   return TL_OK;

@@ -1,0 +1,280 @@
+/* The general element kernel: residual, tangent and stored energy of a
+ * block, element by element in colours, for any dimension and material. */
+#include "tl_solid_private.h"
+
+#include <omp.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tl_memory.h"
+
+/* Displacement gradients H = F - 1 at every stiffness point of element e
+ * from its displacements ue.  The 3-D body is inlined with the node count
+ * as a constant for the common element types (the loops then unroll: two
+ * to three times faster than with a run-time count). */
+static inline __attribute__((always_inline)) void gradients_3d(const double *restrict g, int nq, int nn,
+                                                               const double *restrict ue, TlMat3 *restrict F)
+{
+  for (int p = 0; p < nq; ++p, g += 3 * nn) {
+    double f[3][3] = {{0}};
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) f[i][j] += ue[3 * a + i] * g[3 * a + j];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[p].m[i][j] = f[i][j];
+  }
+}
+
+void tl_solid_deformation_gradients(const SolidBlock *B, int dim, size_t e, const double *ue, TlMat3 *F)
+{
+  const double *g0 = B->grad + e * (size_t)B->nq * (size_t)B->nn * (size_t)dim;
+  if (dim == 3) {
+    switch (B->nn) {
+    case 8: gradients_3d(g0, B->nq, 8, ue, F); return;
+    case 27: gradients_3d(g0, B->nq, 27, ue, F); return;
+    case 4: gradients_3d(g0, B->nq, 4, ue, F); return;
+    case 10: gradients_3d(g0, B->nq, 10, ue, F); return;
+    default: gradients_3d(g0, B->nq, B->nn, ue, F); return;
+    }
+  }
+  for (int p = 0; p < B->nq; ++p) {
+    const double *g = g0 + (size_t)p * B->nn * dim;
+    TlMat3 f = tl_m3_zero();
+    for (int a = 0; a < B->nn; ++a)
+      for (int i = 0; i < dim; ++i)
+        for (int j = 0; j < dim; ++j) f.m[i][j] += ue[a * dim + i] * g[a * dim + j];
+    F[p] = f;
+  }
+}
+
+/* Residual alone in 3-D, R_ai = sum_p w_p (F S)_ij dN_a/dX_j, with the node
+ * count a constant as above. */
+static inline __attribute__((always_inline)) void residual_3d(const double *restrict g, const double *restrict wdet,
+                                                              int nq, int nn, const TlMat3 *restrict H,
+                                                              const TlMat3 *restrict S, double *restrict fe)
+{
+  for (int k = 0; k < 3 * nn; ++k) fe[k] = 0.0;
+  for (int p = 0; p < nq; ++p, g += 3 * nn) {
+    double FS[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double v = S[p].m[i][j];
+        for (int k = 0; k < 3; ++k) v += H[p].m[i][k] * S[p].m[k][j];
+        FS[i][j] = wdet[p] * v;
+      }
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < 3; ++i)
+        fe[3 * a + i] += FS[i][0] * g[3 * a] + FS[i][1] * g[3 * a + 1] + FS[i][2] * g[3 * a + 2];
+  }
+}
+
+static int residual_fixed(const SolidBlock *B, size_t e, const TlMat3 *H, const TlMat3 *S, double *fe)
+{
+  const double *g = B->grad + e * (size_t)B->nq * (size_t)B->nn * 3;
+  const double *w = B->wdet + e * (size_t)B->nq;
+  switch (B->nn) {
+  case 8: residual_3d(g, w, B->nq, 8, H, S, fe); return 1;
+  case 27: residual_3d(g, w, B->nq, 27, H, S, fe); return 1;
+  case 4: residual_3d(g, w, B->nq, 4, H, S, fe); return 1;
+  case 10: residual_3d(g, w, B->nq, 10, H, S, fe); return 1;
+  default: return 0;
+  }
+}
+
+/* Element residual fe and tangent Ke (either may be NULL) from the
+ * displacement gradients H (F = 1 + H), S and D at its stiffness points. */
+void tl_solid_element_forces(const SolidBlock *B, int dim, size_t e, const TlMat3 *F, const TlMat3 *S,
+                           const double *D, double *fe, double *Ke, double *Bm, double *DB)
+{
+  /* With a symmetric material tangent only the upper triangle of B^T D B is
+   * formed, then mirrored. */
+  int sym = B->symmetric;
+  int nn = B->nn, nd = B->nd;
+  if (fe && !Ke && dim == 3 && residual_fixed(B, e, F, S, fe)) return;
+  if (fe) memset(fe, 0, nd * sizeof(double));
+  if (Ke) memset(Ke, 0, (size_t)nd * nd * sizeof(double));
+  static const int vi[6] = {0, 1, 2, 0, 1, 0}, vj[6] = {0, 1, 2, 1, 2, 2};
+  for (int p = 0; p < B->nq; ++p) {
+    const double *g = B->grad + ((e * B->nq + p) * nn) * dim;
+    double w = B->wdet[e * B->nq + p];
+    TlMat3 Fp = F[p];
+    for (int i = 0; i < 3; ++i) Fp.m[i][i] += 1.0;
+    const TlMat3 *f = &Fp, *s = &S[p];
+    if (fe) {
+      /* R_ai = F_ik S_kj dN_a/dxi_j */
+      double FS[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double v = 0.0;
+          for (int k = 0; k < 3; ++k) v += f->m[i][k] * s->m[k][j];
+          FS[i][j] = v;
+        }
+      for (int a = 0; a < nn; ++a)
+        for (int i = 0; i < dim; ++i) {
+          double v = 0.0;
+          for (int j = 0; j < dim; ++j) v += FS[i][j] * g[a * dim + j];
+          fe[a * dim + i] += w * v;
+        }
+    }
+    if (!Ke) continue;
+    /* B: engineering strain variation of dof (a, i):
+     * dE_rs = (F_ir dN_a/dxi_s + F_is dN_a/dxi_r)/2, shear doubled. */
+    for (int a = 0; a < nn; ++a) {
+      double ga[3] = {0, 0, 0};
+      for (int d = 0; d < dim; ++d) ga[d] = g[a * dim + d];
+      for (int i = 0; i < dim; ++i) {
+        int col = a * dim + i;
+        for (int I = 0; I < 6; ++I) {
+          int r = vi[I], c = vj[I];
+          Bm[I * nd + col] = r == c ? f->m[i][r] * ga[r] : f->m[i][r] * ga[c] + f->m[i][c] * ga[r];
+        }
+      }
+    }
+    const double *Dp = D + 36 * p;
+    for (int I = 0; I < 6; ++I)
+      for (int col = 0; col < nd; ++col) {
+        double v = 0.0;
+        for (int J = 0; J < 6; ++J) v += Dp[6 * I + J] * Bm[J * nd + col];
+        DB[I * nd + col] = v;
+      }
+    /* Ke += w B^T (D B), rows outer and the contiguous column loop inner
+     * so the compiler vectorises it. */
+    for (int I = 0; I < 6; ++I)
+      for (int r = 0; r < nd; ++r) {
+        double b = w * Bm[I * nd + r];
+        if (b == 0.0) continue;
+        const double *db = DB + I * nd;
+        double *krow = Ke + r * nd;
+        for (int c = sym ? r : 0; c < nd; ++c) krow[c] += b * db[c];
+      }
+    /* Geometric stiffness: (dN_a . S dN_b) delta_ik. */
+    for (int a = 0; a < nn; ++a)
+      for (int b = 0; b < nn; ++b) {
+        double v = 0.0;
+        for (int i = 0; i < dim; ++i)
+          for (int j = 0; j < dim; ++j) v += g[a * dim + i] * s->m[i][j] * g[b * dim + j];
+        v *= w;
+        for (int i = 0; i < dim; ++i) Ke[(a * dim + i) * nd + b * dim + i] += v;
+      }
+  }
+  if (Ke && sym)
+    for (int r = 0; r < nd; ++r)
+      for (int c = 0; c < r; ++c) Ke[r * nd + c] = Ke[c * nd + r];
+}
+
+TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
+                               TlSparse *K, double *W)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: block forces before tl_solid_setup");
+  if (f_nodes && !K && !W && s->dim == 3 && s->blocks[b].material->state_size == 0)
+    return tl_solid_block_residual(s, b, u_nodes, f_nodes);
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
+  const TlMaterial *mat = B->material;
+  size_t ss = mat->state_size;
+  int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_pattern;
+  ParallelError pe = {TL_OK, ""};
+  double energy = 0.0;
+  for (int colour = 0; colour < B->n_colours; ++colour) {
+    size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
+    long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
+/* Threads only where a colour holds several chunks: below that the
+     * fork and barrier cost more than the work.  Never more threads than
+     * the scratch areas sized at setup (the thread count may have been
+     * raised since). */
+#pragma omp parallel for schedule(dynamic) reduction(+ : energy) if (n_chunks >= 4) num_threads(s->n_threads)
+    for (long ch = 0; ch < n_chunks; ++ch) {
+      TlStatus seen;
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
+      Scratch *w = &s->scratch[omp_get_thread_num()];
+      size_t c0 = first + (size_t)ch * CHUNK;
+      size_t nk = count - (size_t)ch * CHUNK < CHUNK ? count - (size_t)ch * CHUNK : CHUNK;
+      for (size_t k = 0; k < nk; ++k) {
+        size_t e = B->colour_elements[c0 + k];
+        for (int a = 0; a < nn; ++a)
+          for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * nn + a] * dim + i];
+        tl_solid_deformation_gradients(B, dim, e, w->ue, w->F + k * nq);
+        for (int q = 0, bad = 0; q < nq && !bad; ++q) {
+          TlMat3 Fq = w->F[k * nq + q];
+          for (int i = 0; i < 3; ++i) Fq.m[i][i] += 1.0;
+          double J = tl_m3_det(Fq);
+          if (!(J > 0.0)) {
+            TlStatus se = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                                       "block %s element %zu (tag %ld): det F = %g at Gauss point %d; the "
+                                       "element is inverted (displacements too large or unstable run)",
+                                       blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, q);
+            tl_solid_parallel_error_record(&pe, se);
+            bad = 1;
+          }
+        }
+        if (ss) memcpy(w->state_old + k * nq * ss, B->state_old + e * nq * ss, nq * ss * sizeof(double));
+      }
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
+      TlStatus st = tl_material_evaluate_gradient(mat, nk * nq, w->F, ss ? w->state_old : NULL,
+                                         ss ? w->state_new : NULL, w->S, K ? w->D : NULL,
+                                         W ? w->W : NULL);
+      if (st != TL_OK) {
+        size_t e = B->colour_elements[c0];
+        tl_error_trace(st, __FILE__, __LINE__);
+        char msg[900];
+        snprintf(msg, sizeof msg, "%s", tl_error_message());
+        tl_error_set(st, __FILE__, __LINE__, "block %s, elements from %zu (chunk of %zu, %d points each): %s",
+                     blk->name, e, nk, nq, msg);
+        tl_solid_parallel_error_record(&pe, st);
+        continue;
+      }
+      for (size_t k = 0; k < nk; ++k) {
+        size_t e = B->colour_elements[c0 + k];
+        if (ss) memcpy(B->state_new + e * nq * ss, w->state_new + k * nq * ss, nq * ss * sizeof(double));
+        if (W)
+          for (int p = 0; p < nq; ++p) energy += B->wdet[e * nq + p] * w->W[k * nq + p];
+        if (!f_nodes && !K) continue;
+        tl_solid_element_forces(B, dim, e, w->F + k * nq, w->S + k * nq, K ? w->D + 36 * k * nq : NULL,
+                       f_nodes ? w->fe : NULL, K ? w->Ke : NULL, w->B, w->DB);
+        if (f_nodes)
+          for (int a = 0; a < nn; ++a)
+            for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
+        if (K) {
+          size_t g = B->offset + e;
+          TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
+                                : tl_sparse_add_element(K, nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
+          if (sk != TL_OK) tl_solid_parallel_error_record(&pe, sk);
+        }
+      }
+    }
+  }
+  TL_CHECK(tl_solid_parallel_error_raise(&pe));
+  if (W) *W += energy;
+  return TL_OK;
+}
+
+TlStatus tl_solid_element_matrices(TlSolid *s, int b, size_t e, const double *ue, double *fe, double *Ke,
+                                   double *Me)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: element matrices before tl_solid_setup");
+  if (b < 0 || b >= s->mesh->n_blocks || e >= s->mesh->blocks[b].n_elements)
+    TL_ERROR(TL_ERR_ARG, "solid: no element %zu in block %d", e, b);
+  const SolidBlock *B = &s->blocks[b];
+  Scratch *w = &s->scratch[0];
+  size_t ss = B->material->state_size;
+  tl_solid_deformation_gradients(B, s->dim, e, ue, w->F);
+  if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
+  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
+                                w->S, w->D, NULL));
+  if (fe || Ke) tl_solid_element_forces(B, s->dim, e, w->F, w->S, w->D, fe, Ke, w->B, w->DB);
+  if (Me) {
+    int nn = B->nn, nd = B->nd, dim = s->dim;
+    double Mab[TL_ELEMENT_MAX_NODES * TL_ELEMENT_MAX_NODES];
+    tl_solid_element_mass(s, b, e, Mab);
+    memset(Me, 0, (size_t)nd * nd * sizeof(double));
+    for (int a = 0; a < nn; ++a)
+      for (int q = 0; q < nn; ++q)
+        for (int i = 0; i < dim; ++i) Me[(a * dim + i) * nd + q * dim + i] = Mab[a * nn + q];
+  }
+  return TL_OK;
+}
