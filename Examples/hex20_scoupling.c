@@ -1,7 +1,7 @@
 /* The surface coupling on the 20-node serendipity hexahedron
  * (element_hex20.c), registered from outside the library: particles
  * dropped onto, pressed against and rolling on a short clamped hex20 beam,
- * surface-coupled (Coupling/tl_scoupling.h) with the Dirac limit (c = 0)
+ * surface-coupled (Coupling/Surface/tl_scoupling.h) with the Dirac limit (c = 0)
  * and with a Lucy kernel of width 0.4 m.  At every step the coupling
  * forces put on the beam's nodes must sum to minus the particle-wall
  * contact forces (momentum balance, to round-off), the particles must press
