@@ -180,6 +180,23 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "central_difference", fems,
                                          "the solid's stepper: central_difference (explicit, the paper's run) or "
                                          "newmark (implicit, beta = 1/4, gamma = 1/2)", &ifem), done);
+  static const char *const contacts[] = {"bonded", "compression", NULL};
+  static const char *const pulses[] = {"out", "in", NULL};
+  static const char *const weights[] = {"cosine", "linear", NULL};
+  static const char *const pmasses[] = {"consistent", "lumped", NULL};
+  int icontact = 0, ipulse = 0, iweight = 0, ipmass = 0;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-contact", "bonded", contacts,
+                                         "particle bonds: bonded (tension and compression) or compression (push only: "
+                                         "the published runs' species has no tensile range)", &icontact), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-pulse_direction", "out", pulses,
+                                         "pulse layer's velocity: out (-y, away from the bar: a tension pulse) or in "
+                                         "(+y, into the bar: a compression pulse, as published)", &ipulse), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-weight", "cosine", weights,
+                                         "weight w across the overlap: cosine (half cycle) or linear (the published "
+                                         "runs' ramp between the coupled nodes)", &iweight), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-penalty_mass", "consistent", pmasses,
+                                         "M_ij of the penalty force F_i = eps sum_j M_ij r_j: consistent (int N_i N_j) or "
+                                         "lumped (row sums: each node on its own mismatch, as the published runs)", &ipmass), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length", &p.length), done);
@@ -224,6 +241,10 @@ static TlStatus run(int argc, char **argv)
   p.resolution_limit = res_limit > 0.0 ? res_limit : -1.0;
   p.no_penalty_check = !penalty_check;
   p.fem = fems[ifem];
+  p.compression_only = icontact;
+  p.pulse_in = ipulse;
+  p.linear_weight = iweight;
+  p.lumped_penalty = ipmass;
   ro.n_snap = n_snap;
   ro.output_dir = dir;
   ro.restart = restart;

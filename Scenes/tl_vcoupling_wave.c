@@ -211,7 +211,7 @@ static TlStatus build_particles(TlWave *w)
   for (int j = 0; j < w->nyp; ++j)
     for (int k = 0; k < w->nxp; ++k)
       for (int i = 0; i < w->nxp; ++i) {
-        double vy = j == 0 && p->excitation == TL_WAVE_PULSE ? -p->v0 : 0.0;
+        double vy = j == 0 && p->excitation == TL_WAVE_PULSE ? (p->pulse_in ? p->v0 : -p->v0) : 0.0;
         TL_CHECK(tl_dem_add_particle(w->dem, tl_v3((i + 0.5) * w->d, (j + 0.5) * w->d, (k + 0.5) * w->d),
                                      tl_v3(0, vy, 0), 0.5 * w->d, sp, NULL));
       }
@@ -227,7 +227,7 @@ static TlStatus build_particles(TlWave *w)
   TlContactParameters cp;
   tl_contact_parameters_default(&cp);
   cp.k_n = w->k;
-  cp.bonded = 1;
+  cp.bonded = !p->compression_only;
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_create_linear(&cp, &law));
   TL_CHECK(tl_dem_add_law(w->dem, law, NULL));
@@ -308,7 +308,8 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     for (size_t k = 0; k < w->mesh->blocks[0].n_elements * 8; ++k) w->conn_int[k] = (int)w->mesh->blocks[0].conn[k];
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
     w->eps = eps;
-    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order, p->per_element};
+    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end, p->linear_weight ? TL_VCOUPLING_LINEAR : TL_VCOUPLING_COSINE},
+                            p->c, p->kernel, eps, p->quad_order, p->per_element, p->lumped_penalty};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->xp, w->mp), fail);

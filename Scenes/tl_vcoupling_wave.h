@@ -65,6 +65,14 @@ typedef struct {
   const char *fem;         /* the solid's stepper: "central_difference" (the
                               paper's explicit run; NULL: this) or "newmark"
                               (implicit, beta = 1/4, gamma = 1/2) */
+  /* Choices of the authors' published runs (all 0: the paper's text as
+   * implemented before them) */
+  int compression_only;    /* 1: the particle bonds push but do not pull
+                              (their species has no tensile range) */
+  int pulse_in;            /* 1: the pulse layer moves into the bar (+y, a
+                              compression pulse, as published); 0: -y */
+  int linear_weight;       /* 1: w a linear ramp across the overlap; 0: cosine */
+  int lumped_penalty;      /* 1: the penalty's M_ij row-sum lumped */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */

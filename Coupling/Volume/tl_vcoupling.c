@@ -68,6 +68,7 @@ double tl_vcoupling_zone_weight(const TlVCouplingZone *zone, const double x[3])
   double s = (x[zone->axis] - zone->lo) / (zone->hi - zone->lo);
   if (s <= 0.0) return 1.0;
   if (s >= 1.0) return 0.0;
+  if (zone->profile == TL_VCOUPLING_LINEAR) return 1.0 - s;
   return 0.5 * (1.0 + cos(TL_PI * s));
 }
 
@@ -177,6 +178,8 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   if (block < 0 || block >= mesh->n_blocks)
     TL_ERROR(TL_ERR_ARG, "block %d out of range [0, %d)", block, mesh->n_blocks);
   if (p->zone.axis < 0 || p->zone.axis > 2) TL_ERROR(TL_ERR_ARG, "zone axis %d must be 0, 1 or 2", p->zone.axis);
+  if (p->zone.profile != TL_VCOUPLING_COSINE && p->zone.profile != TL_VCOUPLING_LINEAR)
+    TL_ERROR(TL_ERR_ARG, "zone weight profile %d must be TL_VCOUPLING_COSINE (0) or TL_VCOUPLING_LINEAR (1)", (int)p->zone.profile);
   if (!(p->zone.hi > p->zone.lo) || !isfinite(p->zone.lo) || !isfinite(p->zone.hi))
     TL_ERROR(TL_ERR_ARG, "coupling zone [%g, %g] must have lo < hi, both finite", p->zone.lo, p->zone.hi);
   if (!(p->c >= 0.0) || !isfinite(p->c)) TL_ERROR(TL_ERR_ARG, "CG width c = %g must be >= 0 and finite", p->c);
@@ -284,6 +287,15 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
       for (int a = 0; a < nn; ++a)
         for (int b = 0; b < nn; ++b) M[a * nn + b] += wdv * N[a] * N[b];
     }
+    if (p->lumped_penalty) /* row sums on the diagonal: node a feels its own mismatch alone */
+      for (int a = 0; a < nn; ++a) {
+        double sum = 0.0;
+        for (int b = 0; b < nn; ++b) {
+          sum += M[a * nn + b];
+          M[a * nn + b] = 0.0;
+        }
+        M[a * nn + a] = sum;
+      }
   }
 
   /* Eq. 18 quadrature */

@@ -19,12 +19,13 @@
  *   2. tl_vcoupling_forces(): u_i^DE = sum_a Pi_ia du_a, the nodal
  *      mismatch r_j = u_j^DE - u_j^FE (Eq. 29), the nodal force of the
  *      body force b^C = eps r (Eq. 31) on the solid, F_i = eps sum_j M_ij r_j
- *      with M_ij = int_{Omega^C} N_i N_j dV, and the particle forces
+ *      with M_ij = int_{Omega^C} N_i N_j dV (or its row-sum lumping,
+ *      TlVCouplingParams.lumped_penalty), and the particle forces
  *      f_a^C = -sum_i Pi_ia F_i (Eq. 32), so sum_a f_a^C = -sum_i F_i
  *      (Eq. 41) up to round-off.
  *
  * Weights (Eqs. 22-26): w = 1 on the particle side, 0 on the solid side, a
- * half-cycle cosine across the zone [lo, hi] along one axis.  Nodal values
+ * half-cycle cosine (or a linear ramp) across the zone [lo, hi] along one axis.  Nodal values
  * w_i are set once; inside the coupling elements w is interpolated by the
  * shape functions, so the weight field moves with the solid.  The particle
  * equations are weighted by w (at centres, w_a, and contact points, w_ab),
@@ -39,10 +40,14 @@
 #include "tl_error.h"
 #include "tl_mesh.h"
 
-/* The coupling zone: w = 1 for x[axis] <= lo, 0 for x[axis] >= hi. */
+/* The coupling zone: w = 1 for x[axis] <= lo, 0 for x[axis] >= hi; in
+ * between a half-cycle cosine (profile TL_VCOUPLING_COSINE, 0) or a linear
+ * ramp (TL_VCOUPLING_LINEAR, the authors' published runs). */
+typedef enum { TL_VCOUPLING_COSINE = 0, TL_VCOUPLING_LINEAR } TlVCouplingProfile;
 typedef struct {
   int axis;
   double lo, hi;
+  TlVCouplingProfile profile;
 } TlVCouplingZone;
 
 typedef struct {
@@ -55,6 +60,9 @@ typedef struct {
                          node i (a node has one u_i^DE); 1: per element, as
                          Eq. 18 is written (sum over Omega_e alone, each
                          element its own u_i^DE, forces assembled) */
+  int lumped_penalty; /* 1: M_ij row-sum lumped, F_i = eps (int N_i dV) r_i
+                         (each node penalised on its own mismatch, as the
+                         authors' published runs do); 0: consistent M_ij */
 } TlVCouplingParams;
 
 typedef struct {
