@@ -309,7 +309,8 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
     w->eps = eps;
     TlVCouplingParams cp = {{1, p->fem_start, p->dem_end, p->linear_weight ? TL_VCOUPLING_LINEAR : TL_VCOUPLING_COSINE},
-                            p->c, p->kernel, eps, p->quad_order, p->per_element, p->lumped_penalty};
+                            p->c, p->kernel, eps, p->quad_order, p->per_element, p->lumped_penalty,
+                            p->cg_reach_less_d ? w->d : 0.0};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->xp, w->mp), fail);

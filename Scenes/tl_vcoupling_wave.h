@@ -73,6 +73,8 @@ typedef struct {
                               compression pulse, as published); 0: -y */
   int linear_weight;       /* 1: w a linear ramp across the overlap; 0: cosine */
   int lumped_penalty;      /* 1: the penalty's M_ij row-sum lumped */
+  int cg_reach_less_d;     /* 1: Eq. 18 over the particles within c - d of an
+                              element (published); 0: within c */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */

@@ -25,6 +25,7 @@ struct TlVCoupling {
   int nn;
   TlVCouplingZone zone;
   double c, epsilon;
+  double reach_shrink; /* particles gathered within c - reach_shrink of an element */
   char kernel_name[32];
   TlCGKernel *kernel; /* NULL when c = 0 */
   double *w_node;     /* n_nodes */
@@ -183,6 +184,8 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   if (!(p->zone.hi > p->zone.lo) || !isfinite(p->zone.lo) || !isfinite(p->zone.hi))
     TL_ERROR(TL_ERR_ARG, "coupling zone [%g, %g] must have lo < hi, both finite", p->zone.lo, p->zone.hi);
   if (!(p->c >= 0.0) || !isfinite(p->c)) TL_ERROR(TL_ERR_ARG, "CG width c = %g must be >= 0 and finite", p->c);
+  if (!(p->reach_shrink >= 0.0) || !isfinite(p->reach_shrink))
+    TL_ERROR(TL_ERR_ARG, "reach_shrink = %g must be >= 0 and finite", p->reach_shrink);
   if (!(p->epsilon >= 0.0) || !isfinite(p->epsilon))
     TL_ERROR(TL_ERR_ARG, "penalty epsilon = %g must be >= 0 and finite", p->epsilon);
   int order = p->quad_order ? p->quad_order : 4;
@@ -201,6 +204,7 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   vc->zone = p->zone;
   vc->c = p->c;
   vc->epsilon = p->epsilon;
+  vc->reach_shrink = p->reach_shrink;
   strcpy(vc->kernel_name, kname);
   const int nn = vc->nn;
   if (vc->type->dim != 3) {
@@ -374,7 +378,10 @@ static TlStatus pi_push(TlVCoupling *vc, size_t node, size_t part, double val)
   return TL_OK;
 }
 
-/* Current nodal coordinates and bounding boxes (extended by pad). */
+/* How far beyond an element its particles are gathered for Eq. 18. */
+static double box_pad(const TlVCoupling *vc) { return fmax(vc->c - vc->reach_shrink, 0.0); }
+
+/* Current nodal coordinates and bounding boxes (extended by box_pad). */
 static TlStatus update_geometry(TlVCoupling *vc, const double *u_nodes)
 {
   const int nn = vc->nn;
@@ -395,7 +402,7 @@ static TlStatus update_geometry(TlVCoupling *vc, const double *u_nodes)
         box[3 + d] = fmax(box[3 + d], v);
       }
     }
-    double pad = vc->c + 1e-9 * vc->h_elem;
+    double pad = box_pad(vc) + 1e-9 * vc->h_elem;
     for (int d = 0; d < 3; ++d) {
       box[d] -= pad;
       box[3 + d] += pad;
@@ -492,7 +499,7 @@ TlStatus tl_vcoupling_point_weights(TlVCoupling *vc, size_t n, const double *x, 
   for (size_t s = 0; s < vc->n_elem; ++s) {
     const double *xe = vc->xe + s * nn * 3;
     double box[6];
-    for (int d = 0; d < 6; ++d) box[d] = vc->box[6 * s + d] + (d < 3 ? vc->c : -vc->c);
+    for (int d = 0; d < 6; ++d) box[d] = vc->box[6 * s + d] + (d < 3 ? box_pad(vc) : -box_pad(vc));
     BINS_FOR(&vc->bins, box, k, {
       if (vc->owner[k] < 0 && in_box(box, x + 3 * k)) {
         double xi[3];

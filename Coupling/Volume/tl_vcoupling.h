@@ -63,6 +63,12 @@ typedef struct {
   int lumped_penalty; /* 1: M_ij row-sum lumped, F_i = eps (int N_i dV) r_i
                          (each node penalised on its own mismatch, as the
                          authors' published runs do); 0: consistent M_ij */
+  double reach_shrink; /* m, >= 0: Eq. 18 gathers the particles within
+                          max(c - reach_shrink, 0) of each element instead
+                          of the kernel's whole reach c (the published runs
+                          use c minus a particle diameter, so that up to
+                          c = d beyond the particle size an element sees
+                          its own particles alone); 0: c */
 } TlVCouplingParams;
 
 typedef struct {
