@@ -308,10 +308,11 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     for (size_t k = 0; k < w->mesh->blocks[0].n_elements * 8; ++k) w->conn_int[k] = (int)w->mesh->blocks[0].conn[k];
     double eps = p->epsilon > 0 ? p->epsilon : 1.6e9 / (w->d * w->d);
     w->eps = eps;
-    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end, p->linear_weight ? TL_VCOUPLING_LINEAR : TL_VCOUPLING_COSINE},
-                            p->c, p->kernel, eps, p->quad_order, p->per_element, p->lumped_penalty,
-                            p->cg_reach_less_d ? w->d : 0.0};
+    TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order, p->per_element};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
+    TL_CHECK_GOTO(s, tl_vcoupling_set_profile(w->vc, p->linear_weight ? TL_VCOUPLING_LINEAR : TL_VCOUPLING_COSINE), fail);
+    TL_CHECK_GOTO(s, tl_vcoupling_set_lumped_penalty(w->vc, p->lumped_penalty), fail);
+    TL_CHECK_GOTO(s, tl_vcoupling_set_reach_shrink(w->vc, p->cg_reach_less_d ? w->d : 0.0), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_update(w->vc, w->u, np, w->xp, w->mp), fail);
     TL_CHECK_GOTO(s, check_resolution(w, 0), fail);

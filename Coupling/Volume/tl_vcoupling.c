@@ -25,7 +25,9 @@ struct TlVCoupling {
   int nn;
   TlVCouplingZone zone;
   double c, epsilon;
-  double reach_shrink; /* particles gathered within c - reach_shrink of an element */
+  TlVCouplingProfile profile;
+  double reach_shrink; /* particles gathered within max(c - reach_shrink, 0) of an element */
+  int lumped;          /* Me row-sum lumped */
   char kernel_name[32];
   TlCGKernel *kernel; /* NULL when c = 0 */
   double *w_node;     /* n_nodes */
@@ -38,7 +40,8 @@ struct TlVCoupling {
   double *hcount;     /* n_nodes: rows per node (homogenise) */
   long *node_local;   /* global -> local or -1 */
   size_t *conn;       /* n_elem x nn local node numbers */
-  double *Me;         /* n_elem x nn x nn: int N_a N_b dV (reference) */
+  double *Me;         /* n_elem x nn x nn: int N_a N_b dV (reference), or its lumping */
+  double *Mc;         /* the consistent one, kept for switching back */
   double h_elem;      /* largest element extent (bin size) */
   TlQuadrature rule;  /* Eq. 18 */
   double *Nq;         /* rule.n x nn */
@@ -64,13 +67,18 @@ struct TlVCoupling {
   int updated;
 };
 
-double tl_vcoupling_zone_weight(const TlVCouplingZone *zone, const double x[3])
+static double profile_weight(const TlVCouplingZone *zone, TlVCouplingProfile profile, const double x[3])
 {
   double s = (x[zone->axis] - zone->lo) / (zone->hi - zone->lo);
   if (s <= 0.0) return 1.0;
   if (s >= 1.0) return 0.0;
-  if (zone->profile == TL_VCOUPLING_LINEAR) return 1.0 - s;
+  if (profile == TL_VCOUPLING_LINEAR) return 1.0 - s;
   return 0.5 * (1.0 + cos(TL_PI * s));
+}
+
+double tl_vcoupling_zone_weight(const TlVCouplingZone *zone, const double x[3])
+{
+  return profile_weight(zone, TL_VCOUPLING_COSINE, x);
 }
 
 static void bins_free(Bins *b)
@@ -179,13 +187,9 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   if (block < 0 || block >= mesh->n_blocks)
     TL_ERROR(TL_ERR_ARG, "block %d out of range [0, %d)", block, mesh->n_blocks);
   if (p->zone.axis < 0 || p->zone.axis > 2) TL_ERROR(TL_ERR_ARG, "zone axis %d must be 0, 1 or 2", p->zone.axis);
-  if (p->zone.profile != TL_VCOUPLING_COSINE && p->zone.profile != TL_VCOUPLING_LINEAR)
-    TL_ERROR(TL_ERR_ARG, "zone weight profile %d must be TL_VCOUPLING_COSINE (0) or TL_VCOUPLING_LINEAR (1)", (int)p->zone.profile);
   if (!(p->zone.hi > p->zone.lo) || !isfinite(p->zone.lo) || !isfinite(p->zone.hi))
     TL_ERROR(TL_ERR_ARG, "coupling zone [%g, %g] must have lo < hi, both finite", p->zone.lo, p->zone.hi);
   if (!(p->c >= 0.0) || !isfinite(p->c)) TL_ERROR(TL_ERR_ARG, "CG width c = %g must be >= 0 and finite", p->c);
-  if (!(p->reach_shrink >= 0.0) || !isfinite(p->reach_shrink))
-    TL_ERROR(TL_ERR_ARG, "reach_shrink = %g must be >= 0 and finite", p->reach_shrink);
   if (!(p->epsilon >= 0.0) || !isfinite(p->epsilon))
     TL_ERROR(TL_ERR_ARG, "penalty epsilon = %g must be >= 0 and finite", p->epsilon);
   int order = p->quad_order ? p->quad_order : 4;
@@ -204,7 +208,6 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   vc->zone = p->zone;
   vc->c = p->c;
   vc->epsilon = p->epsilon;
-  vc->reach_shrink = p->reach_shrink;
   strcpy(vc->kernel_name, kname);
   const int nn = vc->nn;
   if (vc->type->dim != 3) {
@@ -215,7 +218,7 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   TL_CHECK_GOTO(s, make_kernel(vc), fail);
 
   TL_CHECK_GOTO(s, tl_calloc(&vc->w_node, mesh->n_nodes, sizeof *vc->w_node), fail);
-  for (size_t i = 0; i < mesh->n_nodes; ++i) vc->w_node[i] = tl_vcoupling_zone_weight(&vc->zone, mesh->x + 3 * i);
+  for (size_t i = 0; i < mesh->n_nodes; ++i) vc->w_node[i] = profile_weight(&vc->zone, vc->profile, mesh->x + 3 * i);
 
   /* coupling elements: those reaching into the open zone */
   TL_CHECK_GOTO(s, tl_calloc(&vc->elem, B->n_elements ? B->n_elements : 1, sizeof *vc->elem), fail);
@@ -269,6 +272,7 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   int morder = vc->type->order_mass > 0 ? vc->type->order_mass : 3;
   TL_CHECK_GOTO(s, tl_element_quadrature(vc->type, morder, &mrule), fail);
   TL_CHECK_GOTO(s, tl_calloc(&vc->Me, vc->n_elem * nn * nn, sizeof *vc->Me), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&vc->Mc, vc->n_elem * nn * nn, sizeof *vc->Mc), fail);
   TL_CHECK_GOTO(s, tl_calloc(&vc->xe, vc->n_elem * nn * 3, sizeof *vc->xe), fail);
   TL_CHECK_GOTO(s, tl_calloc(&vc->scratch, (size_t)nn * TL_QUADRATURE_MAX, sizeof *vc->scratch), fail);
   for (size_t s_ = 0; s_ < vc->n_elem; ++s_) {
@@ -291,16 +295,8 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
       for (int a = 0; a < nn; ++a)
         for (int b = 0; b < nn; ++b) M[a * nn + b] += wdv * N[a] * N[b];
     }
-    if (p->lumped_penalty) /* row sums on the diagonal: node a feels its own mismatch alone */
-      for (int a = 0; a < nn; ++a) {
-        double sum = 0.0;
-        for (int b = 0; b < nn; ++b) {
-          sum += M[a * nn + b];
-          M[a * nn + b] = 0.0;
-        }
-        M[a * nn + a] = sum;
-      }
   }
+  memcpy(vc->Mc, vc->Me, vc->n_elem * nn * nn * sizeof *vc->Mc);
 
   /* Eq. 18 quadrature */
   TL_CHECK_GOTO(s, tl_element_quadrature(vc->type, order, &vc->rule), fail);
@@ -335,6 +331,7 @@ void tl_vcoupling_destroy(TlVCoupling **pvc)
   tl_free(&vc->node_local);
   tl_free(&vc->conn);
   tl_free(&vc->Me);
+  tl_free(&vc->Mc);
   tl_free(&vc->Nq);
   tl_free(&vc->xe);
   tl_free(&vc->box);
@@ -375,6 +372,46 @@ static TlStatus pi_push(TlVCoupling *vc, size_t node, size_t part, double val)
   vc->pi_part[vc->n_pi] = part;
   vc->pi_val[vc->n_pi] = val;
   vc->n_pi++;
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_set_profile(TlVCoupling *vc, TlVCouplingProfile profile)
+{
+  if (profile != TL_VCOUPLING_COSINE && profile != TL_VCOUPLING_LINEAR)
+    TL_ERROR(TL_ERR_ARG, "weight profile %d must be TL_VCOUPLING_COSINE (0) or TL_VCOUPLING_LINEAR (1)", (int)profile);
+  vc->profile = profile;
+  for (size_t i = 0; i < vc->mesh->n_nodes; ++i)
+    vc->w_node[i] = profile_weight(&vc->zone, vc->profile, vc->mesh->x + 3 * i);
+  vc->updated = 0;
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_set_lumped_penalty(TlVCoupling *vc, int lumped)
+{
+  const int nn = vc->nn;
+  vc->lumped = lumped != 0;
+  memcpy(vc->Me, vc->Mc, vc->n_elem * nn * nn * sizeof *vc->Me);
+  if (vc->lumped) /* row sums on the diagonal: node a feels its own mismatch alone */
+    for (size_t s = 0; s < vc->n_elem; ++s) {
+      double *M = vc->Me + s * nn * nn;
+      for (int a = 0; a < nn; ++a) {
+        double sum = 0.0;
+        for (int b = 0; b < nn; ++b) {
+          sum += M[a * nn + b];
+          M[a * nn + b] = 0.0;
+        }
+        M[a * nn + a] = sum;
+      }
+    }
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_set_reach_shrink(TlVCoupling *vc, double reach_shrink)
+{
+  if (!(reach_shrink >= 0.0) || !isfinite(reach_shrink))
+    TL_ERROR(TL_ERR_ARG, "reach_shrink = %g m must be >= 0 and finite", reach_shrink);
+  vc->reach_shrink = reach_shrink;
+  vc->updated = 0;
   return TL_OK;
 }
 
@@ -491,7 +528,7 @@ TlStatus tl_vcoupling_point_weights(TlVCoupling *vc, size_t n, const double *x, 
   if (!vc->updated) TL_ERROR(TL_ERR_STATE, "tl_vcoupling_update must run before the point weights");
   const int nn = vc->nn;
   const TlElementBlock *B = &vc->mesh->blocks[vc->block];
-  for (size_t k = 0; k < n; ++k) w[k] = tl_vcoupling_zone_weight(&vc->zone, x + 3 * k);
+  for (size_t k = 0; k < n; ++k) w[k] = profile_weight(&vc->zone, vc->profile, x + 3 * k);
   TL_CHECK(bins_build(&vc->bins, n, x, vc->h_elem > 0 ? vc->h_elem : 1.0));
   TL_CHECK(tl_array_reserve(&vc->owner, &vc->cap_owner, n ? n : 1, sizeof *vc->owner));
   for (size_t k = 0; k < n; ++k) vc->owner[k] = -1;

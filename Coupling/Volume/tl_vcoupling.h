@@ -20,12 +20,13 @@
  *      mismatch r_j = u_j^DE - u_j^FE (Eq. 29), the nodal force of the
  *      body force b^C = eps r (Eq. 31) on the solid, F_i = eps sum_j M_ij r_j
  *      with M_ij = int_{Omega^C} N_i N_j dV (or its row-sum lumping,
- *      TlVCouplingParams.lumped_penalty), and the particle forces
+ *      tl_vcoupling_set_lumped_penalty), and the particle forces
  *      f_a^C = -sum_i Pi_ia F_i (Eq. 32), so sum_a f_a^C = -sum_i F_i
  *      (Eq. 41) up to round-off.
  *
  * Weights (Eqs. 22-26): w = 1 on the particle side, 0 on the solid side, a
- * half-cycle cosine (or a linear ramp) across the zone [lo, hi] along one axis.  Nodal values
+ * half-cycle cosine (or a linear ramp, tl_vcoupling_set_profile) across the
+ * zone [lo, hi] along one axis.  Nodal values
  * w_i are set once; inside the coupling elements w is interpolated by the
  * shape functions, so the weight field moves with the solid.  The particle
  * equations are weighted by w (at centres, w_a, and contact points, w_ab),
@@ -40,14 +41,10 @@
 #include "tl_error.h"
 #include "tl_mesh.h"
 
-/* The coupling zone: w = 1 for x[axis] <= lo, 0 for x[axis] >= hi; in
- * between a half-cycle cosine (profile TL_VCOUPLING_COSINE, 0) or a linear
- * ramp (TL_VCOUPLING_LINEAR, the authors' published runs). */
-typedef enum { TL_VCOUPLING_COSINE = 0, TL_VCOUPLING_LINEAR } TlVCouplingProfile;
+/* The coupling zone: w = 1 for x[axis] <= lo, 0 for x[axis] >= hi. */
 typedef struct {
   int axis;
   double lo, hi;
-  TlVCouplingProfile profile;
 } TlVCouplingZone;
 
 typedef struct {
@@ -60,15 +57,6 @@ typedef struct {
                          node i (a node has one u_i^DE); 1: per element, as
                          Eq. 18 is written (sum over Omega_e alone, each
                          element its own u_i^DE, forces assembled) */
-  int lumped_penalty; /* 1: M_ij row-sum lumped, F_i = eps (int N_i dV) r_i
-                         (each node penalised on its own mismatch, as the
-                         authors' published runs do); 0: consistent M_ij */
-  double reach_shrink; /* m, >= 0: Eq. 18 gathers the particles within
-                          max(c - reach_shrink, 0) of each element instead
-                          of the kernel's whole reach c (the published runs
-                          use c minus a particle diameter, so that up to
-                          c = d beyond the particle size an element sees
-                          its own particles alone); 0: c */
 } TlVCouplingParams;
 
 typedef struct {
@@ -98,6 +86,23 @@ void tl_vcoupling_destroy(TlVCoupling **vc);
 
 /* Changes the CG width (0: classical); takes effect at the next update. */
 TlStatus tl_vcoupling_set_width(TlVCoupling *vc, double c);
+
+/* Choices of the authors' published runs, each off by default; set them
+ * before the first update (the nodal weights and M_ij are rebuilt).
+ *   profile: the weight across the zone, TL_VCOUPLING_COSINE (default, the
+ *     half-cycle cosine of tl_vcoupling_zone_weight) or TL_VCOUPLING_LINEAR
+ *     (1 - s, s the zone coordinate in [0, 1]);
+ *   lumped_penalty: 1 puts the row sums of M_ij on the diagonal, F_i = eps
+ *     (int N_i dV) r_i: each node penalised on its own mismatch alone;
+ *   reach_shrink (m, >= 0): Eq. 18 (c > 0) gathers the particles within
+ *     max(c - reach_shrink, 0) of each element instead of the kernel's
+ *     whole reach c; with reach_shrink = d (a particle diameter, the
+ *     published runs' bounding box) an element sees its own particles
+ *     alone up to c = d. */
+typedef enum { TL_VCOUPLING_COSINE = 0, TL_VCOUPLING_LINEAR } TlVCouplingProfile;
+TlStatus tl_vcoupling_set_profile(TlVCoupling *vc, TlVCouplingProfile profile);
+TlStatus tl_vcoupling_set_lumped_penalty(TlVCoupling *vc, int lumped);
+TlStatus tl_vcoupling_set_reach_shrink(TlVCoupling *vc, double reach_shrink);
 
 /* Current geometry (u_nodes: total nodal displacements, 3 per mesh node, or
  * NULL for the reference configuration) and Pi for np particles at xp
