@@ -189,12 +189,14 @@ static TlStatus run(int argc, char **argv)
   static const char *const weights[] = {"cosine", "linear", NULL};
   static const char *const pmasses[] = {"consistent", "lumped", NULL};
   static const char *const reaches[] = {"c", "c-d", NULL};
+  static const char *const orders[] = {"current", "lagged", NULL};
+  int iorder = 0;
   int iconf = 0, icontact = 0, ipulse = 0, iweight = 0, ipmass = 0, ireach = 0;
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-configuration", "paper_text", configurations,
                                          "paper_text: the text's formulation (-contact bonded -pulse_direction out "
-                                         "-weight cosine -penalty_mass consistent -cg_reach c); published: the authors' published "
+                                         "-weight cosine -penalty_mass consistent -cg_reach c -coupling_order current); published: the authors' published "
                                          "runs (-contact compression -pulse_direction in -weight linear -penalty_mass "
-                                         "lumped -cg_reach c-d); each of these options given with it overrides its value", &iconf), done);
+                                         "lumped -cg_reach c-d -coupling_order lagged); each of these options given with it overrides its value", &iconf), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-contact", contacts[iconf], contacts,
                                          "particle bonds: bonded (tension and compression) or compression (push only: "
                                          "the published runs' species has no tensile range)", &icontact), done);
@@ -210,6 +212,11 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_reach", reaches[iconf], reaches,
                                          "particles an element gathers for Eq. 18 (c > 0): those within c of it, or within "
                                          "c - d (d the particle diameter; the published runs' bounding box)", &ireach), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling_order", orders[iconf], orders,
+                                         "coupling forces of a step (-variant paper): current (from this step's "
+                                         "displacements of both sides, the solid's inside its step) or lagged (from the "
+                                         "previous step's, fixed before either side steps: the published explicit loop)",
+                                         &iorder), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 100e6, 1e-3, 1e15, "Pa", "Young's modulus (Table 3)", &p.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "solid density (particles 6 rho / pi)", &p.rho), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length", &p.length), done);
@@ -259,6 +266,7 @@ static TlStatus run(int argc, char **argv)
   p.linear_weight = iweight;
   p.lumped_penalty = ipmass;
   p.cg_reach_less_d = ireach;
+  p.lagged = iorder;
   ro.n_snap = n_snap;
   ro.output_dir = dir;
   ro.restart = restart;

@@ -31,6 +31,7 @@ struct TlWave {
   double *x0;        /* initial positions (spring variant), 3 np */
   double *xp, *mp;   /* positions and masses handed to the coupling */
   double *dup;       /* the particles' step displacements (or total, spring) */
+  double *dup_prev, *du_prev, *u_before; /* lagged order: the previous step's displacements */
   double *ones;      /* unit weights of the full-DEM reference (snapshots) */
   int64_t *driven_ids;
   size_t n_driven;
@@ -138,10 +139,20 @@ static TlStatus coupled_step(void *ctx, TlDem *dem)
     }
   TL_CHECK(tl_vcoupling_update(w->vc, w->u, w->np, w->xp, w->mp));
   if ((w->step + 1) % 100 == 0) TL_CHECK(check_resolution(w, w->step + 1));
-  TL_CHECK(tl_vcoupling_element_set_step(w->el, w->dup, w->p.variant == TL_WAVE_SPRING ? NULL : w->u));
+  const int lagged = w->p.lagged && w->p.variant == TL_WAVE_PAPER;
+  if (lagged) {
+    TL_CHECK(tl_vcoupling_element_set_step_lagged(w->el, w->dup_prev, w->du_prev));
+    memcpy(w->u_before, w->u, 3 * w->nn * sizeof *w->u);
+  } else {
+    TL_CHECK(tl_vcoupling_element_set_step(w->el, w->dup, w->p.variant == TL_WAVE_SPRING ? NULL : w->u));
+  }
   TL_CHECK(tl_stepper_step(w->st, dt));
   tl_solid_dofs_to_nodes(w->solid, w->st->u, w->u);
   tl_solid_dofs_to_nodes(w->solid, w->st->v, w->vn);
+  if (lagged) { /* this step's displacements drive the next step's forces */
+    memcpy(w->dup_prev, w->dup, 3 * w->np * sizeof *w->dup);
+    for (size_t k = 0; k < 3 * w->nn; ++k) w->du_prev[k] = w->u[k] - w->u_before[k];
+  }
   memset(P->f_coupling, 0, w->np * sizeof *P->f_coupling);
   TlVCouplingDiag dg;
   TL_CHECK(tl_vcoupling_element_particle_forces(w->el, w->u, (double *)P->f_coupling, &dg));
@@ -299,6 +310,9 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     TL_CHECK_GOTO(s, tl_calloc(&w->vn, 3 * w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->Mw, w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->fixed, w->nn, 1), fail);
+    TL_CHECK_GOTO(s, tl_calloc(&w->dup_prev, 3 * np, sizeof(double)), fail);
+    TL_CHECK_GOTO(s, tl_calloc(&w->du_prev, 3 * w->nn, sizeof(double)), fail);
+    TL_CHECK_GOTO(s, tl_calloc(&w->u_before, 3 * w->nn, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_xp, 3 * np, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_fp, 3 * np, sizeof(double)), fail);
     TL_CHECK_GOTO(s, tl_calloc(&w->pi_xn, 3 * w->nn, sizeof(double)), fail);
@@ -335,7 +349,7 @@ void tl_wave_destroy(TlWave **pw)
   TlWave *w = *pw;
   if (!w) return;
   double **arr[] = {&w->x0, &w->xp, &w->mp, &w->dup, &w->ones, &w->u, &w->vn, &w->Mw, &w->mdof, &w->Mv,
-                    &w->pi_xp, &w->pi_xn, &w->pi_fp, &w->pi_fn};
+                    &w->pi_xp, &w->pi_xn, &w->pi_fp, &w->pi_fn, &w->dup_prev, &w->du_prev, &w->u_before};
   for (size_t k = 0; k < sizeof arr / sizeof arr[0]; ++k) tl_free(arr[k]);
   tl_free(&w->fixed);
   tl_free(&w->conn_int);
@@ -570,6 +584,10 @@ static TlStatus wave_save(const void *object, TlCheckpointWriter *cw, const char
   if (w->mesh) {
     snprintf(sub, sizeof sub, "%s/solid", g ? g : "");
     TL_CHECK(tl_stepper_checkpoint_ops.save(w->st, cw, sub));
+    if (w->p.lagged) { /* the next step's forces come from these */
+      TL_CHECK(tl_checkpoint_write_doubles(cw, g, "lagged_particle_displacement", 3 * w->np, w->dup_prev));
+      TL_CHECK(tl_checkpoint_write_doubles(cw, g, "lagged_solid_displacement", 3 * w->nn, w->du_prev));
+    }
   }
   return TL_OK;
 }
@@ -601,6 +619,10 @@ static TlStatus wave_load(void *object, TlCheckpointReader *cr, const char *g)
     TL_CHECK(tl_stepper_checkpoint_ops.load(w->st, cr, sub));
     tl_solid_dofs_to_nodes(w->solid, w->st->u, w->u);
     tl_solid_dofs_to_nodes(w->solid, w->st->v, w->vn);
+    if (w->p.lagged) {
+      TL_CHECK(tl_checkpoint_read_doubles(cr, g, "lagged_particle_displacement", 3 * w->np, w->dup_prev));
+      TL_CHECK(tl_checkpoint_read_doubles(cr, g, "lagged_solid_displacement", 3 * w->nn, w->du_prev));
+    }
   }
   return TL_OK;
 }

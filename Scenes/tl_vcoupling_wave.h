@@ -73,6 +73,9 @@ typedef struct {
                               compression pulse, as published); 0: -y */
   int linear_weight;       /* 1: w a linear ramp across the overlap; 0: cosine */
   int lumped_penalty;      /* 1: the penalty's M_ij row-sum lumped */
+  int lagged;              /* 1: both sides' coupling forces from the previous
+                              step's mismatch, fixed before either steps (the
+                              published explicit loop); 0: this step's */
   int cg_reach_less_d;     /* 1: Eq. 18 over the particles within c - d of an
                               element (published); 0: within c */
 } TlWaveParams;

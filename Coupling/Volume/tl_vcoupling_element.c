@@ -22,6 +22,8 @@ struct TlVCouplingElement {
   size_t *nodes;            /* nn */
   int nn;
   int active;               /* set_step called since the last clear */
+  int lagged;               /* the mismatch fixed before the step (set_step_lagged) */
+  double *du_fixed;         /* 3 n_nodes: its solid displacements */
 };
 
 /* After the weighted elements of the block: -F (the coupling force on the
@@ -38,7 +40,7 @@ static TlStatus vcoupling_terms(void *ctx, TlSolid *solid, int b, double t, cons
     TL_CHECK(tl_vcoupling_element_nodal_forces(el, u_nodes, el->F));
     for (size_t k = 0; k < 3 * el->n_nodes; ++k) f_nodes[k] -= el->F[k];
   }
-  if (K) {
+  if (K && !el->lagged) { /* a lagged force does not depend on the iterate */
     size_t n_elem;
     const size_t *elements;
     tl_vcoupling_elements(el->vc, &n_elem, &elements);
@@ -66,6 +68,7 @@ static void free_arrays(TlVCouplingElement *el)
   tl_free(&el->du_p);
   tl_free(&el->u_start);
   tl_free(&el->du_n);
+  tl_free(&el->du_fixed);
   tl_free(&el->F);
   tl_free(&el->Ke);
   tl_free(&el->Kab);
@@ -94,6 +97,7 @@ TlStatus tl_vcoupling_element_create(TlVCoupling *vc, TlSolid *solid, TlVCouplin
   for (size_t i = 0; i < el->n_nodes; ++i) el->w_solid[i] = 1.0 - w[i];
   TL_CHECK_GOTO(s, tl_calloc(&el->u_start, 3 * el->n_nodes, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&el->du_n, 3 * el->n_nodes, sizeof(double)), fail);
+  TL_CHECK_GOTO(s, tl_calloc(&el->du_fixed, 3 * el->n_nodes, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&el->F, 3 * el->n_nodes, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&el->Ke, (size_t)9 * el->nn * el->nn, sizeof(double)), fail);
   TL_CHECK_GOTO(s, tl_calloc(&el->Kab, (size_t)el->nn * el->nn, sizeof(double)), fail);
@@ -127,6 +131,16 @@ TlStatus tl_vcoupling_element_set_step(TlVCouplingElement *el, const double *du_
   else memset(el->u_start, 0, 3 * el->n_nodes * sizeof *el->u_start);
   el->np = np;
   el->active = 1;
+  el->lagged = 0;
+  return TL_OK;
+}
+
+TlStatus tl_vcoupling_element_set_step_lagged(TlVCouplingElement *el, const double *du_p, const double *du_n)
+{
+  if (!du_n) TL_ERROR(TL_ERR_ARG, "VCoupling element: no solid displacements for the lagged mismatch");
+  TL_CHECK(tl_vcoupling_element_set_step(el, du_p, NULL));
+  memcpy(el->du_fixed, du_n, 3 * el->n_nodes * sizeof *el->du_fixed);
+  el->lagged = 1;
   return TL_OK;
 }
 
@@ -138,7 +152,9 @@ static TlStatus step_increment(TlVCouplingElement *el, const double *u_nodes)
   if (tl_vcoupling_n_particles(el->vc) != el->np)
     TL_ERROR(TL_ERR_STATE, "VCoupling element: the step holds %zu particles, the coupling's last update %zu", el->np,
              tl_vcoupling_n_particles(el->vc));
-  for (size_t k = 0; k < 3 * el->n_nodes; ++k) el->du_n[k] = u_nodes[k] - el->u_start[k];
+  if (el->lagged) memcpy(el->du_n, el->du_fixed, 3 * el->n_nodes * sizeof *el->du_n);
+  else
+    for (size_t k = 0; k < 3 * el->n_nodes; ++k) el->du_n[k] = u_nodes[k] - el->u_start[k];
   return TL_OK;
 }
 

@@ -46,6 +46,13 @@ void tl_vcoupling_element_destroy(TlVCouplingElement **el);
  * u_start, the solid's node-space displacements at the start of the step
  * (3 per mesh node); both copied. */
 TlStatus tl_vcoupling_element_set_step(TlVCouplingElement *el, const double *du_p, const double *u_start);
+/* The authors' published explicit order instead: the mismatch fixed before
+ * the step, r = Pi du_p - du_n with du_p and du_n the particles' and the
+ * solid's displacements over the previous step (both copied), so that the
+ * solid takes a constant coupling load over its step (no tangent term) and
+ * the particles its reaction (Eq. 41 as before); particle_forces ignores
+ * its u_nodes.  Until the next set_step. */
+TlStatus tl_vcoupling_element_set_step_lagged(TlVCouplingElement *el, const double *du_p, const double *du_n);
 /* Switches the coupling force off (the weights stay) until the next set_step. */
 void tl_vcoupling_element_clear(TlVCouplingElement *el);
 
