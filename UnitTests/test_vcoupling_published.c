@@ -1,14 +1,16 @@
 /* Volume coupling: the choices of the authors' published runs
  * (tl_vcoupling_set_profile, _set_lumped_penalty, _set_reach_shrink): the
- * linear weight ramp, the row-sum lumped penalty matrix and the gathering
- * box shrunk by a particle diameter. */
+ * linear weight ramp, the row-sum lumped penalty matrix, the gathering
+ * box shrunk by a particle diameter, and the element's lagged mismatch. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "talus.h"
+#include "tl_solid.h"
 #include "tl_test.h"
 #include "tl_vcoupling.h"
+#include "tl_vcoupling_element.h"
 
 /* A 2 x 10 x 2 hex8 bar on y in [8, 12] (element size 0.4) and a simple
  * cubic lattice of n^3 particles per element on y in [6, 12]. */
@@ -176,6 +178,76 @@ static void test_reach_shrink(const TlMesh *mesh)
   tl_vcoupling_destroy(&vc);
 }
 
+/* The lagged order (tl_vcoupling_element_set_step_lagged): the nodal force
+ * is that of the given displacements, whatever the solid's iterate, and the
+ * particles take its reaction (Eq. 41). */
+static void test_lagged(const TlMesh *mesh)
+{
+  TlVCoupling *vc = create(mesh, 0.0, 0);
+  TlMaterial *mat = NULL;
+  TlSolid *solid = NULL;
+  TlVCouplingElement *el = NULL;
+  TL_TEST_STATUS(tl_material_create("hooke", &mat), TL_OK);
+  if (!vc || !mat) return;
+  tl_material_set(mat, "E", 1e8);
+  tl_material_set(mat, "nu", 0.0);
+  tl_material_set(mat, "density", 1309.0);
+  TL_TEST_STATUS(tl_material_setup(mat), TL_OK);
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  if (!solid) return;
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_vcoupling_element_create(vc, solid, &el), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  if (!el) return;
+  size_t np = make_lattice(1), nn = mesh->n_nodes;
+  static double du_n[3 * 400], u1[3 * 400], u2[3 * 400], f1[3 * 400], f2[3 * 400], fref[3 * 400];
+  unsigned seed = 11u;
+  for (size_t a = 0; a < 3 * np; ++a) {
+    seed = seed * 1103515245u + 12345u;
+    dup[a] = 1e-4 * (((seed >> 8) & 0xffff) / 65535.0 - 0.5);
+  }
+  for (size_t k = 0; k < 3 * nn; ++k) {
+    seed = seed * 1103515245u + 12345u;
+    du_n[k] = 1e-4 * (((seed >> 8) & 0xffff) / 65535.0 - 0.5);
+    u1[k] = 0.0;
+    u2[k] = 3.0 * du_n[k] + 1e-3;
+  }
+  TL_TEST_STATUS(tl_vcoupling_update(vc, NULL, np, xp, mp), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_element_set_step_lagged(el, dup, du_n), TL_OK);
+  memset(f1, 0, sizeof f1);
+  memset(f2, 0, sizeof f2);
+  memset(fref, 0, sizeof fref);
+  TL_TEST_STATUS(tl_vcoupling_element_nodal_forces(el, u1, f1), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_element_nodal_forces(el, u2, f2), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_forces(vc, dup, du_n, fref, NULL, NULL), TL_OK);
+  double d12 = 0.0, dref = 0.0, scale = 0.0;
+  for (size_t k = 0; k < 3 * nn; ++k) {
+    d12 = fmax(d12, fabs(f1[k] - f2[k]));
+    dref = fmax(dref, fabs(f1[k] - fref[k]));
+    scale = fmax(scale, fabs(fref[k]));
+  }
+  TL_TEST_ASSERT(scale > 0.0 && d12 == 0.0, "lagged force depends on the iterate: %g (scale %g)", d12, scale);
+  TL_TEST_ASSERT(dref <= 1e-14 * scale, "lagged force off the coupling's by %g", dref);
+  memset(fp, 0, sizeof fp);
+  TlVCouplingDiag dg;
+  TL_TEST_STATUS(tl_vcoupling_element_particle_forces(el, u2, fp, &dg), TL_OK);
+  TL_TEST_ASSERT(dg.eq41 < 1e-13, "Eq. 41 with the lagged mismatch: %g", dg.eq41);
+  /* set_step goes back to the current mismatch: the force follows the iterate */
+  TL_TEST_STATUS(tl_vcoupling_element_set_step(el, dup, u1), TL_OK);
+  memset(f1, 0, sizeof f1);
+  memset(f2, 0, sizeof f2);
+  TL_TEST_STATUS(tl_vcoupling_element_nodal_forces(el, u1, f1), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_element_nodal_forces(el, u2, f2), TL_OK);
+  d12 = 0.0;
+  for (size_t k = 0; k < 3 * nn; ++k) d12 = fmax(d12, fabs(f1[k] - f2[k]));
+  TL_TEST_ASSERT(d12 > 1e-3 * scale, "current mismatch: the force must follow the iterate (%g)", d12);
+  TL_TEST_STATUS(tl_vcoupling_element_set_step_lagged(el, dup, NULL), TL_ERR_ARG);
+  tl_vcoupling_element_destroy(&el);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_vcoupling_destroy(&vc);
+}
+
 int main(void)
 {
   if (tl_initialize() != TL_OK) {
@@ -190,6 +262,7 @@ int main(void)
   test_linear_profile(mesh);
   test_lumped_penalty(mesh);
   test_reach_shrink(mesh);
+  test_lagged(mesh);
   tl_mesh_destroy(&mesh);
   return tl_test_report();
 }
