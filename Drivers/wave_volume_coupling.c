@@ -153,7 +153,7 @@ static TlStatus run(int argc, char **argv)
                                          "Table 4: pulse (§6.2.2), cosine (§6.2.3), cycles (§6.2.4)", &iexc), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-omega", 1950.0, 1e-3, 1e9, "rad/s", "excitation angular frequency", &p.omega), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-cycles", 1, 1, 1000, "cycles M_c of the excitation (-excitation cycles)", &cycles), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-v0", 0.0, 0.0, 1e3, "m/s", "amplitude (0: Table 4, 0.1 pulse, 0.05 otherwise)", &v0), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-v0", 0.0, 0.0, 1e3, "m/s", "amplitude (0: Table 4, 0.1 pulse, 0.05 otherwise; the pulse n x 0.1 with -configuration published, which gives every nP the momentum of the 1P pulse as the published runs do)", &v0), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dx", 0.4, 1e-3, 1e3, "m", "element size Delta X", &p.dx), done);
   TlScale scales[] = {{"h", p.dx, "element size Delta X"}};
   TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "0", 0.0, 1e3, "m", scales, 1,
@@ -253,7 +253,7 @@ static TlStatus run(int argc, char **argv)
   p.n = icase + 1;
   p.excitation = (TlWaveExcitation)iexc;
   p.cycles = (int)cycles;
-  p.v0 = v0 > 0 ? v0 : (iexc == 0 ? 0.1 : 0.05);
+  p.v0 = v0 > 0 ? v0 : (iexc == 0 ? 0.1 * (iconf ? p.n : 1) : 0.05);
   p.kernel = kernels[iker];
   p.variant = (TlWaveVariant)ivar;
   p.quad_order = (int)quad;
