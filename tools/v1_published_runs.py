@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """V1 figures of the paper's own runs, measured as wave_volume_coupling measures ours.
 
-usage: v1_published_runs.py <Oomph-Mercury checkout or its git directory> [out.csv]
+usage: v1_published_runs.py <Oomph-Mercury checkout or its git directory> [out.csv] [FOLDER=OURDIR ...]
 
 The authors published their V1 pulse runs (folder PulseWave/oneDimChain{1,8,27,64}P,
 one sub-folder per CG width: Default = c 0, CGnR = c n particle radii; ref/ the
@@ -27,6 +27,11 @@ the driver's defaults.  Their frame is mirrored and shifted (pulse at y = 13.8 m
 moving -y; ours at y = 0.2 m) and in mm, ms, ug: converted here.  The penalty,
 the weights and the CG width are not stored in the files: the width is read
 from the folder name, the weights from the weighted masses.
+
+FOLDER=OURDIR (1P only, e.g. Default=results/pub_c0): compares the v_y layer
+profile (y <= 12 m) of our run in OURDIR (its profiles.csv, run with
+-snapshots at the published frames 0.0308628064,0.0501520604) with the
+published coupled run in FOLDER, and our full-DEM reference with theirs.
 """
 import math
 import os
@@ -116,6 +121,31 @@ def restart_params(text):
     return p
 
 
+def compare_profiles(src, folder, ours_dir, ref_data, out):
+    """Our particles' layer profile against the published coupled run, and our reference against theirs."""
+    import csv
+    pub = frames(src.read("PulseWave/oneDimChain1P/%s/oneDimChain.data" % folder))
+    with open(os.path.join(ours_dir, "profiles.csv")) as f:
+        rows = list(csv.DictReader(f))
+    times = sorted(set(float(r["t"]) for r in rows))
+    num = den = num_r = den_r = 0.0
+    for ts in times:
+        kp = min(range(len(pub)), key=lambda i: abs(pub[i][0] - ts))
+        a, b = layer_profile(pub[kp][1]), layer_profile(ref_data[kp][1])
+        for r in rows:
+            if float(r["t"]) != ts or float(r["y"]) > 12.0:
+                continue
+            key = round(float(r["y"]) / 1e-3)
+            if key in a and key in b:
+                num += (float(r["vy"]) - a[key]) ** 2
+                den += a[key] ** 2
+                num_r += (float(r["vy_ref"]) - b[key]) ** 2
+                den_r += b[key] ** 2
+    print("# 1P %s against %s (t = %s s): particle profile error against the published coupled run %.4f, "
+          "our full-DEM reference against theirs %.2e" % (folder, ours_dir, ", ".join("%.6g" % t for t in times),
+                                                         math.sqrt(num / den), math.sqrt(num_r / den_r)), file=out)
+
+
 def energy(ene, trace, k):
     e, t = ene[k], trace[k]
     return (e[9] + e[10] + e[11] + t[11] + t[13]) * J
@@ -201,6 +231,9 @@ def main():
         "no" if ref_par.get("adhesion_force_max", 1.0) == 0.0 else "yes"), file=out)
     for c in checks:
         print("# differs: " + c, file=out)
+    for arg in sys.argv[3:]:
+        folder, ours = arg.split("=", 1)
+        compare_profiles(src, folder, ours, ref_data, out)
     if not checks:
         print("# every run's particle count, radius, stiffness, density and dt equal the driver's defaults to 1e-5"
               " (their rho_g = 2500 against 6 x 1309 / pi = 2500.006)", file=out)
