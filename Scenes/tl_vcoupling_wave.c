@@ -325,6 +325,7 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
     TlVCouplingParams cp = {{1, p->fem_start, p->dem_end}, p->c, p->kernel, eps, p->quad_order, p->per_element};
     TL_CHECK_GOTO(s, tl_vcoupling_create(w->mesh, 0, &cp, &w->vc), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_set_profile(w->vc, p->linear_weight ? TL_VCOUPLING_LINEAR : TL_VCOUPLING_COSINE), fail);
+    TL_CHECK_GOTO(s, tl_vcoupling_set_weight_min(w->vc, p->weight_min), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_set_lumped_penalty(w->vc, p->lumped_penalty), fail);
     TL_CHECK_GOTO(s, tl_vcoupling_set_reach_shrink(w->vc, p->cg_reach_less_d ? w->d : 0.0), fail);
     TL_CHECK_GOTO(s, build_solid(w), fail);

@@ -72,6 +72,7 @@ typedef struct {
   int pulse_in;            /* 1: the pulse layer moves into the bar (+y, a
                               compression pulse, as published); 0: -y */
   int linear_weight;       /* 1: w a linear ramp across the overlap; 0: cosine */
+  double weight_min;       /* the overlap's nodal weights in [weight_min, 1 - weight_min] */
   int lumped_penalty;      /* 1: the penalty's M_ij row-sum lumped */
   int lagged;              /* 1: both sides' coupling forces from the previous
                               step's mismatch, fixed before either steps (the

@@ -77,6 +77,21 @@ static void test_linear_profile(const TlMesh *mesh)
     if (xp[3 * a + 1] > 8.0 && fabs(w[a] - (1.0 - (xp[3 * a + 1] - 8.0) / 4.0)) > 1e-3) differs = 1;
   TL_TEST_ASSERT(differs, "the cosine profile must differ from the ramp");
   TL_TEST_STATUS(tl_vcoupling_set_profile(vc, (TlVCouplingProfile)7), TL_ERR_ARG);
+  /* weight_min: the zone's nodes, its ends included, span [0.1, 0.9] */
+  TL_TEST_STATUS(tl_vcoupling_set_profile(vc, TL_VCOUPLING_LINEAR), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_set_weight_min(vc, 0.1), TL_OK);
+  wn = tl_vcoupling_node_weights(vc);
+  worst = 0.0;
+  for (size_t i = 0; i < mesh->n_nodes; ++i)
+    worst = fmax(worst, fabs(wn[i] - (0.1 + 0.8 * (1.0 - (mesh->x[3 * i + 1] - 8.0) / 4.0))));
+  TL_TEST_ASSERT(worst < 1e-12, "nodal weights off the ramp 0.9 -> 0.1 by %g", worst);
+  double inside[3] = {0.3, 7.9, 0.3}, past[3] = {0.3, 12.1, 0.3}, wi[2];
+  TL_TEST_STATUS(tl_vcoupling_update(vc, NULL, np, xp, mp), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_point_weights(vc, 1, inside, wi), TL_OK);
+  TL_TEST_STATUS(tl_vcoupling_point_weights(vc, 1, past, wi + 1), TL_OK);
+  TL_TEST_ASSERT(wi[0] == 1.0 && wi[1] == 0.0, "outside the zone w = 1 and 0, got %g and %g", wi[0], wi[1]);
+  TL_TEST_STATUS(tl_vcoupling_set_weight_min(vc, 0.5), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_vcoupling_set_weight_min(vc, -0.1), TL_ERR_ARG);
   tl_vcoupling_destroy(&vc);
 }
 

@@ -26,6 +26,7 @@ struct TlVCoupling {
   TlVCouplingZone zone;
   double c, epsilon;
   TlVCouplingProfile profile;
+  double weight_min;   /* the zone's nodal weights span [weight_min, 1 - weight_min] */
   double reach_shrink; /* particles gathered within max(c - reach_shrink, 0) of an element */
   int lumped;          /* Me row-sum lumped */
   char kernel_name[32];
@@ -67,18 +68,24 @@ struct TlVCoupling {
   int updated;
 };
 
-static double profile_weight(const TlVCouplingZone *zone, TlVCouplingProfile profile, const double x[3])
+static double profile_weight(const TlVCouplingZone *zone, TlVCouplingProfile profile, double wmin, const double x[3])
 {
   double s = (x[zone->axis] - zone->lo) / (zone->hi - zone->lo);
-  if (s <= 0.0) return 1.0;
-  if (s >= 1.0) return 0.0;
-  if (profile == TL_VCOUPLING_LINEAR) return 1.0 - s;
-  return 0.5 * (1.0 + cos(TL_PI * s));
+  if (wmin == 0.0) {
+    if (s <= 0.0) return 1.0;
+    if (s >= 1.0) return 0.0;
+  } else { /* the zone's own nodes (its closed ends included) take [wmin, 1 - wmin] */
+    if (s < -1e-12) return 1.0;
+    if (s > 1.0 + 1e-12) return 0.0;
+    s = fmin(fmax(s, 0.0), 1.0);
+  }
+  double r = profile == TL_VCOUPLING_LINEAR ? 1.0 - s : 0.5 * (1.0 + cos(TL_PI * s));
+  return wmin + (1.0 - 2.0 * wmin) * r;
 }
 
 double tl_vcoupling_zone_weight(const TlVCouplingZone *zone, const double x[3])
 {
-  return profile_weight(zone, TL_VCOUPLING_COSINE, x);
+  return profile_weight(zone, TL_VCOUPLING_COSINE, 0.0, x);
 }
 
 static void bins_free(Bins *b)
@@ -218,7 +225,7 @@ TlStatus tl_vcoupling_create(const TlMesh *mesh, int block, const TlVCouplingPar
   TL_CHECK_GOTO(s, make_kernel(vc), fail);
 
   TL_CHECK_GOTO(s, tl_calloc(&vc->w_node, mesh->n_nodes, sizeof *vc->w_node), fail);
-  for (size_t i = 0; i < mesh->n_nodes; ++i) vc->w_node[i] = profile_weight(&vc->zone, vc->profile, mesh->x + 3 * i);
+  for (size_t i = 0; i < mesh->n_nodes; ++i) vc->w_node[i] = profile_weight(&vc->zone, vc->profile, vc->weight_min, mesh->x + 3 * i);
 
   /* coupling elements: those reaching into the open zone */
   TL_CHECK_GOTO(s, tl_calloc(&vc->elem, B->n_elements ? B->n_elements : 1, sizeof *vc->elem), fail);
@@ -381,9 +388,17 @@ TlStatus tl_vcoupling_set_profile(TlVCoupling *vc, TlVCouplingProfile profile)
     TL_ERROR(TL_ERR_ARG, "weight profile %d must be TL_VCOUPLING_COSINE (0) or TL_VCOUPLING_LINEAR (1)", (int)profile);
   vc->profile = profile;
   for (size_t i = 0; i < vc->mesh->n_nodes; ++i)
-    vc->w_node[i] = profile_weight(&vc->zone, vc->profile, vc->mesh->x + 3 * i);
+    vc->w_node[i] = profile_weight(&vc->zone, vc->profile, vc->weight_min, vc->mesh->x + 3 * i);
   vc->updated = 0;
   return TL_OK;
+}
+
+TlStatus tl_vcoupling_set_weight_min(TlVCoupling *vc, double weight_min)
+{
+  if (!(weight_min >= 0.0 && weight_min < 0.5))
+    TL_ERROR(TL_ERR_ARG, "weight_min = %g outside [0, 0.5)", weight_min);
+  vc->weight_min = weight_min;
+  return tl_vcoupling_set_profile(vc, vc->profile);
 }
 
 TlStatus tl_vcoupling_set_lumped_penalty(TlVCoupling *vc, int lumped)
@@ -528,7 +543,7 @@ TlStatus tl_vcoupling_point_weights(TlVCoupling *vc, size_t n, const double *x, 
   if (!vc->updated) TL_ERROR(TL_ERR_STATE, "tl_vcoupling_update must run before the point weights");
   const int nn = vc->nn;
   const TlElementBlock *B = &vc->mesh->blocks[vc->block];
-  for (size_t k = 0; k < n; ++k) w[k] = profile_weight(&vc->zone, vc->profile, x + 3 * k);
+  for (size_t k = 0; k < n; ++k) w[k] = profile_weight(&vc->zone, vc->profile, vc->weight_min, x + 3 * k);
   TL_CHECK(bins_build(&vc->bins, n, x, vc->h_elem > 0 ? vc->h_elem : 1.0));
   TL_CHECK(tl_array_reserve(&vc->owner, &vc->cap_owner, n ? n : 1, sizeof *vc->owner));
   for (size_t k = 0; k < n; ++k) vc->owner[k] = -1;

@@ -92,6 +92,12 @@ TlStatus tl_vcoupling_set_width(TlVCoupling *vc, double c);
  *   profile: the weight across the zone, TL_VCOUPLING_COSINE (default, the
  *     half-cycle cosine of tl_vcoupling_zone_weight) or TL_VCOUPLING_LINEAR
  *     (1 - s, s the zone coordinate in [0, 1]);
+ *   weight_min in [0, 0.5): the zone's nodes (its closed ends included)
+ *     take weights in [weight_min, 1 - weight_min], the profile scaled
+ *     into that range (the published explicit runs: 0.1, so that no
+ *     particle of the zone weighs less than a tenth); outside the zone 1
+ *     and 0 as before, so the weight jumps at the zone's ends and the
+ *     solid's weight 1 - w is interpolated across the elements next to it;
  *   lumped_penalty: 1 puts the row sums of M_ij on the diagonal, F_i = eps
  *     (int N_i dV) r_i: each node penalised on its own mismatch alone;
  *   reach_shrink (m, >= 0): Eq. 18 (c > 0) gathers the particles within
@@ -101,6 +107,7 @@ TlStatus tl_vcoupling_set_width(TlVCoupling *vc, double c);
  *     alone up to c = d. */
 typedef enum { TL_VCOUPLING_COSINE = 0, TL_VCOUPLING_LINEAR } TlVCouplingProfile;
 TlStatus tl_vcoupling_set_profile(TlVCoupling *vc, TlVCouplingProfile profile);
+TlStatus tl_vcoupling_set_weight_min(TlVCoupling *vc, double weight_min);
 TlStatus tl_vcoupling_set_lumped_penalty(TlVCoupling *vc, int lumped);
 TlStatus tl_vcoupling_set_reach_shrink(TlVCoupling *vc, double reach_shrink);
 
