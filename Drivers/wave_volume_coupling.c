@@ -197,8 +197,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-configuration", "paper_text", configurations,
                                          "paper_text: the text's formulation (-contact bonded -pulse_direction out "
                                          "-weight cosine -weight_min 0 -penalty_mass consistent -cg_reach c -coupling_order current); published: the authors' published "
-                                         "runs (-contact compression -pulse_direction in -weight linear -penalty_mass "
-                                         "lumped -cg_reach c-d -coupling_order lagged); each of these options given with it overrides its value", &iconf), done);
+                                         "runs (-contact compression -pulse_direction in -weight linear -weight_min 0.1 -penalty_mass "
+                                         "lumped -cg_reach c-d -coupling_order lagged, pulse n x 0.1 m/s); each of these options given with it overrides its value", &iconf), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-contact", contacts[iconf], contacts,
                                          "particle bonds: bonded (tension and compression) or compression (push only: "
                                          "the published runs' species has no tensile range)", &icontact), done);
