@@ -91,15 +91,13 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                          "saint_venant_kirchhoff, ...), with -E and -nu",
                                          &c->material), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-modes", 6, 1, 1000, "modal mode: eigenpairs wanted", &c->n_modes), done);
-  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-lumped", 0, "modal mode: lumped instead of consistent mass", &check),
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-lumped", 0, "modal mode: lumped instead of consistent mass", &c->lumped),
                 done);
-  c->lumped = check;
-  check = 0;
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tip_load", 1644.0, 0.0, 1e12, "N",
                                        "small tip load (2 m g of S1's particles)", &c->beam.load), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-load_parameter", 3.0, 0.0, 20.0, "",
-                                       "large mode: final P L^2 / (E I)", &c->load_parameter), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-load_steps", 10, 1, 100000, "large mode: load steps", &c->load_steps), done);
+                                       "large and nlgeom modes: final P L^2 / (E I)", &c->load_parameter), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-load_steps", 10, 1, 100000, "large and nlgeom modes: load steps", &c->load_steps), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt", 0.02, 1e-9, 10.0, "s", "vibration: Newmark time step", &c->dt), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-periods", 3.0, 0.1, 1e4, "", "vibration: duration in first-mode periods", &c->periods), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-solver", "cholmod", solvers, "sparse direct solver", &solver), done);
