@@ -9,8 +9,8 @@
  *   TL_CHECK(tl_ccx_run(dir, "cantilever_modal", &seconds));
  *   TL_CHECK(tl_ccx_read_eigenvalues(dir, "cantilever_modal", 6, omega2));
  *
- * The decks are checked in (calculix/<name>.inp, next to this header, or
- * $TALUS_CALCULIX_DECKS) and *INCLUDE what Talus writes: the nodes and the
+ * The decks are checked in (calculix/<name>.inp next to this header;
+ * tl_ccx_deck_path says where they are looked for) and *INCLUDE what Talus writes: the nodes and the
  * Hex8 elements as C3D8 (full 2 x 2 x 2 Gauss integration of stiffness and
  * mass, Talus's hex8 rule, orders_stiffness = order_mass = 2; the node order
  * of Gmsh's hexahedron is Abaqus's), the clamped face, the material (E, nu,
@@ -55,7 +55,10 @@ static inline TlStatus tl_ccx_ensure(void)
   return TL_OK;
 }
 
-/* The path of the checked-in deck `name` (without .inp). */
+/* The path of the checked-in deck `name` (without .inp): in
+ * $TALUS_CALCULIX_DECKS, else in TL_CALCULIX_DECKS_DIR (the build defines
+ * it: __FILE__ may be relative to the compiler's folder, as under ccache
+ * with a base directory), else next to this header. */
 static inline void tl_ccx_deck_path(const char *name, char *path, size_t cap)
 {
   const char *env = getenv("TALUS_CALCULIX_DECKS");
@@ -63,6 +66,10 @@ static inline void tl_ccx_deck_path(const char *name, char *path, size_t cap)
     snprintf(path, cap, "%s/%s.inp", env, name);
     return;
   }
+#ifdef TL_CALCULIX_DECKS_DIR
+  snprintf(path, cap, "%s/%s.inp", TL_CALCULIX_DECKS_DIR, name);
+  return;
+#endif
   snprintf(path, cap, "%s", __FILE__);
   char *slash = strrchr(path, '/');
   if (slash) snprintf(slash + 1, cap - (size_t)(slash + 1 - path), "calculix/%s.inp", name);
