@@ -12,7 +12,7 @@
  * The decks are checked in (calculix/<name>.inp next to this header;
  * tl_ccx_deck_path says where they are looked for) and *INCLUDE what Talus writes: the nodes and the
  * Hex8 elements as C3D8 (full 2 x 2 x 2 Gauss integration of stiffness and
- * mass, Talus's hex8 rule, orders_stiffness = order_mass = 2; the node order
+ * mass, Talus's hex8 rule, order_stiffness = order_mass = 2; the node order
  * of Gmsh's hexahedron is Abaqus's), the clamped face, the material (E, nu,
  * density: *ELASTIC, which CalculiX reads as Saint Venant-Kirchhoff under
  * NLGEOM) and the tip load as Talus's consistent nodal forces.  CalculiX
