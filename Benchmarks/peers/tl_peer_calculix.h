@@ -152,6 +152,25 @@ static inline TlStatus tl_ccx_write_line(const char *dir, const char *name, cons
   return s;
 }
 
+/* The amplitude of the dynamic deck's load at time t: a linear ramp from 0
+ * at t = 0 to 1 at t_ramp, then 1 (t_ramp = 0: 1 from t = 0, a sudden
+ * load).  The Talus side sets its load factor to this value at the end of
+ * each step, where Newmark's equilibrium holds, as CalculiX interpolates
+ * its amplitude there. */
+static inline double tl_ccx_amplitude(double t, double t_ramp)
+{
+  return t_ramp > 0.0 && t < t_ramp ? t / t_ramp : 1.0;
+}
+
+/* <dir>/amplitude.inp: the *AMPLITUDE data of tl_ccx_amplitude. */
+static inline TlStatus tl_ccx_write_amplitude(const char *dir, double t_ramp)
+{
+  char line[128];
+  if (t_ramp > 0.0) snprintf(line, sizeof line, "0., 0., %.17g, 1., 1e30, 1.", t_ramp);
+  else snprintf(line, sizeof line, "0., 1., 1e30, 1.");
+  return tl_ccx_write_line(dir, "amplitude.inp", line);
+}
+
 /* Copies the deck into dir and runs `ccx -i <deck>` there on one thread.
  * *seconds: CalculiX's own "Total CalculiX Time" (the process's wall time
  * when it prints none). */
