@@ -415,6 +415,53 @@ static void test_reclassify(void)
   TL_TEST_STATUS(tl_trisurface_set_vertices(s, x, NULL), TL_OK);
   TL_TEST_ASSERT(s->edge_shape[shared] == TL_EDGE_FLAT && s->edge_fold[shared] == 0.0 && !s->edge_sharp[shared],
                  "flat: shape %d, fold %g", s->edge_shape[shared], s->edge_fold[shared]);
+  /* exactly coplanar but tilted: the plane z = x + y through points whose
+   * coordinates are multiples of 2^-30 (so z is exact), where the computed
+   * normals and folds carry round-off.  With a flat tolerance below
+   * round-off (1e-300), only the exact predicate can tell: coplanar faces
+   * are flat with a zero fold, and a far vertex nudged by one ulp never
+   * gives the wrong sense (it may read flat when the computed fold is 0:
+   * the magnitude is a double) */
+  {
+    TL_TEST_STATUS(tl_trisurface_set_tolerances(s, 1e-300, s->quality_tolerance), TL_OK);
+    uint64_t seed = 11;
+    int flat_ok = 0, wrong_sense = 0, folded = 0, trials = 500;
+    for (int trial = 0; trial < trials; ++trial) {
+      double xt[18], sx = 0.2 + urand(&seed), sy = 0.2 + urand(&seed), ox = urand(&seed) - 0.5, oy = urand(&seed);
+      hinge_vertices(0, xt);
+      for (int v = 0; v < 6; ++v) {
+        xt[3 * v] = ldexp(nearbyint(ldexp(sx * xt[3 * v] + ox + 0.01 * urand(&seed), 30)), -30);
+        xt[3 * v + 1] = ldexp(nearbyint(ldexp(sy * xt[3 * v + 1] + oy + 0.01 * urand(&seed), 30)), -30);
+        xt[3 * v + 2] = xt[3 * v] + xt[3 * v + 1];
+      }
+      TL_TEST_STATUS(tl_trisurface_set_vertices(s, xt, NULL), TL_OK);
+      flat_ok += s->edge_shape[shared] == TL_EDGE_FLAT && s->edge_fold[shared] == 0.0;
+      int ta = s->edge_tri[2 * shared], tb = s->edge_tri[2 * shared + 1], far = -1;
+      for (int k = 0; k < 3; ++k) {
+        int v = s->tri[3 * tb + k];
+        if (v != s->edge_vertex[2 * shared] && v != s->edge_vertex[2 * shared + 1]) far = v;
+      }
+      /* raising the far vertex moves it to the side A's normal points to
+       * when that normal has a positive z */
+      int up_shape = s->normal[ta].z > 0 ? TL_EDGE_CONCAVE : TL_EDGE_CONVEX;
+      int down_shape = up_shape == TL_EDGE_CONCAVE ? TL_EDGE_CONVEX : TL_EDGE_CONCAVE;
+      for (int dir = 1; dir >= -1; dir -= 2) {
+        double y[18];
+        memcpy(y, xt, sizeof y);
+        y[3 * far + 2] = nextafter(y[3 * far + 2], dir * INFINITY);
+        TL_TEST_STATUS(tl_trisurface_set_vertices(s, y, NULL), TL_OK);
+        int shape = s->edge_shape[shared];
+        folded += shape != TL_EDGE_FLAT;
+        wrong_sense += shape == (dir > 0 ? down_shape : up_shape);
+      }
+    }
+    printf("tilted coplanar hinges, flat tolerance 1e-300: %d of %d flat; one ulp off: %d of %d folded, %d of the "
+           "wrong sense\n", flat_ok, trials, folded, 2 * trials, wrong_sense);
+    TL_TEST_ASSERT(flat_ok == trials, "tilted coplanar hinges: %d of %d flat", flat_ok, trials);
+    TL_TEST_ASSERT(wrong_sense == 0 && folded > trials, "one ulp off: %d of the wrong sense, %d folded", wrong_sense,
+                   folded);
+    TL_TEST_STATUS(tl_trisurface_set_tolerances(s, 1e-9, s->quality_tolerance), TL_OK);
+  }
   /* the feature angle of the surface itself */
   hinge_vertices(50 * TL_PI / 180, x);
   TL_TEST_STATUS(tl_trisurface_set_vertices(s, x, NULL), TL_OK);

@@ -215,15 +215,16 @@ static TlStatus triangle_geometry(TlTriSurface *s, size_t t)
   return TL_OK;
 }
 
-/* Shape, fold and sharpness of edge e.  The side on which B's far vertex
- * lies with respect to A's plane is the sign of an exact orientation
- * predicate, so that exactly coplanar faces are flat and a fold is never
- * given the wrong sense by round-off, whatever the tolerances; the filter of
- * the predicate decides every clearly folded edge in doubles, so this costs
- * a few dozen flops per edge and the exact stage runs only for (nearly)
- * coplanar faces that are not aligned with an axis.  The magnitude of the
- * fold then compares with the flat tolerance and the angle between the two
- * normals with the feature angle. */
+/* Shape, fold and sharpness of edge e.  A fold whose sine is within the
+ * flat tolerance is flat (a tolerance on a magnitude: the sense does not
+ * matter).  Any other fold takes its sense, concave or convex, from the exact
+ * orientation predicate (B's far vertex above or below A's plane), so that a
+ * fold is never given the wrong sense by round-off, whatever the
+ * tolerances, and exactly coplanar faces are flat.  Flat edges thus cost
+ * nothing more, and for folded ones the predicate's floating-point filter
+ * decides in a few dozen flops (its exact stage is for nearly coplanar
+ * faces, which only a flat tolerance below round-off lets through).  The
+ * angle between the two normals then compares with the feature angle. */
 static void edge_geometry(TlTriSurface *s, size_t e)
 {
   int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
@@ -253,11 +254,11 @@ static void edge_geometry(TlTriSurface *s, size_t e)
   for (int k = 0; k < 3; ++k)
     if (vb[k] != e0 && vb[k] != e1) far = vb[k];
   TlVec3 q = s->edge_twin[e] >= 0 ? tl_v3_sub(s->x[far], shift) : s->x[far];
-  int side = tl_orient3d(s->x[va[0]], s->x[va[1]], s->x[va[2]], q);
   TlVec3 u = tl_v3_normalize(tl_v3_sub(p1, p0));
   TlVec3 d = tl_v3_sub(q, p0);
   TlVec3 h = tl_v3_axpy(d, -tl_v3_dot(d, u), u);
-  double fold = side * fabs(tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h));
+  double fold = tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h);
+  if (fabs(fold) > s->flat_tolerance) fold = tl_orient3d(s->x[va[0]], s->x[va[1]], s->x[va[2]], q) * fabs(fold);
   s->edge_fold[e] = fold;
   s->edge_shape[e] = fold > s->flat_tolerance    ? TL_EDGE_CONCAVE
                      : fold < -s->flat_tolerance ? TL_EDGE_CONVEX
