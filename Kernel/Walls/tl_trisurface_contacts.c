@@ -204,10 +204,7 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
     for (long g = 0; g < ng; ++g) {
       size_t g0 = set->group[g], g1 = set->group[g + 1];
       for (size_t i = g0; i < g1; ++i) link[i] = region[i] = (int32_t)i;
-      if (g1 - g0 < 2) {
-        c[g0].active = 1;
-        continue;
-      }
+      if (g1 - g0 < 2) continue;
       for (size_t i = g0; i < g1; ++i) {
         int32_t t = c[i].triangle;
         for (int k = 0; k < 3; ++k) {
