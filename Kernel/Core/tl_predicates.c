@@ -12,13 +12,13 @@ int tl_cgal_orient3d(const double a[3], const double b[3], const double c[3], co
 
 /* Error bound of the double evaluation below, relative to its permanent
  * (the same expression with every product and sum taken in absolute value,
- * evaluated in doubles).  With u = DBL_EPSILON/2 the unit round-off: each
- * difference carries a relative error u, each product of three differences
- * accumulates at most 2 roundings of its own and 3 of its factors (5u),
- * the three-term sums of the cofactor expansion 2 more (7u), and evaluating
- * the permanent itself in doubles a few u more, so 8u (4 DBL_EPSILON) bounds
- * the error with margin to the first order; twice that covers the terms of
- * order u^2 for any input that neither overflows nor underflows. */
+ * evaluated in doubles).  With u = DBL_EPSILON/2 the unit round-off: a
+ * product of three differences carries 3u from its rounded factors and 2u
+ * from its own two roundings, the difference of two such products 1u more
+ * and the two additions of the cofactor expansion 2u more: 8u to first
+ * order.  The bound 16u (8 DBL_EPSILON) leaves a factor of 2 for the
+ * rounding of the permanent itself and the terms of order u^2, for any input
+ * that neither overflows nor underflows. */
 #define TL_ORIENT3D_BOUND (8.0 * DBL_EPSILON)
 
 /* Expansion arithmetic: a real number as the exact sum of doubles whose
@@ -27,6 +27,9 @@ int tl_cgal_orient3d(const double a[3], const double b[3], const double c[3], co
  * sum or product and its exact rounding error), so the result is the exact
  * value; its sign is the sign of its largest component.  Requires IEEE
  * round-to-nearest and no overflow or underflow of the products. */
+/* Longest expansion below: differences of 2 components, products of two of
+ * them 8, a cross-product component 16, its product with a difference 64,
+ * the determinant 3 x 64 = 192. */
 enum { TL_EXPANSION_MAX = 256 };
 
 typedef struct {
