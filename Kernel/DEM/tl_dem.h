@@ -74,9 +74,6 @@ typedef struct {
   size_t n_pairs;      /* neighbour-list pairs */
 } TlDemStats;
 
-/* Registers the built-in contact laws and the plane wall (tl_initialize). */
-TlStatus tl_dem_register_all(void);
-
 TlStatus tl_dem_create(TlDem **dem);
 void tl_dem_destroy(TlDem **dem);
 
@@ -187,9 +184,9 @@ TlStatus tl_dem_visit_contacts(TlDem *dem, TlContactVisitor visit, void *ctx);
 /* Visits every wall contact of the last force evaluation with the force the
  * DEM computed: wall index, particle i, force on the particle, contact point
  * on the wall surface, and the particle centre the contact was computed with
- * (the nearest periodic image for walls that see images).  Plane walls and
- * triangulated surfaces (after the edge corrections) are visited; another
- * wall type is refused with its name. */
+ * (the nearest periodic image for walls that see images), through each
+ * wall's visit_contacts op (tl_wall.h); a wall type without the op is
+ * refused with its name. */
 typedef void (*TlWallContactVisitor)(void *ctx, size_t wall, size_t i, TlVec3 force_on_particle, TlVec3 contact_point,
                                      TlVec3 particle_center);
 TlStatus tl_dem_visit_wall_contacts(TlDem *dem, TlWallContactVisitor visit, void *ctx);

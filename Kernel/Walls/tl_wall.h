@@ -27,7 +27,16 @@
  * total the particles exert on the wall, about the origin) and n_contacts.
  *
  * Checkpoints: a wall saves its moving state and contact history into an
- * opaque byte buffer; loading it restores a run bit for bit. */
+ * opaque byte buffer; loading it restores a run bit for bit.
+ *
+ * Contacts for others (coarse graining, output, tests): `visit_contacts`
+ * calls a visitor once per contact of the last `interact`, with the force
+ * the wall applied, so nobody needs to know the wall's type.
+ *
+ * Types by name: a wall type registers a TlTypeEntry of kind "wall" whose
+ * `create` is a TlWallConstructor and whose parameter table (TlParam) lists
+ * the reals the constructor takes; tl_wall_create builds any registered
+ * type, built in or not, from its name and settings of those parameters. */
 #ifndef TL_WALL_H
 #define TL_WALL_H
 
@@ -39,8 +48,15 @@
 #include "tl_math.h"
 #include "tl_object.h"
 #include "tl_particles.h"
+#include "tl_registry.h"
 
 typedef struct TlWall TlWall;
+
+/* One contact of a wall: the particle's index, the force on it, the contact
+ * point on the wall's surface and the particle centre the contact was
+ * computed with (the nearest periodic image for walls that see images). */
+typedef void (*TlWallVisitor)(void *ctx, size_t particle, TlVec3 force_on_particle, TlVec3 contact_point,
+                              TlVec3 particle_center);
 
 /* What a wall gets each step. */
 typedef struct {
@@ -72,6 +88,9 @@ typedef struct {
   TlStatus (*checkpoint_save)(const TlWall *w, void *buffer, size_t size);
   TlStatus (*checkpoint_load)(TlWall *w, const void *buffer, size_t size);
   void (*destroy)(TlWall *w);
+  /* Visits every contact of the last interact (see above); particles are
+   * those that interact saw. */
+  TlStatus (*visit_contacts)(const TlWall *w, const TlParticles *particles, TlWallVisitor visit, void *ctx);
 } TlWallOps;
 
 struct TlWall {
@@ -86,17 +105,42 @@ struct TlWall {
   size_t n_contacts;
 };
 
-/* Calls the type's destroy and nulls *w.  (These two helpers live in
- * tl_wall_plane.c with the plane.) */
+/* ---- construction by name (tl_wall.c) ----
+ * A wall type's constructor: `params` is the type's parameter block, a
+ * struct of doubles in which parameter k of the entry's table sits at
+ * params[k].offset, every value inside its range. */
+typedef TlStatus (*TlWallConstructor)(const void *params, TlWall **w);
+/* Setting of one parameter by name, for tl_wall_create. */
+typedef struct {
+  const char *name;
+  double value;
+} TlWallSetting;
+/* Registers a wall type: kind "wall", the constructor, the ops table and
+ * the parameter table (which must outlive the registry). */
+TlStatus tl_wall_register(const char *name, const char *description, TlWallConstructor create, const TlWallOps *ops,
+                          const TlParam *params, int n_params);
+/* Creates a wall of the registered type `type`: each parameter takes its
+ * setting among the n given, else its default.  A setting that names no
+ * parameter of the type, or a value outside the parameter's range, is
+ * refused with the type's parameters listed. */
+TlStatus tl_wall_create(const char *type, size_t n, const TlWallSetting *settings, TlWall **w);
+/* Visits the contacts of the last interact through the type's op; a type
+ * without the op is refused with its name. */
+TlStatus tl_wall_visit_contacts(const TlWall *w, const TlParticles *particles, TlWallVisitor visit, void *ctx);
+/* Calls the type's destroy and nulls *w. */
 void tl_wall_destroy(TlWall **w);
 /* Whether the bounding box is finite in every component. */
 int tl_wall_is_bounded(const TlWall *w);
+/* Registers the wall types of this folder (plane and trisurface). */
+TlStatus tl_walls_register_all(void);
 
-/* ---- the infinite plane ----
+/* ---- the infinite plane (tl_wall_plane.c) ----
  * Particles live on the side the normal points to; a particle at signed
  * distance s from the plane touches it when s < r (overlap r - s).  The plane
  * may translate with a velocity (prescribed motion; its work is booked).
- * A zero or non-finite normal is refused. */
+ * A zero or non-finite normal is refused.  By name: type "plane", parameters
+ * point_x, point_y, point_z, normal_x, normal_y, normal_z (default 0, 0, 1),
+ * velocity_x, velocity_y, velocity_z. */
 TlStatus tl_wall_plane_create(TlVec3 point, TlVec3 normal, TlWall **w);
 TlStatus tl_wall_plane_set_velocity(TlWall *w, TlVec3 velocity);
 /* Current point and unit normal. */

@@ -1,26 +1,14 @@
-/* The infinite plane wall, and the two helpers of the wall base type. */
+/* The infinite plane wall. */
+#include <float.h>
 #include <math.h>
 #include <omp.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 #include "tl_memory.h"
 #include "tl_registry.h"
 #include "tl_wall.h"
-
-void tl_wall_destroy(TlWall **w)
-{
-  if (!*w) return;
-  (*w)->ops->destroy(*w);
-  *w = NULL;
-}
-
-int tl_wall_is_bounded(const TlWall *w)
-{
-  TlVec3 lo, hi;
-  w->ops->bounding_box(w, &lo, &hi);
-  return tl_v3_isfinite(lo) && tl_v3_isfinite(hi);
-}
 
 typedef struct {
   TlWall base;
@@ -279,6 +267,17 @@ int tl_wall_plane_contact_force(const TlWall *w, size_t i, TlVec3 *force)
   return 1;
 }
 
+static TlStatus plane_visit_contacts(const TlWall *w, const TlParticles *P, TlWallVisitor visit, void *ctx)
+{
+  const TlWallPlane *p = (const TlWallPlane *)w;
+  for (size_t i = 0; i < P->n && i < p->n; ++i) {
+    if (!p->touching[i]) continue;
+    double s = tl_v3_dot(tl_v3_sub(P->x[i], p->point), p->normal);
+    visit(ctx, i, p->force_prev[i], tl_v3_axpy(P->x[i], -s, p->normal), P->x[i]);
+  }
+  return TL_OK;
+}
+
 static void plane_destroy(TlWall *w)
 {
   TlWallPlane *p = (TlWallPlane *)w;
@@ -290,9 +289,39 @@ static void plane_destroy(TlWall *w)
 
 static const TlWallOps plane_ops = {{"wall", "plane", "infinite plane, particles on the side of its normal"},
                                     plane_bbox, plane_interact, plane_remap, plane_advance,
-                                    plane_checkpoint_size, plane_save, plane_load, plane_destroy};
+                                    plane_checkpoint_size, plane_save, plane_load, plane_destroy,
+                                    plane_visit_contacts};
 
-TlStatus tl_wall_register_plane(void) { return tl_registry_add(&plane_ops.header); }
+/* The parameter block of the plane's constructor by name. */
+typedef struct {
+  double point_x, point_y, point_z, normal_x, normal_y, normal_z, velocity_x, velocity_y, velocity_z;
+} PlaneParams;
+
+static const TlParam plane_params[] = {
+    {"point_x", 0.0, -DBL_MAX, DBL_MAX, "m", "a point of the plane, x", offsetof(PlaneParams, point_x)},
+    {"point_y", 0.0, -DBL_MAX, DBL_MAX, "m", "a point of the plane, y", offsetof(PlaneParams, point_y)},
+    {"point_z", 0.0, -DBL_MAX, DBL_MAX, "m", "a point of the plane, z", offsetof(PlaneParams, point_z)},
+    {"normal_x", 0.0, -DBL_MAX, DBL_MAX, "", "normal towards the particles, x (normalised)", offsetof(PlaneParams, normal_x)},
+    {"normal_y", 0.0, -DBL_MAX, DBL_MAX, "", "normal towards the particles, y (normalised)", offsetof(PlaneParams, normal_y)},
+    {"normal_z", 1.0, -DBL_MAX, DBL_MAX, "", "normal towards the particles, z (normalised)", offsetof(PlaneParams, normal_z)},
+    {"velocity_x", 0.0, -DBL_MAX, DBL_MAX, "m/s", "velocity of the plane, x", offsetof(PlaneParams, velocity_x)},
+    {"velocity_y", 0.0, -DBL_MAX, DBL_MAX, "m/s", "velocity of the plane, y", offsetof(PlaneParams, velocity_y)},
+    {"velocity_z", 0.0, -DBL_MAX, DBL_MAX, "m/s", "velocity of the plane, z", offsetof(PlaneParams, velocity_z)},
+};
+
+static TlStatus plane_construct(const void *params, TlWall **w)
+{
+  const PlaneParams *q = params;
+  TL_CHECK(tl_wall_plane_create(tl_v3(q->point_x, q->point_y, q->point_z), tl_v3(q->normal_x, q->normal_y, q->normal_z), w));
+  ((TlWallPlane *)*w)->velocity = tl_v3(q->velocity_x, q->velocity_y, q->velocity_z);
+  return TL_OK;
+}
+
+TlStatus tl_wall_register_plane(void)
+{
+  return tl_wall_register("plane", plane_ops.header.description, plane_construct, &plane_ops, plane_params,
+                          (int)(sizeof plane_params / sizeof plane_params[0]));
+}
 
 TlStatus tl_wall_plane_create(TlVec3 point, TlVec3 normal, TlWall **w)
 {

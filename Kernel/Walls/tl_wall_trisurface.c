@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <omp.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -58,7 +59,10 @@ static const TlWallOps tl_wall_trisurface_ops;
 
 static TlWallTriSurface *tl_as_trisurface(TlWall *w) { return (TlWallTriSurface *)w; }
 
-int tl_wall_is_trisurface(const TlWall *w) { return w && w->ops == &tl_wall_trisurface_ops; }
+/* The type's own check that a wall handed to its accessors is one of its
+ * kind (the only comparison of ops tables: a downcast guard, not a
+ * dispatch). */
+static int tl_wall_is_trisurface(const TlWall *w) { return w && w->ops == &tl_wall_trisurface_ops; }
 
 TlTriSurface *tl_wall_trisurface_surface(TlWall *w)
 {
@@ -69,6 +73,13 @@ const TlTriContactSet *tl_wall_trisurface_contacts(const TlWall *w)
 {
   return tl_wall_is_trisurface(w) ? ((const TlWallTriSurface *)w)->current : NULL;
 }
+
+#define TL_REQUIRE_SURFACE(t)                                                                 \
+  do {                                                                                        \
+    if (!(t)->surface)                                                                        \
+      TL_ERROR(TL_ERR_STATE, "wall '%s' has no surface yet (tl_wall_trisurface_set_surface)",  \
+               (t)->base.name);                                                               \
+  } while (0)
 
 #define TL_REQUIRE_TRISURFACE(w)                                                              \
   do {                                                                                        \
@@ -122,21 +133,33 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
   tl_free(&t);
 }
 
-TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w)
+/* The parameter block of the constructor by name: switches as 0 or 1. */
+typedef struct {
+  double corrections, brute_force, drift;
+} TriSurfaceParams;
+
+static const TlParam tl_wall_trisurface_params[] = {
+    {"corrections", 1.0, 0.0, 1.0, "", "1: the triangle-edge corrections of Algorithm 1; 0: the naive sum",
+     offsetof(TriSurfaceParams, corrections)},
+    {"brute_force", 0.0, 0.0, 1.0, "", "1: test every particle against every triangle (test oracle); 0: the grid",
+     offsetof(TriSurfaceParams, brute_force)},
+    {"drift", 0.0, 0.0, 1.0, "", "1: advance moves the vertices with their velocities; 0: the owner sets them",
+     offsetof(TriSurfaceParams, drift)},
+};
+
+/* The constructor by name: a wall without a surface yet. */
+static TlStatus tl_wall_trisurface_construct(const void *params, TlWall **w)
 {
-  if (!w) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL wall pointer");
+  const TriSurfaceParams *q = params;
   *w = NULL;
-  if (!surface) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL surface");
   TlWallTriSurface *t = NULL;
-  TlStatus status = TL_NEW(t);
-  if (status != TL_OK) {
-    tl_trisurface_destroy(&surface);
-    return tl_error_trace(status, __FILE__, __LINE__);
-  }
+  TL_CHECK(TL_NEW(t));
+  TlStatus status;
   t->base.ops = &tl_wall_trisurface_ops;
-  snprintf(t->base.name, sizeof t->base.name, "%s", surface->n_triangles == 1 ? "triangle" : "trisurface");
-  t->surface = surface;
-  t->corrections = 1;
+  snprintf(t->base.name, sizeof t->base.name, "trisurface");
+  t->corrections = q->corrections != 0.0;
+  t->brute_force = q->brute_force != 0.0;
+  t->drift = q->drift != 0.0;
   t->n_threads = omp_get_max_threads();
   if (t->n_threads < 1) t->n_threads = 1;
   TL_CHECK_GOTO(status, tl_tricontacts_create(&t->current), fail);
@@ -149,6 +172,39 @@ TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w)
 fail:
   tl_wall_trisurface_destroy_impl(&t->base);
   return status;
+}
+
+TlStatus tl_wall_trisurface_set_surface(TlWall *w, TlTriSurface *surface)
+{
+  if (!surface) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_set_surface: NULL surface");
+  if (!tl_wall_is_trisurface(w) || tl_as_trisurface(w)->surface) {
+    tl_trisurface_destroy(&surface);
+    if (!tl_wall_is_trisurface(w))
+      TL_ERROR(TL_ERR_ARG, "wall '%s' is not a triangulated surface", w ? tl_type_name(w) : "(null)");
+    TL_ERROR(TL_ERR_STATE, "wall '%s' has a surface already", w->name);
+  }
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  snprintf(t->base.name, sizeof t->base.name, "%s", surface->n_triangles == 1 ? "triangle" : "trisurface");
+  t->surface = surface;
+  return TL_OK;
+}
+
+TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w)
+{
+  if (!w) {
+    tl_trisurface_destroy(&surface);
+    TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL wall pointer");
+  }
+  *w = NULL;
+  if (!surface) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL surface");
+  TlStatus status = tl_wall_create("trisurface", 0, NULL, w);
+  if (status == TL_OK) status = tl_wall_trisurface_set_surface(*w, surface);
+  else tl_trisurface_destroy(&surface);
+  if (status != TL_OK) {
+    tl_wall_destroy(w);
+    return tl_error_trace(status, __FILE__, __LINE__);
+  }
+  return TL_OK;
 }
 
 TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w)
@@ -166,6 +222,11 @@ TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w)
 static void tl_wall_trisurface_bounding_box(const TlWall *w, TlVec3 *lo, TlVec3 *hi)
 {
   const TlWallTriSurface *t = (const TlWallTriSurface *)w;
+  if (!t->surface) { /* nothing yet: an empty box */
+    *lo = tl_v3(INFINITY, INFINITY, INFINITY);
+    *hi = tl_v3(-INFINITY, -INFINITY, -INFINITY);
+    return;
+  }
   *lo = t->surface->surface_lo;
   *hi = t->surface->surface_hi;
 }
@@ -350,6 +411,7 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
   TlParticles *p = step->particles;
   const TlContactLaw *law = step->law;
   if (!p || !law) TL_ERROR(TL_ERR_ARG, "wall '%s': interact needs particles and a contact law", w->name);
+  TL_REQUIRE_SURFACE(t);
   if (p->n > (size_t)INT32_MAX) TL_ERROR(TL_ERR_ARG, "%zu particles exceed the wall limit %d", p->n, INT32_MAX);
 
   /* last step's kept contacts (with history) become `previous` */
@@ -469,6 +531,7 @@ static TlStatus tl_wall_trisurface_advance(TlWall *w, double time, double dt)
 {
   TlWallTriSurface *t = tl_as_trisurface(w);
   if (!t->drift) return TL_OK;
+  TL_REQUIRE_SURFACE(t);
   TlTriSurface *s = t->surface;
   for (size_t i = 0; i < s->n_vertices; ++i) s->x[i] = tl_v3_axpy(s->x[i], dt, s->v[i]);
   TL_CHECK(tl_trisurface_update(s));
@@ -485,6 +548,7 @@ static size_t tl_wall_trisurface_checkpoint_size(const TlWall *w)
 {
   const TlWallTriSurface *t = (const TlWallTriSurface *)w;
   const TlTriContactSet *c = t->current;
+  if (!t->surface) return 0; /* refused by save */
   return sizeof(TlTriCheckpointHeader) + 2 * t->surface->n_vertices * sizeof(TlVec3) +
          c->count * sizeof(TlTriContactRecord) + c->count * c->history_doubles * sizeof(double);
 }
@@ -493,6 +557,7 @@ static TlStatus tl_wall_trisurface_checkpoint_save(const TlWall *w, void *buffer
 {
   const TlWallTriSurface *t = (const TlWallTriSurface *)w;
   const TlTriContactSet *c = t->current;
+  TL_REQUIRE_SURFACE(t);
   size_t need = tl_wall_trisurface_checkpoint_size(w);
   if (size < need) TL_ERROR(TL_ERR_ARG, "wall '%s' checkpoint buffer of %zu bytes, need %zu", w->name, size, need);
   char *b = buffer;
@@ -511,6 +576,7 @@ static TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer
   TlTriContactSet *c = t->current;
   const char *b = buffer;
   TlTriCheckpointHeader h;
+  TL_REQUIRE_SURFACE(t);
   if (size < sizeof h) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint of %zu bytes is truncated", w->name, size);
   memcpy(&h, b, sizeof h), b += sizeof h;
   if (h.n_vertices != t->surface->n_vertices)
@@ -536,6 +602,19 @@ static TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer
   return TL_OK;
 }
 
+static TlStatus tl_wall_trisurface_visit_contacts(const TlWall *w, const TlParticles *particles, TlWallVisitor visit,
+                                                  void *ctx)
+{
+  const TlTriContactSet *c = ((const TlWallTriSurface *)w)->current;
+  (void)particles; /* the records hold what a visitor needs */
+  for (size_t q = 0; c && q < c->count; ++q) {
+    const TlTriContactRecord *r = &c->c[q];
+    if (!r->active) continue;
+    visit(ctx, (size_t)r->particle, r->force, r->point, r->center);
+  }
+  return TL_OK;
+}
+
 static const TlWallOps tl_wall_trisurface_ops = {
     .header = {"wall", "trisurface",
                "triangulated surface (triangle walls sharing vertices) with the triangle-edge corrections"},
@@ -547,18 +626,12 @@ static const TlWallOps tl_wall_trisurface_ops = {
     .checkpoint_save = tl_wall_trisurface_checkpoint_save,
     .checkpoint_load = tl_wall_trisurface_checkpoint_load,
     .destroy = tl_wall_trisurface_destroy_impl,
+    .visit_contacts = tl_wall_trisurface_visit_contacts,
 };
 
 TlStatus tl_wall_register_trisurface(void)
 {
-  TL_CHECK(tl_registry_add(&tl_wall_trisurface_ops.header));
-  return TL_OK;
-}
-
-/* The wall types of this module beyond the plane (which the DEM module
- * registers). */
-TlStatus tl_walls_register_all(void)
-{
-  TL_CHECK(tl_wall_register_trisurface());
-  return TL_OK;
+  return tl_wall_register("trisurface", tl_wall_trisurface_ops.header.description, tl_wall_trisurface_construct,
+                          &tl_wall_trisurface_ops, tl_wall_trisurface_params,
+                          (int)(sizeof tl_wall_trisurface_params / sizeof tl_wall_trisurface_params[0]));
 }

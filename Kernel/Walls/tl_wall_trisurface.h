@@ -37,7 +37,8 @@
 #include "tl_trisurface_contacts.h"
 #include "tl_wall.h"
 
-/* Wraps a surface (the wall takes ownership, also on failure). */
+/* Wraps a surface (the wall takes ownership, also on failure): the wall
+ * type "trisurface" by name with its defaults, given the surface. */
 TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w);
 /* A single triangle (a, b, c); refused if degenerate. */
 TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w);
@@ -54,10 +55,11 @@ TlStatus tl_wall_trisurface_set_brute_force(TlWall *w, int on);
 /* When on, advance moves every vertex by dt times its velocity (a surface
  * moving on its own); off (default) when the owner sets the vertices. */
 TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on);
-/* Whether w is a triangulated surface wall. */
-int tl_wall_is_trisurface(const TlWall *w);
+/* Gives a wall created by name ("trisurface", tl_wall_create) its surface,
+ * once; the wall takes ownership, also on failure. */
+TlStatus tl_wall_trisurface_set_surface(TlWall *w, TlTriSurface *surface);
+/* Registers the type "trisurface" (parameters corrections, brute_force,
+ * drift: switches 0 or 1, as the setters below). */
 TlStatus tl_wall_register_trisurface(void);
-/* Registers the wall types of this module (called by tl_initialize). */
-TlStatus tl_walls_register_all(void);
 
 #endif

@@ -1,0 +1,457 @@
+/* The DEM contact loop: body forces, then every contact of the neighbour
+ * list and the bonds evaluated by chunks of one law, then the walls. */
+#include "tl_dem_private.h"
+
+#include <math.h>
+#include <omp.h>
+#include <string.h>
+#include "tl_contact_kernels.h"
+#include "tl_memory.h"
+#include "tl_parallel.h"
+
+typedef struct {
+  double elastic, power;
+  size_t touching;
+} Accum;
+
+/* What one chunk of contacts needs; filled once per list evaluation. */
+typedef struct {
+  TlDem *d;
+  TlContactList *L;
+  const TlVec3 *x, *v, *w;
+  const double *radius, *inv_mass, *mass;
+  const double (*xr)[4];
+  const double *cw; /* per-contact weights, NULL: unweighted */
+  TlVec3 *F, *T;
+  double len[3], half[3];
+  int bonded, want_energy;
+  size_t hd;
+  double el, pw;
+  size_t touching;
+  TlStatus status;
+} ChunkCtx;
+
+/* The nearest periodic image of a branch vector in an orthogonal box. */
+static inline void minimum_image_ortho(const ChunkCtx *c, TlVec3 *b)
+{
+  double *bc = &b->x;
+  for (int q = 0; q < 3; ++q) {
+    if (c->len[q] <= 0.0) continue;
+    if (bc[q] > c->half[q]) bc[q] -= c->len[q];
+    else if (bc[q] < -c->half[q]) bc[q] += c->len[q];
+  }
+}
+
+/* A pair that has separated: its force and history start again from zero. */
+static inline void release_contact(TlContactList *L, size_t k, size_t hd)
+{
+  if (!L->touching[k]) return;
+  L->touching[k] = 0;
+  L->force[k] = tl_v3(0, 0, 0);
+  if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+}
+
+/* The contact loop of one chunk, specialised at compile time on the domain
+ * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
+ * and on rotation, so the common cases carry no dead branches. */
+static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chunk ch, const int ORTHO,
+                                                                const int GENERAL, const int ROT, const int WEIGHTED)
+{
+  TlDem *d = c->d;
+  TlContactList *L = c->L;
+  const TlVec3 *x = c->x, *v = c->v, *w = c->w;
+  const double *radius = c->radius;
+  const TlDomain *dom = &d->domain;
+  const size_t hd = c->hd;
+  const int bonded = c->bonded;
+  TlContactGeometry g[CHUNK];
+  TlContactResult r[CHUNK];
+  uint32_t idx[CHUNK];
+  size_t m = 0;
+  for (size_t k = ch.start; k < ch.end; ++k) {
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 b;
+    if (GENERAL) {
+      b = tl_domain_branch(dom, x[i], x[j]);
+    } else {
+      b.x = x[j].x - x[i].x;
+      b.y = x[j].y - x[i].y;
+      b.z = x[j].z - x[i].z;
+      if (ORTHO) minimum_image_ortho(c, &b);
+    }
+    const double ri = radius[i], rj = radius[j], cut = ri + rj;
+    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+    if (r2 >= cut * cut && !bonded) {
+      release_contact(L, k, hd);
+      continue;
+    }
+    const double dist = sqrt(r2);
+    TlContactGeometry *G = &g[m];
+    const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
+    G->normal = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
+    G->overlap = cut - dist;
+    G->branch_i = tl_v3_scale(G->normal, ri - 0.5 * G->overlap);
+    G->branch_j = tl_v3_scale(G->normal, -(rj - 0.5 * G->overlap));
+    TlVec3 vr = tl_v3_sub(v[j], v[i]);
+    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+    if (ROT) {
+      const TlVec3 wi = w[i], wj = w[j];
+      vr = tl_v3_add(vr, tl_v3_sub(tl_v3_cross(wj, G->branch_j), tl_v3_cross(wi, G->branch_i)));
+      G->spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+      G->spin_rel = tl_v3_sub(wj, wi);
+    } else {
+      G->spin_mean = G->spin_rel = tl_v3(0, 0, 0);
+    }
+    G->vrel = vr;
+    const double isum = c->inv_mass[i] + c->inv_mass[j];
+    G->meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
+    G->reff = ri * rj / cut;
+    G->history = hd ? L->history + k * hd : NULL;
+    G->bonded = bonded;
+    idx[m++] = (uint32_t)k;
+  }
+  if (!m) return;
+  const TlContactLaw *law = d->laws[ch.law];
+  TlContactBatch batch = {m, g, r, d->dt, c->want_energy};
+  TlStatus s = law->ops->evaluate(law, &batch);
+  if (s != TL_OK) c->status = s;
+  TlVec3 *F = c->F, *T = c->T;
+  for (size_t q = 0; q < m; ++q) {
+    const size_t k = idx[q];
+    const uint32_t i = L->i[k], j = L->j[k];
+    const TlVec3 f = r[q].force;
+    /* a weighted contact (seeds/001 Eq. 24) acts with w_ab f on both
+     * particles and stores w_ab of its energy; its history is the law's */
+    const double wk = WEIGHTED ? c->cw[k] : 1.0;
+    if (c->want_energy) {
+      /* work of the contact over the step by the trapezoidal rule on the
+       * relative displacement dt vrel (vrel is the half-step velocity), so
+       * the dissipation booked is second-order accurate */
+      const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
+      double e = r[q].elastic_energy, p = 0.5 * (tl_v3_dot(tl_v3_add(fo, f), g[q].vrel)) + tl_v3_dot(r[q].couple, g[q].spin_rel);
+      c->el += WEIGHTED ? wk * e : e;
+      c->pw += WEIGHTED ? wk * p : p;
+    }
+    L->force[k] = f;
+    L->touching[k] = 1;
+    const TlVec3 fs = WEIGHTED ? tl_v3_scale(f, wk) : f;
+    const TlVec3 cs = WEIGHTED ? tl_v3_scale(r[q].couple, wk) : r[q].couple;
+    F[i] = tl_v3_add(F[i], fs);
+    F[j] = tl_v3_sub(F[j], fs);
+    if (ROT) {
+      T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, fs), cs));
+      T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, fs), cs));
+    }
+  }
+  c->touching += m;
+}
+
+/* The same loop for the built-in laws (LAW 1 linear, 2 Hertz), with the law
+ * evaluated in place: no staging of the geometry, forces scattered at once.
+ * Same arithmetic as the batch ops (tl_contact_kernels.h). */
+static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *c, Chunk ch, const int ORTHO,
+                                                                      const int GENERAL, const int ROT, const int LAW,
+                                                                      const int WEIGHTED)
+{
+  TlDem *d = c->d;
+  TlContactList *L = c->L;
+  const TlVec3 *x = c->x, *v = c->v, *w = c->w;
+  const double *radius = c->radius, *inv_mass = c->inv_mass;
+  const TlDomain *dom = &d->domain;
+  const size_t hd = c->hd;
+  const int bonded = c->bonded, want = c->want_energy;
+  const TlStdLaw *law = (const TlStdLaw *)d->laws[ch.law];
+  const double dt = d->dt;
+  TlVec3 *F = c->F, *T = c->T;
+  const double(*xr)[4] = c->xr;
+  for (size_t k = ch.start; k < ch.end; ++k) {
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 b;
+    double ri, rj;
+    if (GENERAL) {
+      b = tl_domain_branch(dom, x[i], x[j]);
+      ri = radius[i];
+      rj = radius[j];
+    } else {
+      b.x = xr[j][0] - xr[i][0];
+      b.y = xr[j][1] - xr[i][1];
+      b.z = xr[j][2] - xr[i][2];
+      ri = xr[i][3];
+      rj = xr[j][3];
+      if (ORTHO) minimum_image_ortho(c, &b);
+    }
+    const double cut = ri + rj;
+    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+    if (r2 >= cut * cut && !bonded) {
+      release_contact(L, k, hd);
+      continue;
+    }
+    const double dist = sqrt(r2);
+    const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
+    const TlVec3 n = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
+    const double delta = cut - dist;
+    const double li = ri - 0.5 * delta, lj = rj - 0.5 * delta; /* lever arms along ±n */
+    TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, v[j].z - v[i].z};
+    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+    TlVec3 spin_mean = {0, 0, 0}, spin_rel = {0, 0, 0};
+    if (ROT) {
+      const TlVec3 wi = w[i], wj = w[j];
+      /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
+      TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
+      vr = tl_v3_sub(vr, tl_v3_cross(s, n));
+      spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+      spin_rel = tl_v3_sub(wj, wi);
+    }
+    const double isum = inv_mass[i] + inv_mass[j];
+    const double meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
+    const double reff = ri * rj / cut;
+    double *hist = hd ? L->history + k * hd : NULL;
+    TlVec3 f, cpl;
+    double e = 0.0;
+    int on = LAW == 1 ? tl_linear_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, bonded, dt, want,
+                                          &f, &cpl, &e)
+                      : tl_hertz_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, dt, want, &f,
+                                         &cpl, &e);
+    if (!on) {
+      if (L->touching[k]) {
+        L->touching[k] = 0;
+        L->force[k] = tl_v3(0, 0, 0);
+      }
+      continue;
+    }
+    const double wk = WEIGHTED ? c->cw[k] : 1.0;
+    if (want) {
+      const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
+      const double p = 0.5 * tl_v3_dot(tl_v3_add(fo, f), vr) + tl_v3_dot(cpl, spin_rel);
+      c->el += WEIGHTED ? wk * e : e;
+      c->pw += WEIGHTED ? wk * p : p;
+    }
+    L->force[k] = f;
+    L->touching[k] = 1;
+    if (WEIGHTED) {
+      f = tl_v3_scale(f, wk);
+      cpl = tl_v3_scale(cpl, wk);
+    }
+    F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
+    F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
+    if (ROT) {
+      /* branch_i = li n, branch_j = -lj n */
+      const TlVec3 nf = tl_v3_cross(n, f);
+      T[i].x += li * nf.x + cpl.x; T[i].y += li * nf.y + cpl.y; T[i].z += li * nf.z + cpl.z;
+      T[j].x += lj * nf.x - cpl.x; T[j].y += lj * nf.y - cpl.y; T[j].z += lj * nf.z - cpl.z;
+    }
+    c->touching++;
+  }
+}
+
+#define TL_DISPATCH_CHUNKS(FN, ...)                                                  \
+  do {                                                                               \
+    if (general) {                                                                   \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 0 __VA_ARGS__);    \
+    } else if (ortho) {                                                              \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 0 __VA_ARGS__);    \
+    } else {                                                                         \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 0 __VA_ARGS__);    \
+    }                                                                                \
+  } while (0)
+
+/* Compiled twice: for x86-64 with AVX2 and FMA (three-operand forms and
+ * fused multiply-adds shorten this register-hungry loop by a third) and for
+ * the baseline; the loader picks the one the processor runs. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define TL_HOT_CLONES
+#endif
+
+/* The contact loop of a range of chunks.  One law for the whole range (the
+ * common case) runs the fused loop of the built-in laws; anything else goes
+ * through the batch ops.  It is compiled twice: unweighted (the plain
+ * world's loop, its code untouched by the weights) and with per-contact
+ * weights (a volume coupling's overlap), both for the same processors so
+ * that weights of 1 give the same arithmetic. */
+#define TL_DEFINE_PROCESS_RANGE(name, weighted)                                                              \
+  TL_HOT_CLONES static void name(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)                     \
+  {                                                                                                          \
+    const TlDomain *dom = &c->d->domain;                                                                     \
+    const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);       \
+    const int ortho = dom->any_periodic && !general;                                                         \
+    const int rot = c->w != NULL;                                                                            \
+    int uniform = 1;                                                                                         \
+    for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;               \
+    const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;                          \
+    if (uniform && ops == &tl_contact_linear_ops) {                                                          \
+      TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, weighted);                                                \
+    } else if (uniform && ops == &tl_contact_hertz_ops) {                                                    \
+      TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, weighted);                                                \
+    } else {                                                                                                 \
+      TL_DISPATCH_CHUNKS(process_chunk, , weighted);                                                         \
+    }                                                                                                        \
+  }
+TL_DEFINE_PROCESS_RANGE(process_range, 0)
+TL_DEFINE_PROCESS_RANGE(process_range_weighted, 1)
+
+static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
+                              int want_energy, const double *cw, Accum *acc)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  const int rot = P->w != NULL;
+  const int nt = d->nt_now;
+  const TlDomain *dom = &d->domain;
+  double el = 0.0, pw = 0.0;
+  size_t touching = 0;
+  TlStatus status = TL_OK;
+  TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : el, pw, touching)", {
+    int tid = nt > 1 ? omp_get_thread_num() : 0;
+    ChunkCtx c;
+    memset(&c, 0, sizeof c);
+    c.d = d;
+    c.L = L;
+    c.x = P->x;
+    c.v = P->v;
+    c.w = rot ? P->w : NULL;
+    c.radius = P->radius;
+    c.xr = (const double(*)[4])d->xr;
+    c.cw = cw;
+    c.inv_mass = P->inv_mass;
+    c.mass = P->mass;
+    c.F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
+    c.T = nt > 1 ? (rot ? d->tt + (size_t)tid * n : NULL) : P->torque;
+    for (int q = 0; q < 3; ++q) {
+      c.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
+      c.half[q] = 0.5 * c.len[q];
+    }
+    c.bonded = bonded;
+    c.want_energy = want_energy;
+    c.hd = L->history_doubles;
+    /* static contiguous ranges: each thread walks its own part of the list */
+    size_t lo = n_chunks * (size_t)tid / (size_t)nt, hi = n_chunks * (size_t)(tid + 1) / (size_t)nt;
+    if (cw) process_range_weighted(&c, chunks, lo, hi);
+    else process_range(&c, chunks, lo, hi);
+    el += c.el;
+    pw += c.pw;
+    touching += c.touching;
+    if (c.status != TL_OK) {
+      _Pragma("omp critical")
+      status = c.status;
+    }
+  });
+  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  acc->elastic += el;
+  acc->power += pw;
+  acc->touching += touching;
+  return TL_OK;
+}
+
+TlStatus tl_dem_eval_forces(TlDem *d)
+{
+  TlParticles *P = d->P;
+  const size_t n = P->n;
+  const int rot = P->w != NULL;
+  const int want = d->track_energy;
+  /* body forces, and the packed positions of this evaluation */
+  const TlVec3 g = d->gravity;
+  const int ntb = n >= 8192 ? d->nt : 1;
+  if (n > d->xr_cap) {
+    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
+    d->xr_cap = n + n / 2 + 16;
+  }
+  double(*xr)[4] = d->xr;
+  TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
+    for (size_t i = 0; i < n; ++i) {
+      P->f[i] = tl_v3_scale(g, P->mass[i]);
+      xr[i][0] = P->x[i].x;
+      xr[i][1] = P->x[i].y;
+      xr[i][2] = P->x[i].z;
+      xr[i][3] = P->radius[i];
+    });
+  if (P->f_ext)
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
+  /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
+  const int weighted = d->weight_fn != NULL;
+  if (weighted) {
+    if (d->n_walls)
+      TL_ERROR(TL_ERR_UNSUPPORTED, "a weighted world (tl_dem_set_weight_field) with %zu walls: wall contacts are not "
+               "weighted; remove the walls or the weight field", d->n_walls);
+    TL_CHECK(tl_dem_particle_weights(d));
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(P->f[i], P->weight[i]);
+  }
+  if (P->f_coupling)
+    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_coupling[i]);
+  if (rot) memset(P->torque, 0, n * sizeof *P->torque);
+  /* threads only pay for themselves on large contact lists */
+  d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
+  if (d->nt_now > 1) {
+    const int nt = d->nt_now;
+    size_t need = (size_t)nt * n;
+    if (need > d->t_cap) {
+      TL_CHECK(tl_realloc(&d->tf, need, sizeof *d->tf));
+      /* per-thread torques only when something rotates (the rotation
+       * state is fixed at setup) */
+      if (rot) TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
+      d->t_cap = need;
+    }
+    TlVec3 *tf = d->tf, *tt = d->tt;
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (size_t i = 0; i < n; ++i)
+      for (int t = 0; t < nt; ++t) {
+        tf[(size_t)t * n + i] = tl_v3(0, 0, 0);
+        if (rot) tt[(size_t)t * n + i] = tl_v3(0, 0, 0);
+      }
+  }
+  Accum acc = {0, 0, 0};
+  const int has_bonds = d->bonds.n && d->bonds.n != (size_t)-1;
+  if (weighted) {
+    TL_CHECK(tl_dem_contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
+    if (has_bonds) TL_CHECK(tl_dem_contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
+  }
+  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, weighted ? d->cw_list : NULL, &acc));
+  if (has_bonds)
+    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, weighted ? d->cw_bonds : NULL,
+                           &acc));
+  if (d->nt_now > 1) {
+    const int nt = d->nt_now;
+#pragma omp parallel for num_threads(nt) schedule(static)
+    for (size_t i = 0; i < n; ++i) {
+      TlVec3 s = P->f[i];
+      for (int t = 0; t < nt; ++t) s = tl_v3_add(s, d->tf[(size_t)t * n + i]);
+      P->f[i] = s;
+      if (rot) {
+        TlVec3 q = P->torque[i];
+        for (int t = 0; t < nt; ++t) q = tl_v3_add(q, d->tt[(size_t)t * n + i]);
+        P->torque[i] = q;
+      }
+    }
+  }
+  d->n_touching = acc.touching;
+  if (want) {
+    d->elastic_pp = acc.elastic;
+    d->contact_work_pp += d->dt * acc.power;
+  }
+  /* walls */
+  for (size_t w = 0; w < d->n_walls; ++w) {
+    TlWall *W = d->walls[w];
+    TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
+    TL_CHECK(W->ops->interact(W, &st));
+  }
+  return TL_OK;
+}
+
+TlStatus tl_dem_compute_forces(TlDem *d)
+{
+  if (!d->setup_done) TL_ERROR(TL_ERR_STATE, "tl_dem_setup must precede force computation");
+  if (tl_dem_needs_rebuild(d)) TL_CHECK(tl_dem_rebuild(d));
+  double dt = d->dt;
+  int track = d->track_energy;
+  /* a pure evaluation must not book work */
+  double cw = d->contact_work_pp;
+  TL_CHECK(tl_dem_eval_forces(d));
+  d->contact_work_pp = cw;
+  (void)dt;
+  (void)track;
+  return TL_OK;
+}
