@@ -45,8 +45,8 @@ static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
 
 static inline void coulomb_loop(const TlContactPart *part, TlContactChunk *c)
 {
-  const Coulomb *f = (const Coulomb *)part;
-  const double kt = f->k_t, gamma_t = f->gamma_t, c_t = f->c_t, mu = f->mu, dt = c->dt;
+  const Coulomb *cf = (const Coulomb *)part;
+  const double kt = cf->k_t, gamma_t = cf->gamma_t, c_t = cf->c_t, mu = cf->mu, dt = c->dt;
   const size_t off = part->history_offset;
   const int want = c->want_energy;
   for (size_t q = 0; q < c->n; ++q) {
@@ -55,8 +55,9 @@ static inline void coulomb_loop(const TlContactPart *part, TlContactChunk *c)
     const double fn_plus = fn > 0.0 ? fn : 0.0;
     double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;
     if (c_t > 0.0) ct += c_t * s;
-    c->force[q] = tl_friction_force(c->history[q] + off, c->normal[q], c->vrel[q], c->spin_mean[q], kt * s, ct, mu,
-                                    fn_plus, dt, want ? &et : NULL);
+    c->force[q] = tl_v3_add(c->force[q], tl_friction_force(c->history[q] + off, c->normal[q], c->vrel[q],
+                                                           c->spin_mean[q], kt * s, ct, mu, fn_plus, dt,
+                                                           want ? &et : NULL));
     if (want) c->energy[q] += et;
   }
 }

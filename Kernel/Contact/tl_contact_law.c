@@ -20,6 +20,7 @@ typedef struct {
   TlContactLaw base;
   TlContactPart *part[TL_CONTACT_N_KINDS]; /* NULL: absent */
   const TlContactPart *run[TL_CONTACT_N_KINDS]; /* the active parts, in order */
+  int run_kind[TL_CONTACT_N_KINDS];
   int n_run;
   int friction, rolling; /* active */
   int ready;
@@ -49,24 +50,26 @@ TlStatus tl_contact_part_register(const TlContactPartOps *ops)
 
 /* ------------------------------------------------------------ evaluation */
 
-/* The parts in order, then the normal force added to the tangential one. */
+static inline TlStatus run_part(const TlContactPart *p, TlContactChunk *c, const int HOT)
+{
+  return HOT && p->ops->evaluate_hot ? p->ops->evaluate_hot(p, c) : p->ops->evaluate(p, c);
+}
+
+/* The normal and adhesion parts, the normal force -fn n, then the friction
+ * part adding the tangential force and the rolling part setting the couple.
+ * The normal force is a pass of its own so that its product is rounded
+ * before the tangential force is added, as in a single loop where friction
+ * is optional: the sum then rounds the same way in every build. */
 static inline TlStatus run_parts(const Composed *law, TlContactChunk *c, const int HOT)
 {
-  for (int k = 0; k < law->n_run; ++k) {
-    const TlContactPart *p = law->run[k];
-    TlStatus s = HOT && p->ops->evaluate_hot ? p->ops->evaluate_hot(p, c) : p->ops->evaluate(p, c);
-    if (s != TL_OK) return s;
-  }
+  int k = 0;
+  for (; k < law->n_run && law->run_kind[k] <= TL_CONTACT_ADHESION; ++k) TL_CHECK(run_part(law->run[k], c, HOT));
   const size_t n = c->n;
-  if (law->friction) {
-    for (size_t q = 0; q < n; ++q)
-      if (c->on[q]) c->force[q] = tl_v3_add(tl_v3_scale(c->normal[q], -c->fn[q]), c->force[q]);
-  } else {
-    for (size_t q = 0; q < n; ++q)
-      if (c->on[q]) c->force[q] = tl_v3_scale(c->normal[q], -c->fn[q]);
-  }
+  for (size_t q = 0; q < n; ++q)
+    if (c->on[q]) c->force[q] = tl_v3_scale(c->normal[q], -c->fn[q]);
   if (!law->rolling)
     for (size_t q = 0; q < n; ++q) c->couple[q] = (TlVec3){0, 0, 0};
+  for (; k < law->n_run; ++k) TL_CHECK(run_part(law->run[k], c, HOT));
   return TL_OK;
 }
 
@@ -293,6 +296,7 @@ static TlStatus composed_setup(TlContactLaw *base)
     p->history_offset = law->base.history_doubles;
     law->base.history_doubles += p->history_doubles;
     law->base.needs_rotation |= p->needs_rotation;
+    law->run_kind[law->n_run] = k;
     law->run[law->n_run++] = p;
   }
   law->base.bonded = n->bonded;
@@ -337,6 +341,23 @@ TlStatus tl_contact_law_evaluate_one(const TlContactLaw *law, const TlContactGeo
   return law->ops->evaluate(law, &b);
 }
 
+TlStatus tl_contact_law_build(const TlContactSpec *spec, TlContactLaw **out)
+{
+  if (!spec || !out) TL_ERROR(TL_ERR_ARG, "tl_contact_law_build: NULL argument");
+  TlContactLaw *law;
+  TL_CHECK(tl_contact_law_create(absent(spec->normal) ? "linear" : spec->normal, spec->friction, spec->rolling,
+                                 spec->adhesion, &law));
+  TlStatus s = TL_OK;
+  for (int i = 0; i < spec->n_values && s == TL_OK; ++i) s = tl_contact_law_set(law, spec->values[i].name, spec->values[i].value);
+  if (s == TL_OK) s = tl_contact_law_setup(law);
+  if (s != TL_OK) {
+    tl_contact_law_destroy(&law);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  *out = law;
+  return TL_OK;
+}
+
 /* ---------------------------------------------------------------- options */
 
 enum { MAX_CHOICES = 32 };
@@ -361,11 +382,11 @@ static TlStatus choose(TlOptions *o, int kind, const char *option, const char *d
   return TL_OK;
 }
 
-TlStatus tl_contact_law_from_options(TlOptions *o, const TlContactDefaults *d, TlContactLaw **out)
+TlStatus tl_contact_law_from_options(TlOptions *o, const TlContactSpec *d, TlContactLaw **out)
 {
-  static const TlContactDefaults none = {NULL, NULL, NULL, NULL, NULL, 0};
+  static const TlContactSpec none = {NULL, NULL, NULL, NULL, NULL, 0};
   if (!d) d = &none;
-  const char *names[TL_CONTACT_N_KINDS];
+  const char *names[TL_CONTACT_N_KINDS] = {NULL, NULL, NULL, NULL};
   TL_CHECK(choose(o, TL_CONTACT_NORMAL, "-contact", d->normal, &names[TL_CONTACT_NORMAL]));
   TL_CHECK(choose(o, TL_CONTACT_FRICTION, "-friction", d->friction, &names[TL_CONTACT_FRICTION]));
   TL_CHECK(choose(o, TL_CONTACT_ROLLING, "-rolling", d->rolling, &names[TL_CONTACT_ROLLING]));

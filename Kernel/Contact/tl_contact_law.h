@@ -87,6 +87,17 @@ typedef struct {
  * when want_energy, energy.  fn and scale are the parts' working space. */
 enum { TL_CONTACT_CHUNK = 64 };
 
+/* The target the world's contact loop is compiled for: x86-64 with AVX2 and
+ * FMA beside the baseline, the loader picking the one the processor runs.
+ * A part's evaluate_hot carries it so that its arithmetic in the world's
+ * loop is the one of that loop. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TL_CONTACT_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define TL_CONTACT_HOT_CLONES
+#endif
+
+
 typedef struct {
   size_t n; /* <= TL_CONTACT_CHUNK */
   double dt;
@@ -171,10 +182,12 @@ TlStatus tl_contact_law_setup(TlContactLaw *law);
 void tl_contact_law_destroy(TlContactLaw **law);
 TlStatus tl_contact_register_all(void);
 
-/* A scene's defaults for tl_contact_law_from_options: the parts it uses
- * unless told otherwise and its own values of their parameters (the values
- * of the papers it reproduces); parameters not named keep their part's
- * default.  NULL part names: "linear" normal, no other part. */
+/* A law by its parts' names and parameter values: what
+ * tl_contact_law_build makes, and a scene's defaults for
+ * tl_contact_law_from_options (the parts it uses unless told otherwise and
+ * its own values, those of the papers it reproduces).  NULL part names:
+ * "linear" normal, no other part; parameters not named keep their part's
+ * default. */
 typedef struct {
   const char *name;
   double value;
@@ -184,15 +197,20 @@ typedef struct {
   const char *normal, *friction, *rolling, *adhesion;
   const TlContactValue *values;
   int n_values;
-} TlContactDefaults;
+} TlContactSpec;
+
+/* create + set every value (each must belong to a part) + setup. */
+TlStatus tl_contact_law_build(const TlContactSpec *spec, TlContactLaw **law);
 
 struct TlOptions;
 /* Reads -contact NAME, -friction NAME, -rolling NAME, -adhesion NAME (each
  * a choice among the registered parts of its kind, "none" for the optional
  * ones) and then every parameter of the chosen parts as -contact_<param>,
- * with the part's unit, range and description (so -help lists them), and
- * returns the law set up. */
-TlStatus tl_contact_law_from_options(struct TlOptions *options, const TlContactDefaults *defaults,
+ * with the part's unit, range and description (so -help lists them; -help
+ * with -contact hertz lists Hertz's), and returns the law set up.  Values of
+ * `defaults` for parameters of parts not chosen are ignored (a scene's mu
+ * when run with -friction none). */
+TlStatus tl_contact_law_from_options(struct TlOptions *options, const TlContactSpec *defaults,
                                      TlContactLaw **law);
 
 /* Convenience: evaluates a single contact (tests, walls with one contact). */

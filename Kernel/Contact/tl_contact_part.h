@@ -10,11 +10,11 @@
  * part one loop over the chunk (one indirect call per part per chunk):
  *   normal    sets on[c], fn[c] (repulsive > 0), scale[c] and energy[c];
  *   adhesion  lowers fn[c] (and energy[c]) of the contacts that are on;
- *   friction  sets force[c], the tangential force on i, from fn[c]'s
+ *   (the law sets force[c] = -fn[c] normal[c] and couple[c] = 0)
+ *   friction  adds the tangential force on i to force[c], from fn[c]'s
  *             positive part, with stiffness k_t scale[c] (adds to energy[c]);
- *   rolling   sets couple[c] from fn[c]'s positive part;
- * then the law adds the normal force -fn[c] normal[c] to force[c].  A part
- * reads the contacts that are on only (on[c] != 0).
+ *   rolling   sets couple[c] from fn[c]'s positive part.
+ * A part reads and writes the contacts that are on only (on[c] != 0).
  *
  * What the friction part needs from the normal part is its `scale`, per
  * contact (1 for a linear spring, sqrt(δ R*) for Hertz, which scales the
@@ -112,16 +112,6 @@ struct TlContactPart {
 
 /* Registers a part type (its header's kind says which). */
 TlStatus tl_contact_part_register(const TlContactPartOps *ops);
-
-/* The target the world's contact loop is compiled for: x86-64 with AVX2 and
- * FMA beside the baseline, the loader picking the one the processor runs.
- * A part's evaluate_hot carries it so that its arithmetic in the world's
- * loop is the one of that loop. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define TL_CONTACT_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define TL_CONTACT_HOT_CLONES
-#endif
 
 /* Defines name##_evaluate and name##_evaluate_hot from a chunk loop
  * `static inline void loop(const TlContactPart *, TlContactChunk *)`. */
