@@ -117,6 +117,12 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
       spin_rel[m] = tl_v3_sub(wj, wi);
     }
+#if defined(__x86_64__) && defined(__GNUC__)
+    /* vr stays three scalars, as in a loop that uses it at once: staged as a
+     * vector, the compiler would contract the cross product into fused
+     * multiply-adds in another order and move the last bit of the forces */
+    __asm__("" : "+x"(vr.x), "+x"(vr.y), "+x"(vr.z));
+#endif
     const double isum = inv_mass[i] + inv_mass[j];
     cc->normal[m] = n;
     cc->overlap[m] = delta;
