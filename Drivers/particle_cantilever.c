@@ -85,7 +85,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
     const double kn = c->beam.E * c->d, r = 0.5 * c->d, m = c->rho_g * 4.0 / 3.0 * M_PI * r * r * r;
     const double ln_e = log(c->restitution), eta = -ln_e / sqrt(M_PI * M_PI + ln_e * ln_e);
     const double gamma_n = 2.0 * eta * sqrt(kn * 0.5 * m);
-    const TlContactValue law_values[] = {{"k_n", kn}, {"restitution", gamma_n > 0.0 ? -1.0 : 1.0}, {"c_n", gamma_n}};
+    const TlContactValue law_values[] = {{"k_n", kn}, {"restitution", gamma_n > 0.0 ? -1.0 : 1.0}, {"c_n", gamma_n + 0.0 /* no -0 */}};
     const TlContactSpec law_spec = {"linear", NULL, NULL, NULL, law_values, 3};
     TL_CHECK_GOTO(s, tl_contact_law_from_options(o, &law_spec, &c->law), done);
     TL_CHECK_GOTO(s, tl_contact_law_get(c->law, "k_n", &c->kn), done);
