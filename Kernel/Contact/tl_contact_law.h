@@ -40,7 +40,8 @@
  * A law declares what it needs: history_doubles (0 for a frictionless,
  * history-free law, so no history storage exists) and needs_rotation (the
  * world then allocates rotational state).  Those depend on the parameters
- * (friction on or off), so they are fields of the object, set at creation. */
+ * (friction on or off), so they are fields of the object, set by
+ * tl_contact_law_setup. */
 #ifndef TL_CONTACT_LAW_H
 #define TL_CONTACT_LAW_H
 
