@@ -62,15 +62,12 @@ static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
     TL_CHECK(tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, &k));
     if (data->type[i] == 2) TL_CHECK(tl_particles_set_motion(P, k, TL_MOTION_FIXED));
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 200000.0;
-  p.k_t = 2.0 / 7.0 * p.k_n;
-  p.restitution = 0.0; /* explicit damping, LAMMPS form: c_n = gamma_n m_eff */
-  p.gamma_n = 50.0;
-  p.mu = g_mu;
+  /* restitution 0: explicit damping, LAMMPS form: c_n = gamma_n m_eff */
+  const TlContactValue lv[] = {{"k_n", 200000.0}, {"k_t", 2.0 / 7.0 * 200000.0}, {"restitution", 0.0},
+                               {"gamma_n", 50.0}, {"mu", g_mu}};
+  const TlContactSpec spec = {"linear", "coulomb", NULL, NULL, lv, 5};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   double a = 26.0 * TL_PI / 180.0;
   tl_dem_set_gravity(dem, tl_v3(sin(a), 0.0, -cos(a)));
@@ -106,15 +103,11 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   if (data->has_velocities) {
     /* angular velocities are set after setup (rotation allocated there) */
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.hertz_k_n = 7.3e5;
-  p.hertz_k_t = 2.0 / 7.0 * 7.3e5;
-  p.gamma_n = 50.0;
-  p.gamma_t = 25.0;
-  p.mu = g_mu;
+  const TlContactValue hv[] = {{"k_n", 7.3e5}, {"k_t", 2.0 / 7.0 * 7.3e5}, {"gamma_n", 50.0}, {"gamma_t", 25.0},
+                               {"mu", g_mu}};
+  const TlContactSpec spec = {"hertz", "coulomb", NULL, NULL, hv, 5};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_hertz(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   TlWall *w;
   const TlVec3 pts[5] = {{0, 0, 0}, {25, 0, 0}, {0, 0, 0}, {0, 25, 0}, {0, 0, 0}};

@@ -50,13 +50,8 @@ static void scene_create(Scene *S, double tip_load, double mu, double g, size_t 
   const double r = 0.1, kn = 2e7;
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(S->dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
-  cp.mu = mu;
-  cp.restitution = restitution;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, "mu", mu, "restitution", restitution, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(S->dem, law, NULL), TL_OK);
   for (size_t k = 0; k < n; k++) TL_TEST_STATUS(tl_dem_add_particle(S->dem, x[k], v[k], r, sp, NULL), TL_OK);
   tl_dem_set_gravity(S->dem, tl_v3(0, 0, -g));

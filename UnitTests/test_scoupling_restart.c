@@ -45,11 +45,8 @@ static void build(Scene *S, const char *stepper, int substeps, int scheme)
   const double r = 0.1, kn = 2e7, m = 2e4 * 4.0 / 3.0 * M_PI * r * r * r;
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(S->dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(S->dem, law, NULL), TL_OK);
   const double z = 0.4 + r - m * 9.81 / kn;
   TL_TEST_STATUS(tl_dem_add_particle(S->dem, tl_v3(0.2, 0.2, z), tl_v3(0, 2.0, 0), r, sp, NULL), TL_OK);

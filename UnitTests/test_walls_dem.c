@@ -46,13 +46,8 @@ static TlStatus pour(int triangles, PourResult *out)
     TlVec3 x = tl_v3((i % 5 + 0.5) * L / 5, (i / 5 + 0.5) * L / 5, 0.003 + 0.0036 * layer);
     TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0.05 * (urand(&seed) - 0.5), 0.05 * (urand(&seed) - 0.5), 0), r, sp, NULL));
   }
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = 200.0;
-  cp.restitution = 0.3;
-  cp.mu = 0.4;
   TlContactLaw *law = NULL;
-  TL_CHECK(tl_contact_law_create_linear(&cp, &law));
+  TL_CHECK(tl_test_law(&law, "linear", "k_n", 200.0, "restitution", 0.3, "mu", 0.4, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   TlWall *floor_ = NULL;
   if (triangles) {

@@ -61,6 +61,28 @@ static inline int tl_test_count(const char *text, const char *what)
   return n;
 }
 
+/* A contact law for tests: the normal part `normal` ("linear", "hertz",
+ * "bonded_linear") with Coulomb friction, constant rolling and constant
+ * adhesion parts, each off (mu, mu_roll, adhesion_force = 0) unless set by
+ * the name, value pairs that follow (ended by NULL); set up.  Defined only
+ * where tl_contact_law.h is included first. */
+#ifdef TL_CONTACT_LAW_H
+#include <stdarg.h>
+static inline TlStatus tl_test_law(TlContactLaw **law, const char *normal, ...)
+{
+  TL_CHECK(tl_contact_law_create(normal, "coulomb", "constant", "constant", law));
+  TlStatus s = tl_contact_law_set(*law, "mu", 0.0);
+  if (s == TL_OK) s = tl_contact_law_set(*law, "mu_roll", 0.0);
+  va_list ap;
+  va_start(ap, normal);
+  for (const char *name; s == TL_OK && (name = va_arg(ap, const char *));) s = tl_contact_law_set(*law, name, va_arg(ap, double));
+  va_end(ap);
+  if (s == TL_OK) s = tl_contact_law_setup(*law);
+  if (s != TL_OK) tl_contact_law_destroy(law);
+  return s;
+}
+#endif
+
 static inline int tl_test_report(void)
 {
   printf("%d passed, %d failed\n", tl_test_passed, tl_test_failed);
