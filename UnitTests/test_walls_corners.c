@@ -50,14 +50,15 @@ typedef struct {
 
 /* kind 0: six planes; 1: twelve triangles with the default feature angle;
  * 2: twelve triangles with the feature angle 180 (no sharp edge). */
-static TlStatus scene_create(Scene *m, int kind, const TlContactParameters *cp)
+static TlStatus scene_create(Scene *m, int kind, double mu)
 {
   memset(m, 0, sizeof *m);
   TL_CHECK(tl_particles_create(&m->p));
   TL_CHECK(tl_particles_enable_rotation(m->p));
   TL_CHECK(tl_hgrid_create(&m->grid));
   TL_CHECK(tl_domain_init_open(&m->domain, tl_v3(-1, -1, -1), tl_v3(3, 3, 3)));
-  TL_CHECK(tl_contact_law_create_linear(cp, &m->law));
+  /* steel sphere of 0.1 m at 4 m/s: overlaps of a few mm */
+  TL_CHECK(tl_test_law(&m->law, "linear", "k_n", 1e7, "restitution", 0.7, "mu", mu, (const char *)NULL));
   int sp;
   TL_CHECK(tl_particles_add_species(m->p, "steel", 7800, 0.1, 0.1, &sp));
   TL_CHECK(tl_particles_add(m->p, tl_v3(0.5, 0.5, 0.5), tl_v3(0, 0, 0), 0.1, sp, NULL));
@@ -121,23 +122,15 @@ static TlStatus scene_step(Scene *m, int *n_contacts)
   return TL_OK;
 }
 
-static void linear_law(TlContactParameters *cp, double mu)
-{
-  tl_contact_parameters_default(cp);
-  cp->k_n = 1e7; /* steel sphere of 0.1 m at 4 m/s: overlaps of a few mm */
-  cp->restitution = 0.7;
-  cp->mu = mu;
-}
-
 /* Force and torque on the sphere at x with velocity v and spin w, from a
  * fresh scene of the given kind (no history from earlier presses); for the
  * planes also the weighted mean of their contact forces (what Modification 2
  * makes of them when the faces are one piece). */
-static TlStatus press(int kind, const TlContactParameters *cp, TlVec3 x, TlVec3 v, TlVec3 w, TlVec3 *f, TlVec3 *tq,
+static TlStatus press(int kind, double mu, TlVec3 x, TlVec3 v, TlVec3 w, TlVec3 *f, TlVec3 *tq,
                       int *nc, TlVec3 *mean)
 {
   Scene m;
-  TL_CHECK(scene_create(&m, kind, cp));
+  TL_CHECK(scene_create(&m, kind, mu));
   m.p->x[0] = x, m.p->v[0] = v, m.p->w[0] = w;
   TlStatus status = scene_forces(&m, nc);
   *f = m.p->f[0], *tq = m.p->torque[0];
@@ -163,8 +156,7 @@ static TlStatus press(int kind, const TlContactParameters *cp, TlVec3 x, TlVec3 
  * symmetric and at rest. */
 static void test_press(void)
 {
-  TlContactParameters cp;
-  linear_law(&cp, 0.3);
+  const double mu = 0.3;
   const double r = 0.1;
   const double lo[3] = {LO.x, LO.y, LO.z}, hi[3] = {HI.x, HI.y, HI.z};
   double worst[2] = {0, 0}, worst_mean[2] = {0, 0}, sym[2][2] = {{INFINITY, 0}, {INFINITY, 0}}, sym_dev[2] = {0, 0};
@@ -197,7 +189,7 @@ static void test_press(void)
         TlVec3 f[3], tq[3], mean;
         int nc[3];
         for (int k = 0; k < 3; ++k)
-          TL_TEST_STATUS(press(k, &cp, X, v, w, &f[k], &tq[k], &nc[k], k == 0 ? &mean : NULL), TL_OK);
+          TL_TEST_STATUS(press(k, mu, X, v, w, &f[k], &tq[k], &nc[k], k == 0 ? &mean : NULL), TL_OK);
         double fp = tl_v3_norm(f[0]);
         double e = worse(tl_v3_norm(tl_v3_sub(f[1], f[0])), tl_v3_norm(tl_v3_sub(tq[1], tq[0])) / r) / fp;
         double em = tl_v3_norm(tl_v3_sub(f[2], mean)) / fp;
@@ -233,8 +225,7 @@ static void test_press(void)
  * triangles. */
 static void test_bounce(void)
 {
-  TlContactParameters cp;
-  linear_law(&cp, 0.4);
+  const double mu = 0.4;
   const int steps = 60000; /* 1.2 s */
   const double T = 0.2;    /* time to the aimed point */
   enum { N_THROWS = 4 };
@@ -254,7 +245,7 @@ static void test_bounce(void)
   for (int throw = 0; throw < N_THROWS; ++throw) {
     for (int k = 0; k < 2; ++k) {
       Scene sc;
-      TL_TEST_STATUS(scene_create(&sc, k, &cp), TL_OK);
+      TL_TEST_STATUS(scene_create(&sc, k, mu), TL_OK);
       if (!sc.p) return;
       sc.g = g;
       TlParticles *p = sc.p;
@@ -328,8 +319,6 @@ static TlStatus hinge(double theta, TlTriSurface **s)
  * against the single-face forces a (triangle on face A) and b (face B). */
 static void test_fold(void)
 {
-  TlContactParameters cp;
-  linear_law(&cp, 0.0);
   const double r = 0.2;
   struct {
     double theta_deg, feature_deg;
@@ -345,7 +334,7 @@ static void test_fold(void)
     TL_TEST_STATUS(tl_particles_enable_rotation(m.p), TL_OK);
     TL_TEST_STATUS(tl_hgrid_create(&m.grid), TL_OK);
     TL_TEST_STATUS(tl_domain_init_open(&m.domain, tl_v3(-2, -2, -2), tl_v3(2, 2, 2)), TL_OK);
-    TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &m.law), TL_OK);
+    TL_TEST_STATUS(tl_test_law(&m.law, "linear", "k_n", 1e7, "restitution", 0.7, (const char *)NULL), TL_OK);
     int sp;
     TL_TEST_STATUS(tl_particles_add_species(m.p, "glass", 2500, 0.1, 0.1, &sp), TL_OK);
     /* off-centre in the valley: depths into A and B differ */
