@@ -152,6 +152,15 @@ static TlStatus open_table(const Config *c, const char *name, size_t n, const Tl
   return s;
 }
 
+/* Under -check: |value| within the tolerance (NaN fails); otherwise says
+ * which check failed and sets *failed. */
+static void check_within(const Config *c, const char *what, double value, int *failed)
+{
+  if (!c->check || fabs(value) <= c->tolerance) return;
+  fprintf(stderr, "check failed: %s %.4g exceeds %.4g\n", what, value, c->tolerance);
+  *failed = 1;
+}
+
 /* ------------------------------------------------------------ small */
 static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
 {
@@ -175,10 +184,7 @@ static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
   tl_summary_real(sum, "small_tip", -tip[2]);
   tl_summary_real(sum, "small_timoshenko", ref);
   tl_summary_real(sum, "small_error", err);
-  if (c->check && fabs(err) > c->tolerance) {
-    fprintf(stderr, "check failed: small-load error %.4g exceeds %.4g\n", err, c->tolerance);
-    *failed = 1;
-  }
+  check_within(c, "small-load error", err, failed);
 done:
   tl_stepper_destroy(&st);
   tl_cantilever_destroy(&beam);
@@ -246,10 +252,7 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
     tl_summary_real(sum, "large_error_w", ew);
     tl_summary_int(sum, "large_newton", ss.newton_iterations);
   }
-  if (c->check && fabs(ew) > c->tolerance) {
-    fprintf(stderr, "check failed: large-deflection difference %.4g exceeds %.4g\n", ew, c->tolerance);
-    *failed = 1;
-  }
+  check_within(c, "large-deflection difference", ew, failed);
 done:
   if (ts) {
     TlStatus s2 = tl_timeseries_close(&ts);
@@ -280,10 +283,7 @@ static TlStatus run_linear(const Config *c, TlSummary *sum, int *failed)
   tl_summary_real(sum, "linear_tip", -tip[2]);
   tl_summary_real(sum, "linear_timoshenko", ref);
   tl_summary_real(sum, "linear_error", err);
-  if (c->check && !(fabs(err) <= c->tolerance)) {
-    fprintf(stderr, "check failed: linear tip error %.4g exceeds %.4g\n", err, c->tolerance);
-    *failed = 1;
-  }
+  check_within(c, "linear tip error", err, failed);
 done:
   tl_free(&u);
   tl_cantilever_destroy(&beam);
@@ -327,10 +327,7 @@ static TlStatus run_modal(const Config *c, TlSummary *sum, int *failed)
   printf("  first bending frequency against Euler-Bernoulli %.6e rad/s: %+.3f %%\n", w1, 100.0 * err);
   tl_summary_real(sum, "modal_omega1_eb", w1);
   tl_summary_real(sum, "modal_residual", ms.residual);
-  if (c->check && !(fabs(err) <= c->tolerance)) {
-    fprintf(stderr, "check failed: first frequency error %.4g exceeds %.4g\n", err, c->tolerance);
-    *failed = 1;
-  }
+  check_within(c, "first frequency error", err, failed);
 done:
   if (ts) {
     TlStatus s2 = tl_timeseries_close(&ts);
