@@ -84,7 +84,7 @@ static double restitution_dem(double e, double v0)
   size_t k;
   tl_dem_add_particle(dem, tl_v3(0, 0, R + 0.2 * d0), tl_v3(0, 0, -v0), R, sp, &k);
   TlContactLaw *law;
-  if (tl_test_law(&law, "hertz", "E", E, "nu", nu, "restitution", e, (const char *)NULL) != TL_OK) return NAN;
+  if (tl_test_law(&law, "hertz", "E", E, "nu", nu, "tsuji_restitution", e, (const char *)NULL) != TL_OK) return NAN;
   tl_dem_add_law(dem, law, NULL);
   TlWall *w;
   tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w);
@@ -109,7 +109,7 @@ int main(void)
   const double es[] = {0.3, 0.5, 0.8, 0.95}, speeds[] = {0.01, 10.0};
   for (int a = 0; a < 4; ++a) {
     TlContactLaw *law = NULL;
-    TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "nu", nu, "restitution", es[a], (const char *)NULL), TL_OK);
+    TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "nu", nu, "tsuji_restitution", es[a], (const char *)NULL), TL_OK);
     if (!law) continue;
     const double c = es[a];
     const double tsuji = 1.2728 - 4.2783 * c + 11.087 * c * c - 22.348 * pow(c, 3) + 27.467 * pow(c, 4) -
@@ -127,14 +127,14 @@ int main(void)
     tl_contact_law_destroy(&law);
   }
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "restitution", 0.5, "gamma_n", 10.0, (const char *)NULL),
+  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "tsuji_restitution", 0.5, "gamma_n", 10.0, (const char *)NULL),
                  TL_ERR_ARG);
   TL_TEST_ASSERT(strstr(tl_error_message(), "restitution") && strstr(tl_error_message(), "gamma_n"),
                  "the refusal names both: %s", tl_error_message());
-  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "restitution", 0.001, (const char *)NULL), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "tsuji_restitution", 0.001, (const char *)NULL), TL_ERR_ARG);
   TL_TEST_ASSERT(strstr(tl_error_message(), "restitution") != NULL, "names the value: %s", tl_error_message());
   /* e = 1: undamped, the same force as without the parameter */
-  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "nu", nu, "restitution", 1.0, (const char *)NULL), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", E, "nu", nu, "tsuji_restitution", 1.0, (const char *)NULL), TL_OK);
   if (law) {
     double tc;
     const double e1 = restitution_ode(law, m, 1.0, &tc);

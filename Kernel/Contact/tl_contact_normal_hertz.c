@@ -15,7 +15,9 @@
  * linear part).  Setup finds α(e) by bisection on that equation, integrated
  * by RK4 (e(α) decreases; Antypov & Elliott, EPL 94 (2011) 50004, study the
  * same relation analytically: their closed form is an approximation, the
- * integral is not).  Both given is refused.
+ * integral is not).  Both given is refused.  The parameter is named
+ * tsuji_restitution, not restitution: it sets a different dashpot from the
+ * linear part's restitution.
  *
  * Its tangential scale is the contact radius sqrt(δ reff), so a friction
  * part's stiffness and damping grow with it (the Mindlin-type spring
@@ -39,7 +41,7 @@ static const TlParam params[] = {
     {"nu", 0.3, -0.999999, 0.499999, "", "Poisson's ratio of the grains", offsetof(Hertz, nu)},
     {"gamma_n", 0.0, 0.0, 1e300, "1/(m s)", "viscous normal damping, F_n += sqrt(delta reff) gamma_n m_eff d(delta)/dt",
      offsetof(Hertz, gamma_n)},
-    {"restitution", 1.0, 0.0, 1.0, "",
+    {"tsuji_restitution", 1.0, 0.0, 1.0, "",
      "restitution e of a pair, independent of the impact speed (Tsuji's dashpot alpha(e) sqrt(m_eff K) delta^1/4); "
      "1: none (gamma_n instead)", offsetof(Hertz, restitution)},
 };
@@ -80,7 +82,7 @@ static TlStatus hertz_alpha(double e, double *alpha)
   double lo = 0.0, hi = 1.0;
   while (hertz_restitution_of(hi) > e) {
     hi *= 2.0;
-    if (hi > 1e3) TL_ERROR(TL_ERR_ARG, "hertz normal part: restitution %g is too small (alpha > 1000)", e);
+    if (hi > 1e3) TL_ERROR(TL_ERR_ARG, "hertz normal part: tsuji_restitution %g is too small (alpha > 1000)", e);
   }
   for (int k = 0; k < 60 && hi - lo > 1e-12 * hi; ++k) {
     const double mid = 0.5 * (lo + hi);
@@ -105,9 +107,9 @@ static TlStatus hertz_setup(TlContactPart *part, const TlContactPart *normal)
   h->alpha = 0.0;
   if (h->restitution < 1.0) {
     if (!(h->restitution >= 0.01))
-      TL_ERROR(TL_ERR_ARG, "hertz normal part: restitution = %g must be in [0.01, 1]", h->restitution);
+      TL_ERROR(TL_ERR_ARG, "hertz normal part: tsuji_restitution = %g must be in [0.01, 1]", h->restitution);
     if (h->gamma_n > 0.0)
-      TL_ERROR(TL_ERR_ARG, "hertz normal part: restitution = %g and gamma_n = %g 1/(m s) both set; give one damping",
+      TL_ERROR(TL_ERR_ARG, "hertz normal part: tsuji_restitution = %g and gamma_n = %g 1/(m s) both set; give one damping",
                h->restitution, h->gamma_n);
     TL_CHECK(hertz_alpha(h->restitution, &h->alpha));
   }
