@@ -9,16 +9,16 @@
  * (fix wall/gran with the same style for plane walls).  Both integrate with
  * velocity Verlet, forces evaluated at the half-step velocities and spins
  * (LAMMPS fix nve/sphere; Talus tl_dem_step), moment of inertia 2/5 m R^2.
- * The scenes start with no contact, so that the first force evaluation
- * (LAMMPS's setup, which does not advance the shear history; Talus's
- * tl_dem_setup, which does) carries no history.
+ * The first force evaluation (LAMMPS's setup, Talus's tl_dem_setup) does
+ * not advance the shear history in either code.
  *
  * Scenes: oblique impacts of two spinning spheres of different radii with
  * each of the three styles; a sphere landing spinning on a plane wall under
  * gravity, sliding then rolling (hooke/history and hertz/history); 200 steps
  * of a dense packing of 216 polydisperse spheres, periodic in x and y,
  * sheared between two plane walls moving at -V and +V along x
- * (hertz/history, fix wall/gran ... shear x V).
+ * (hertz/history, fix wall/gran ... shear x V), once from no contact and
+ * once compressed, overlapping from the start.
  *
  * Norm: for each of velocity, spin, force and torque, the largest over the
  * particles of |Talus - LAMMPS| (Euclidean), over the largest |LAMMPS| of
@@ -343,22 +343,25 @@ static void on_wall(Style style, const char *name)
   scene_free(&s);
 }
 
-/* 6 x 6 x 6 spheres of radii in [0.47, 0.5] m on a lattice of spacing
- * 1.015 m (gaps 0.009 m and more), periodic in x and y, between the floor
- * and the lid moving at -V and +V along x, with a shear profile and random
- * velocities and spins: 200 steps of a dense sheared packing. */
-static void packing(void)
+/* 6 x 6 x 6 spheres of radii in [r0, r0 + 0.03] m on a lattice of spacing
+ * a, periodic in x and y, between the floor and the lid moving at -V and +V
+ * along x, with a shear profile and random velocities and spins: 200 steps
+ * of a dense sheared packing.  a = 1.015, r0 = 0.47: gaps of 0.009 m and
+ * more, no contact at the start; a = 1.0, r0 = 0.485: overlaps up to 0.03 m
+ * from the start (the first force evaluation, LAMMPS's setup, then carries
+ * contacts: neither code advances the shear history over it). */
+static void packing(const char *name, double a, double r0)
 {
   Scene s;
   memset(&s, 0, sizeof s);
-  s.name = "sheared_packing";
+  s.name = name;
   s.style = HERTZ_HISTORY;
   s.density = 2500.0;
   s.kn = 2e8;
   s.gamma_n = 200.0;
   s.mu = 0.5;
   const int m = 6;
-  const double a = 1.015, V = 2.0, H = m * a + 0.02;
+  const double V = 2.0, H = m * a + 0.02;
   s.lo[0] = s.lo[1] = s.lo[2] = 0.0;
   s.hi[0] = s.hi[1] = m * a, s.hi[2] = H;
   s.periodic[0] = s.periodic[1] = 1;
@@ -370,7 +373,7 @@ static void packing(void)
   for (int iz = 0; iz < m; ++iz)
     for (int iy = 0; iy < m; ++iy)
       for (int ix = 0; ix < m; ++ix, ++k) {
-        s.r[k] = 0.47 + 0.03 * urand(&seed);
+        s.r[k] = r0 + 0.03 * urand(&seed);
         const double c[3] = {(ix + 0.5) * a, (iy + 0.5) * a, (iz + 0.5) * a + 0.01};
         for (int q = 0; q < 3; ++q) {
           s.x[3 * k + q] = c[q] + 0.003 * (2.0 * urand(&seed) - 1.0);
@@ -395,6 +398,7 @@ int main(void)
   impact(HERTZ_HISTORY, "impact_hertz_history");
   on_wall(HOOKE_HISTORY, "wall_hooke_history");
   on_wall(HERTZ_HISTORY, "wall_hertz_history");
-  packing();
+  packing("sheared_packing", 1.015, 0.47);
+  packing("compressed_sheared_packing", 1.0, 0.485);
   return tl_test_report();
 }
