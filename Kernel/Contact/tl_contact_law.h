@@ -41,7 +41,8 @@
  * history-free law, so no history storage exists) and needs_rotation (the
  * world then allocates rotational state).  Those depend on the parameters
  * (friction on or off), so they are fields of the object, set by
- * tl_contact_law_setup. */
+ * tl_contact_law_setup.  A law may also ask for the radius as the lever arm
+ * of its contacts instead of r - δ/2 (lever_radius, below). */
 #ifndef TL_CONTACT_LAW_H
 #define TL_CONTACT_LAW_H
 
@@ -153,7 +154,18 @@ struct TlContactLaw {
   size_t history_doubles; /* per-contact state the law keeps */
   int needs_rotation;     /* the law produces torques or reads spins */
   int bonded;             /* the law acts in tension on bonded contacts */
+  /* Lever arms, to the contact point, of the relative velocity and the
+   * torques: 0 (default) r - δ/2, the middle of the overlap; 1 the radius r,
+   * as LAMMPS's granular pair styles and fix wall/gran.  Whoever stages a
+   * contact (the world, a wall) reads it through tl_contact_lever. */
+  int lever_radius;
 };
+
+/* The lever arm of a body of radius r in a contact of overlap δ under `law`. */
+static inline double tl_contact_lever(const TlContactLaw *law, double r, double overlap)
+{
+  return law->lever_radius ? r : r - 0.5 * overlap;
+}
 
 /* ---- contact laws composed from parts ----
  *

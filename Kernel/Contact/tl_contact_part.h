@@ -107,6 +107,8 @@ struct TlContactPart {
   int needs_rotation;     /* set by setup: reads spins or makes couples */
   int bonded;             /* normal parts, set by setup: acts in tension on bonds */
   int active;             /* set by setup: 0 drops the part (e.g. mu = 0) */
+  int lever_radius;       /* set by setup: the law's contacts use the radius as lever arm
+                             (TlContactLaw.lever_radius) */
   const TlContactPart *normal; /* the law's normal part (self for a normal part) */
 };
 

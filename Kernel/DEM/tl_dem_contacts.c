@@ -80,6 +80,11 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
   double li_[CHUNK], lj_[CHUNK]; /* lever arms along ±n */
   uint32_t idx[CHUNK];
   size_t m = 0;
+  const TlContactLaw *law = d->laws[ch.law];
+  /* r - δ/2 (the middle of the overlap) or, for a law that asks, the radius
+   * (tl_contact_lever): the same subtraction either way, so that the default
+   * rounds as before */
+  const double half = law->lever_radius ? 0.0 : 0.5;
   for (size_t k = ch.start; k < ch.end; ++k) {
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
@@ -106,7 +111,7 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
     const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
     const TlVec3 n = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
     const double delta = cut - dist;
-    const double li = ri - 0.5 * delta, lj = rj - 0.5 * delta;
+    const double li = ri - half * delta, lj = rj - half * delta;
     TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, v[j].z - v[i].z};
     if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
     if (ROT) {
@@ -136,7 +141,6 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
     idx[m++] = (uint32_t)k;
   }
   if (!m) return;
-  const TlContactLaw *law = d->laws[ch.law];
   cc->n = m;
   cc->spin_mean = ROT ? spin_mean : no_spin;
   cc->spin_rel = ROT ? spin_rel : no_spin;

@@ -407,8 +407,9 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
       size_t i = (size_t)r->particle;
       TlContactGeometry *g = &t->geometry[k];
       /* lever arm to the middle of the overlap, as between particles and for
-       * the plane; the record keeps the point on the triangle for coupling */
-      TlVec3 branch = tl_v3_scale(r->normal, -(r->radius - 0.5 * r->overlap));
+       * the plane (or the radius, for a law that asks: tl_contact_lever); the
+       * record keeps the point on the triangle for coupling */
+      TlVec3 branch = tl_v3_scale(r->normal, -tl_contact_lever(law, r->radius, r->overlap));
       TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
       TlVec3 v_part = p->v[i];
       if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
