@@ -175,7 +175,7 @@ static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
   tl_summary_real(sum, "small_tip", -tip[2]);
   tl_summary_real(sum, "small_timoshenko", ref);
   tl_summary_real(sum, "small_error", err);
-  if (c->check && fabs(err) > c->tolerance) {
+  if (c->check && !(fabs(err) <= c->tolerance)) {
     fprintf(stderr, "check failed: small-load error %.4g exceeds %.4g\n", err, c->tolerance);
     *failed = 1;
   }
@@ -246,7 +246,7 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
     tl_summary_real(sum, "large_error_w", ew);
     tl_summary_int(sum, "large_newton", ss.newton_iterations);
   }
-  if (c->check && fabs(ew) > c->tolerance) {
+  if (c->check && !(fabs(ew) <= c->tolerance)) {
     fprintf(stderr, "check failed: large-deflection difference %.4g exceeds %.4g\n", ew, c->tolerance);
     *failed = 1;
   }
