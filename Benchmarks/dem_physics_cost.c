@@ -56,19 +56,15 @@ static const char *walls_name[N_WALLS] = {"none", "plane", "triangles"};
 
 static TlStatus make_law(const Settings *s, int kind, TlContactLaw **law)
 {
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.restitution = 0.3;
-  p.k_n = s->E * s->d;
-  if (kind == LAW_FRICTIONLESS) return tl_contact_law_create_linear(&p, law);
-  p.mu = 0.5;
-  if (kind == LAW_FRICTION) return tl_contact_law_create_linear(&p, law);
+  const TlContactValue lin[] = {{"k_n", s->E * s->d}, {"restitution", 0.3}, {"mu", 0.5}};
+  const TlContactSpec frictionless = {"linear", NULL, NULL, NULL, lin, 2};
+  const TlContactSpec friction = {"linear", "coulomb", NULL, NULL, lin, 3};
+  if (kind == LAW_FRICTIONLESS) return tl_contact_law_build(&frictionless, law);
+  if (kind == LAW_FRICTION) return tl_contact_law_build(&friction, law);
   /* Hertz with the same stiffness at 1 % overlap of the mean radius */
-  p.youngs_modulus = s->E;
-  p.poisson_ratio = 0.3;
-  p.gamma_n = 0.0;
-  p.mu_roll = 0.05;
-  return tl_contact_law_create_hertz(&p, law);
+  const TlContactValue hz[] = {{"E", s->E}, {"nu", 0.3}, {"gamma_n", 0.0}, {"mu", 0.5}, {"mu_roll", 0.05}};
+  const TlContactSpec hertz = {"hertz", "coulomb", "constant", NULL, hz, 5};
+  return tl_contact_law_build(&hertz, law);
 }
 
 static TlStatus make_world(const Settings *s, const Packing *pk, int law_kind, int walls, int gravity, TlDem **out)
@@ -138,13 +134,10 @@ static TlStatus make_packing(const Settings *s, Packing *pk)
     double r = tl_species_sample_radius(&P->species_table[sp], &rng);
     TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, 0), r, sp, NULL));
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = s->E * s->d;
-  p.restitution = 0.1;
-  p.mu = 0.5;
+  const TlContactValue lv[] = {{"k_n", s->E * s->d}, {"restitution", 0.1}, {"mu", 0.5}};
+  const TlContactSpec spec = {"linear", "coulomb", NULL, NULL, lv, 3};
   TlContactLaw *law = NULL;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   TlWall *w = NULL;
   TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w));

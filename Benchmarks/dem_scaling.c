@@ -41,14 +41,10 @@ static TlStatus one_scene(long n_target, long steps, int threads, double *second
                     0.1 * (tl_random_uniform(&rng) - 0.5)};
         TL_CHECK(tl_dem_add_particle(dem, x, v, tl_species_sample_radius(&P->species_table[sp], &rng), sp, NULL));
       }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 2e5;
-  p.restitution = 0.0;
-  p.gamma_n = 50.0;
-  p.mu = 0.5;
+  const TlContactValue lv[] = {{"k_n", 2e5}, {"restitution", 0.0}, {"gamma_n", 50.0}, {"mu", 0.5}};
+  const TlContactSpec spec = {"linear", "coulomb", NULL, NULL, lv, 4};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   tl_dem_set_threads(dem, threads);
   tl_dem_track_energy(dem, 0);

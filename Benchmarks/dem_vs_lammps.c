@@ -7,9 +7,22 @@
  *       in a 25 x 25 box with frictional walls (LAMMPS: pair
  *       gran/hertz/history 7.3e5 NULL 50 NULL 0.5 1, walls wall/gran).
  * Talus runs on exactly the particles the peer runs on (read from the peer's
- * data files).  Prints µs per particle-step for both codes on 1 core and on
- * 2 (Talus with 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio
- * talus/lammps; the last line is the summary. */
+ * data files) with the SAME law: the parts that reproduce LAMMPS's styles
+ * (tl_contact_*_lammps_*.c, checked to round-off by the test parity_lammps),
+ *   (a) lammps_hooke + lammps_history (k_n 2e5, gamma_n 50, mu 0.5, dampflag 0),
+ *   (b) lammps_hertz + lammps_history (k_n 7.3e5, gamma_n 50, gamma_t 25, mu 0.5),
+ *       walls with the same law (fix wall/gran hertz/history).
+ * Prints µs per particle-step for both codes on 1 core and on 2 (Talus with
+ * 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio talus/lammps, and
+ * the answers: the translational and rotational kinetic energies after the
+ * same number of steps (LAMMPS: its deck's warm-up run, then the timed run;
+ * Talus: the same steps in one run).  They agree to about 1e-5, not to
+ * round-off: LAMMPS's second `run` starts with one more setup evaluation
+ * (no shear update, the full-step velocities in the dampers) that a single
+ * run does not have, and these flows are chaotic.  (With the deck's two runs
+ * made one of 1100 steps, LAMMPS's chute energies, 785702.569195 and
+ * 1533.80182888, are Talus's to every digit printed.)  The last line is
+ * the summary. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -62,15 +75,14 @@ static TlStatus build_chute(const TlLammpsData *data, int threads, TlDem **out)
     TL_CHECK(tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, &k));
     if (data->type[i] == 2) TL_CHECK(tl_particles_set_motion(P, k, TL_MOTION_FIXED));
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 200000.0;
-  p.k_t = 2.0 / 7.0 * p.k_n;
-  p.restitution = 0.0; /* explicit damping, LAMMPS form: c_n = gamma_n m_eff */
-  p.gamma_n = 50.0;
-  p.mu = g_mu;
+  /* the file's spins (a developed flow), as LAMMPS starts from them */
+  TL_CHECK(tl_particles_enable_rotation(P));
+  for (size_t k = 0; k < P->n; ++k) P->w[k] = data->omega[P->id[k]];
+  /* LAMMPS gran/hooke/history 200000.0 NULL 50.0 NULL 0.5 0 */
+  const TlContactValue lv[] = {{"k_n", 200000.0}, {"gamma_n", 50.0}, {"mu", g_mu}, {"dampflag", 0.0}};
+  const TlContactSpec spec = {"lammps_hooke", "lammps_history", NULL, NULL, lv, 4};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   double a = 26.0 * TL_PI / 180.0;
   tl_dem_set_gravity(dem, tl_v3(sin(a), 0.0, -cos(a)));
@@ -103,18 +115,15 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   TL_CHECK(tl_particles_reserve(P, data->n));
   for (size_t i = 0; i < data->n; ++i)
     TL_CHECK(tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL));
-  if (data->has_velocities) {
-    /* angular velocities are set after setup (rotation allocated there) */
-  }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.hertz_k_n = 7.3e5;
-  p.hertz_k_t = 2.0 / 7.0 * 7.3e5;
-  p.gamma_n = 50.0;
-  p.gamma_t = 25.0;
-  p.mu = g_mu;
+  /* the file's spins, before the first force evaluation as in LAMMPS
+   * (particles in file order: ids 0..n-1) */
+  TL_CHECK(tl_particles_enable_rotation(P));
+  for (size_t k = 0; k < P->n; ++k) P->w[k] = data->omega[P->id[k]];
+  /* LAMMPS gran/hertz/history 7.3e5 NULL 50.0 NULL 0.5 1 (k_t 2/7 k_n, gamma_t 25) */
+  const TlContactValue hv[] = {{"k_n", 7.3e5}, {"gamma_n", 50.0}, {"mu", g_mu}, {"dampflag", 1.0}};
+  const TlContactSpec spec = {"lammps_hertz", "lammps_history", NULL, NULL, hv, 4};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_hertz(&p, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   TlWall *w;
   const TlVec3 pts[5] = {{0, 0, 0}, {25, 0, 0}, {0, 0, 0}, {0, 25, 0}, {0, 0, 0}};
@@ -131,11 +140,6 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
   tl_dem_set_sort_interval(dem, (int)g_sort);
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
-  if (data->has_velocities && P->w) {
-    /* particles were added in file order and not yet renumbered by id;
-     * match through the stable ids (0..n-1 in insertion order) */
-    for (size_t k = 0; k < P->n; ++k) P->w[k] = data->omega[P->id[k]];
-  }
   *out = dem;
   return TL_OK;
 }
@@ -143,15 +147,28 @@ static TlStatus build_hertz(const TlLammpsData *data, int threads, TlDem **out)
 typedef TlStatus (*Builder)(const TlLammpsData *, int, TlDem **);
 
 /* Median over `repeat` fresh runs of µs per particle-step. */
+/* Translational and rotational kinetic energy (LAMMPS's ke and erotate/sphere). */
+static void kinetic(TlDem *dem, double *ke, double *erot)
+{
+  const TlParticles *P = tl_dem_particles(dem);
+  double a = 0.0, b = 0.0;
+  for (size_t i = 0; i < P->n; ++i) {
+    a += 0.5 * P->mass[i] * tl_v3_norm2(P->v[i]);
+    if (P->w) b += 0.5 * 0.4 * P->mass[i] * P->radius[i] * P->radius[i] * tl_v3_norm2(P->w[i]);
+  }
+  *ke = a;
+  *erot = b;
+}
+
 static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *data, int threads, const Config *c,
-                           double *us_median, double *us_min)
+                           long warmup, double *us_median, double *us_min, double *ke, double *erot)
 {
   double t[16];
   int r = c->repeat < 16 ? c->repeat : 16;
   for (int k = 0; k < r; ++k) {
     TlDem *dem;
     TL_CHECK(build(data, threads, &dem));
-    TL_CHECK(tl_dem_step(dem, c->warmup));
+    TL_CHECK(tl_dem_step(dem, warmup));
     struct timespec c0, c1;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
     double t0 = tl_wtime();
@@ -167,6 +184,7 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
            k + 1, r, name, threads, tl_dem_particles(dem)->n, c->steps, el, t[k], cpu / (el * threads), st.n_contacts,
            st.n_pairs, st.rebuilds);
     fflush(stdout);
+    kinetic(dem, ke, erot);
     tl_dem_destroy(&dem);
   }
   for (int a = 1; a < r; ++a)
@@ -194,7 +212,8 @@ static TlStatus run(int argc, char **argv)
   const char *scene;
   long tmax, rep, warm;
   TL_CHECK(tl_options_get_int(o, "-steps", 1000, 1, 100000000, "timed steps per run (LAMMPS: 1000 chute, 2000 packing)", &c.steps));
-  TL_CHECK(tl_options_get_int(o, "-warmup", 100, 0, 100000000, "untimed steps before timing", &warm));
+  TL_CHECK(tl_options_get_int(o, "-warmup", -1, -1, 100000000,
+                              "untimed steps before timing (-1: the LAMMPS deck's, 100 chute, 200 packing)", &warm));
   TL_CHECK(tl_options_get_int(o, "-repeat", 3, 1, 16, "runs per code and configuration (median reported)", &rep));
   TL_CHECK(tl_options_get_bool(o, "-peer", 1, "also run LAMMPS (through Benchmarks/peers/run_peer.sh)", &c.peer));
   TL_CHECK(tl_options_get_int(o, "-threads_max", 2, 1, 64, "largest thread / rank count measured (1, then this)", &tmax));
@@ -231,8 +250,15 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK(tl_lammps_data_read(path, &data));
     long steps_save = c.steps;
     for (int k = 0; k < nthr; ++k) {
-      double tm = NAN, tmin = NAN, pm = NAN;
-      TL_CHECK(time_talus(names[sc], sc == 0 ? build_chute : build_hertz, data, thr[k], &c, &tm, &tmin));
+      double tm = NAN, tmin = NAN, pm = NAN, ke = NAN, erot = NAN;
+      const long warmup = c.warmup >= 0 ? c.warmup : (sc == 0 ? 100 : 200);
+      if (k == 0)
+        printf("%s: the same law in both codes: %s\n", names[sc],
+               sc == 0 ? "LAMMPS gran/hooke/history 200000 NULL 50 NULL 0.5 0 = Talus lammps_hooke + lammps_history"
+                       : "LAMMPS gran/hertz/history 7.3e5 NULL 50 NULL 0.5 1 (walls fix wall/gran, same) = Talus "
+                         "lammps_hertz + lammps_history");
+      TL_CHECK(time_talus(names[sc], sc == 0 ? build_chute : build_hertz, data, thr[k], &c, warmup, &tm, &tmin, &ke,
+                          &erot));
       char key[64];
       snprintf(key, sizeof key, "%s_talus_%dc", names[sc], thr[k]);
       tl_summary_real(&sum, key, tm);
@@ -247,6 +273,17 @@ static TlStatus run(int argc, char **argv)
         if (k == 0) {
           snprintf(key, sizeof key, "ratio_%s", names[sc]);
           tl_summary_real(&sum, key, tm / pm);
+        }
+        /* the answers after the same steps (the deck's warm-up + timed run) */
+        if (warmup == (sc == 0 ? 100 : 200) && isfinite(peer.ke) && isfinite(peer.erot)) {
+          const double dk = fabs(ke - peer.ke) / fabs(peer.ke), dr = fabs(erot - peer.erot) / fabs(peer.erot);
+          printf("%s, %d core%s, after %ld steps: kinetic energy talus %.10g lammps %.8g (relative %.2e), rotational "
+                 "talus %.10g lammps %.8g (relative %.2e)\n", names[sc], thr[k], thr[k] > 1 ? "s" : "",
+                 warmup + c.steps, ke, peer.ke, dk, erot, peer.erot, dr);
+          snprintf(key, sizeof key, "%s_ke_rel_%dc", names[sc], thr[k]);
+          tl_summary_real(&sum, key, dk);
+          snprintf(key, sizeof key, "%s_erot_rel_%dc", names[sc], thr[k]);
+          tl_summary_real(&sum, key, dr);
         }
       }
       printf("%s, %d core%s: talus %.4f us/particle-step (min %.4f)", names[sc], thr[k], thr[k] > 1 ? "s" : "", tm, tmin);

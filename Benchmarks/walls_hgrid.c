@@ -45,11 +45,6 @@ typedef struct {
  * resting overlap of a sphere under its weight. */
 static TlStatus make_law(const Setup *s, TlContactLaw **law)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.youngs_modulus = s->youngs;
-  cp.poisson_ratio = s->poisson;
-  cp.mu = s->mu;
   double kn = 2.0 / 3.0 * s->youngs / (1 - s->poisson * s->poisson);
   double m = s->density * 4.0 / 3.0 * TL_PI * pow(s->radius, 3);
   double delta = pow(m * 9.81 / (kn * sqrt(s->radius)), 2.0 / 3.0);
@@ -59,9 +54,10 @@ static TlStatus make_law(const Setup *s, TlContactLaw **law)
   double gstar = s->youngs / (4 * (2 - s->poisson) * (1 + s->poisson));
   double cn = -2 * sqrt(5.0 / 6.0) * beta * sqrt(2 * ystar * sq * m);
   double ct = -2 * sqrt(5.0 / 6.0) * beta * sqrt(8 * gstar * sq * m);
-  cp.gamma_n = cn / (sq * m);
-  cp.gamma_t = ct / (sq * m);
-  TL_CHECK(tl_contact_law_create_hertz(&cp, law));
+  const TlContactValue hv[] = {{"E", s->youngs}, {"nu", s->poisson}, {"mu", s->mu}, {"gamma_n", cn / (sq * m)},
+                               {"gamma_t", ct / (sq * m)}};
+  const TlContactSpec spec = {"hertz", "coulomb", NULL, NULL, hv, 5};
+  TL_CHECK(tl_contact_law_build(&spec, law));
   return TL_OK;
 }
 

@@ -9,7 +9,20 @@
  *   -mode vibration  released from the statically deflected shape, free
  *                    vibration with Newmark; period against the first
  *                    bending frequency, energy drift per period.
- *   -mode all        the three in turn (default).
+ *   -mode all        the three in turn (default);
+ *   -mode linear     linear static analysis: K at the reference state, one
+ *                    solve; the tip deflection against Timoshenko;
+ *   -mode modal      the lowest -modes eigenpairs of K phi = omega^2 M phi
+ *                    (consistent mass, or -lumped), ARPACK shift-invert;
+ *                    the first against the Euler-Bernoulli frequency;
+ *   -mode nlgeom     geometrically nonlinear static analysis under the dead
+ *                    tip load P = -load_parameter E I / L^2 in -load_steps
+ *                    increments (the tip reported in full; the elastica as
+ *                    a reference).
+ *
+ * -material picks the law by its registered name (default hooke, the law
+ * of seeds/001; saint_venant_kirchhoff is CalculiX's and Abaqus's linear
+ * elasticity under NLGEOM, for comparisons with them).
  *
  * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
  * beam HDF5/XDMF snapshots with element stresses (beam.xmf, warp by "displacement" in
@@ -30,21 +43,24 @@
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
+#include "tl_linear_static.h"
+#include "tl_modal.h"
 #include "tl_solid_output.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
 
 typedef struct {
   TlCantileverParams beam;
-  const char *solver, *output_dir, *restart;
+  const char *solver, *output_dir, *restart, *material;
   double rtol, load_parameter, dt, periods;
-  long load_steps, reuse, snapshot_every, checkpoint_every, stop_step;
-  int mode, check;
+  long load_steps, reuse, snapshot_every, checkpoint_every, stop_step, n_modes;
+  int mode, check, lumped;
   double tolerance;
   TlOptions *options; /* holds the option strings until the end */
 } Config;
 
-static const char *const modes[] = {"all", "small", "large", "vibration", NULL};
+enum { MODE_ALL, MODE_SMALL, MODE_LARGE, MODE_VIBRATION, MODE_LINEAR, MODE_MODAL, MODE_NLGEOM };
+static const char *const modes[] = {"all", "small", "large", "vibration", "linear", "modal", "nlgeom", NULL};
 static const char *const elements[] = {"hex8", "hex27", NULL};
 static const char *const solvers[] = {"cholmod", "klu", "umfpack", NULL};
 
@@ -70,11 +86,18 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-E", 1e8, 1e-3, 1e15, "Pa", "Young's modulus", &c->beam.E), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-nu", 0.0, -0.99, 0.49, "", "Poisson's ratio", &c->beam.nu), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "density", &c->beam.rho), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-material", "hooke",
+                                         "law by registered name (hooke, hooke_covariant, neo_hookean, "
+                                         "saint_venant_kirchhoff, ...), with -E and -nu",
+                                         &c->material), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-modes", 6, 1, 1000, "modal mode: eigenpairs wanted", &c->n_modes), done);
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-lumped", 0, "modal mode: lumped instead of consistent mass", &c->lumped),
+                done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tip_load", 1644.0, 0.0, 1e12, "N",
                                        "small tip load (2 m g of S1's particles)", &c->beam.load), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-load_parameter", 3.0, 0.0, 20.0, "",
-                                       "large mode: final P L^2 / (E I)", &c->load_parameter), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-load_steps", 10, 1, 100000, "large mode: load steps", &c->load_steps), done);
+                                       "large and nlgeom modes: final P L^2 / (E I)", &c->load_parameter), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-load_steps", 10, 1, 100000, "large and nlgeom modes: load steps", &c->load_steps), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt", 0.02, 1e-9, 10.0, "s", "vibration: Newmark time step", &c->dt), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-periods", 3.0, 0.1, 1e4, "", "vibration: duration in first-mode periods", &c->periods), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-solver", "cholmod", solvers, "sparse direct solver", &solver), done);
@@ -97,6 +120,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->mode = mode;
   c->check = check;
   c->beam.type = elem ? &tl_element_hex27 : &tl_element_hex8;
+  c->beam.material = c->material;
   c->beam.nx = (size_t)nx;
   c->beam.ny = (size_t)ny;
   c->beam.nz = (size_t)nz;
@@ -128,6 +152,15 @@ static TlStatus open_table(const Config *c, const char *name, size_t n, const Tl
   return s;
 }
 
+/* Under -check: |value| within the tolerance (NaN fails); otherwise says
+ * which check failed and sets *failed. */
+static void check_within(const Config *c, const char *what, double value, int *failed)
+{
+  if (!c->check || fabs(value) <= c->tolerance) return;
+  fprintf(stderr, "check failed: %s %.4g exceeds %.4g\n", what, value, c->tolerance);
+  *failed = 1;
+}
+
 /* ------------------------------------------------------------ small */
 static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
 {
@@ -151,10 +184,7 @@ static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
   tl_summary_real(sum, "small_tip", -tip[2]);
   tl_summary_real(sum, "small_timoshenko", ref);
   tl_summary_real(sum, "small_error", err);
-  if (c->check && fabs(err) > c->tolerance) {
-    fprintf(stderr, "check failed: small-load error %.4g exceeds %.4g\n", err, c->tolerance);
-    *failed = 1;
-  }
+  check_within(c, "small-load error", err, failed);
 done:
   tl_stepper_destroy(&st);
   tl_cantilever_destroy(&beam);
@@ -162,7 +192,7 @@ done:
 }
 
 /* ------------------------------------------------------------ large */
-static TlStatus run_large(const Config *c, TlSummary *sum, int *failed)
+static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *failed)
 {
   TlCantileverParams p = c->beam;
   double I = p.b * p.h * p.h * p.h / 12.0;
@@ -177,7 +207,7 @@ static TlStatus run_large(const Config *c, TlSummary *sum, int *failed)
   TlStatus s = TL_OK;
   const TlColumn cols[] = {{"load_parameter", ""}, {"tip_w", "m"}, {"tip_v", "m"},
                            {"elastica_w", "m"}, {"elastica_v", "m"}, {"newton_iterations", ""}};
-  TL_CHECK_GOTO(s, open_table(c, "large", 6, cols, &ts), done);
+  TL_CHECK_GOTO(s, open_table(c, nlgeom ? "nlgeom" : "large", 6, cols, &ts), done);
   TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(beam->solid), &so, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
   double tip[3] = {0, 0, 0}, we = 0, ve = 0, t0 = tl_wtime();
@@ -202,24 +232,108 @@ static TlStatus run_large(const Config *c, TlSummary *sum, int *failed)
   double ew = (-tip[2] - we * p.L) / (we * p.L), ev = (-tip[1] - ve * p.L) / (ve * p.L);
   TlStepperStats ss;
   tl_stepper_get_stats(st, &ss);
-  printf("large load P L^2/(E I) = %g in %ld steps (%ld Newton iterations, %.3f s): tip w = %.6f m, "
-         "shortening = %.6f m; elastica %.6f m, %.6f m; differences %+.3f %%, %+.3f %%\n",
-         c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1], we * p.L,
-         ve * p.L, 100.0 * ew, 100.0 * ev);
-  tl_summary_real(sum, "large_tip_w", -tip[2]);
-  tl_summary_real(sum, "large_elastica_w", we * p.L);
-  tl_summary_real(sum, "large_error_w", ew);
-  tl_summary_int(sum, "large_newton", ss.newton_iterations);
-  if (c->check && fabs(ew) > c->tolerance) {
-    fprintf(stderr, "check failed: large-deflection difference %.4g exceeds %.4g\n", ew, c->tolerance);
-    *failed = 1;
+  if (nlgeom) {
+    printf("nlgeom, %s, dead tip load P = %.10g N (P L^2/(E I) = %g) in %ld steps (%ld Newton iterations, "
+           "%.3f s): tip w = %.10e m, shortening v = %.10e m, lateral u = %.3e m; elastica w %.6f m, "
+           "difference %+.3f %%\n",
+           c->material, p.load, c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1],
+           tip[0], we * p.L, 100.0 * ew);
+    tl_summary_real(sum, "nlgeom_tip_w", -tip[2]);
+    tl_summary_real(sum, "nlgeom_tip_v", -tip[1]);
+    tl_summary_real(sum, "nlgeom_elastica_w", we * p.L);
+    tl_summary_int(sum, "nlgeom_newton", ss.newton_iterations);
+  } else {
+    printf("large load P L^2/(E I) = %g in %ld steps (%ld Newton iterations, %.3f s): tip w = %.6f m, "
+           "shortening = %.6f m; elastica %.6f m, %.6f m; differences %+.3f %%, %+.3f %%\n",
+           c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1], we * p.L,
+           ve * p.L, 100.0 * ew, 100.0 * ev);
+    tl_summary_real(sum, "large_tip_w", -tip[2]);
+    tl_summary_real(sum, "large_elastica_w", we * p.L);
+    tl_summary_real(sum, "large_error_w", ew);
+    tl_summary_int(sum, "large_newton", ss.newton_iterations);
   }
+  check_within(c, "large-deflection difference", ew, failed);
 done:
   if (ts) {
     TlStatus s2 = tl_timeseries_close(&ts);
     if (s == TL_OK) s = s2;
   }
   tl_stepper_destroy(&st);
+  tl_cantilever_destroy(&beam);
+  return s;
+}
+
+/* ----------------------------------------------------------- linear */
+static TlStatus run_linear(const Config *c, TlSummary *sum, int *failed)
+{
+  TlCantilever *beam = NULL;
+  TL_CHECK(tl_cantilever_create(&c->beam, &beam));
+  TlMechSystem *sys = tl_solid_system(beam->solid);
+  double *u = NULL, tip[3];
+  TlLinearStaticStats ls;
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_calloc(&u, (size_t)sys->ndof, sizeof *u), done);
+  TL_CHECK_GOTO(s, tl_linear_static_solve(sys, c->solver, 0.0, u, &ls), done);
+  tl_cantilever_tip(beam, u, tip);
+  double ref = tl_cantilever_timoshenko(&c->beam), err = (-tip[2] - ref) / ref;
+  printf("linear static, P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.10e m, Timoshenko %.6e m, "
+         "error %+.3f %% (assembly %.4f s, factorisation %.4f s, solve %.4f s, residual %.1e)\n",
+         c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
+         -tip[2], ref, 100.0 * err, ls.t_assemble, ls.t_factor, ls.t_solve, ls.residual);
+  tl_summary_real(sum, "linear_tip", -tip[2]);
+  tl_summary_real(sum, "linear_timoshenko", ref);
+  tl_summary_real(sum, "linear_error", err);
+  check_within(c, "linear tip error", err, failed);
+done:
+  tl_free(&u);
+  tl_cantilever_destroy(&beam);
+  return s;
+}
+
+/* ------------------------------------------------------------ modal */
+static TlStatus run_modal(const Config *c, TlSummary *sum, int *failed)
+{
+  TlCantilever *beam = NULL;
+  TL_CHECK(tl_cantilever_create(&c->beam, &beam));
+  TlMechSystem *sys = tl_solid_system(beam->solid);
+  TlModalOptions mo;
+  tl_modal_options_default(&mo);
+  mo.n_modes = (int)c->n_modes;
+  mo.lumped = c->lumped;
+  TlModalStats ms;
+  double *omega2 = NULL;
+  TlTimeSeries *ts = NULL;
+  TlStatus s = TL_OK;
+  TL_CHECK_GOTO(s, tl_calloc(&omega2, (size_t)mo.n_modes, sizeof *omega2), done);
+  TL_CHECK_GOTO(s, tl_modal_solve(sys, &mo, omega2, NULL, &ms), done);
+  const TlColumn cols[] = {{"mode", ""}, {"omega", "rad/s"}, {"frequency", "Hz"}};
+  TL_CHECK_GOTO(s, open_table(c, "modal", 3, cols, &ts), done);
+  double w1 = tl_cantilever_omega1(&c->beam);
+  printf("modal analysis on %s %zux%zux%zu (%lld dofs), %s mass: %d modes (ARPACK, %ld restarts, %ld "
+         "operator applications; assembly %.4f s, factorisation %.4f s, Lanczos %.4f s; residual %.1e)\n",
+         c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
+         ms.consistent ? "consistent" : "lumped", mo.n_modes, ms.restarts, ms.operator_applications,
+         ms.t_assemble, ms.t_factor, ms.t_lanczos, ms.residual);
+  for (int k = 0; k < mo.n_modes; ++k) {
+    double w = sqrt(omega2[k]);
+    printf("  mode %d: omega = %.10e rad/s, f = %.8g Hz\n", k + 1, w, w / (2.0 * M_PI));
+    double row[3] = {(double)(k + 1), w, w / (2.0 * M_PI)};
+    TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
+    char key[32];
+    snprintf(key, sizeof key, "modal_omega%d", k + 1);
+    if (k < 6) tl_summary_real(sum, key, w);
+  }
+  double err = (sqrt(omega2[0]) - w1) / w1;
+  printf("  first bending frequency against Euler-Bernoulli %.6e rad/s: %+.3f %%\n", w1, 100.0 * err);
+  tl_summary_real(sum, "modal_omega1_eb", w1);
+  tl_summary_real(sum, "modal_residual", ms.residual);
+  check_within(c, "first frequency error", err, failed);
+done:
+  if (ts) {
+    TlStatus s2 = tl_timeseries_close(&ts);
+    if (s == TL_OK) s = s2;
+  }
+  tl_free(&omega2);
   tl_cantilever_destroy(&beam);
   return s;
 }
@@ -415,9 +529,12 @@ static TlStatus run(int argc, char **argv)
   double t0 = tl_wtime();
   int failed = 0;
   TlStatus s = TL_OK;
-  if (c.mode == 0 || c.mode == 1) TL_CHECK_GOTO(s, run_small(&c, &sum, &failed), done);
-  if (c.mode == 0 || c.mode == 2) TL_CHECK_GOTO(s, run_large(&c, &sum, &failed), done);
-  if (c.mode == 0 || c.mode == 3) TL_CHECK_GOTO(s, run_vibration(&c, &sum, &failed), done);
+  if (c.mode == MODE_ALL || c.mode == MODE_SMALL) TL_CHECK_GOTO(s, run_small(&c, &sum, &failed), done);
+  if (c.mode == MODE_ALL || c.mode == MODE_LARGE) TL_CHECK_GOTO(s, run_large(&c, 0, &sum, &failed), done);
+  if (c.mode == MODE_ALL || c.mode == MODE_VIBRATION) TL_CHECK_GOTO(s, run_vibration(&c, &sum, &failed), done);
+  if (c.mode == MODE_LINEAR) TL_CHECK_GOTO(s, run_linear(&c, &sum, &failed), done);
+  if (c.mode == MODE_MODAL) TL_CHECK_GOTO(s, run_modal(&c, &sum, &failed), done);
+  if (c.mode == MODE_NLGEOM) TL_CHECK_GOTO(s, run_large(&c, 1, &sum, &failed), done);
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
   tl_summary_print(&sum, stdout);
   if (failed) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "a -check criterion failed (see above)");

@@ -36,8 +36,9 @@
 typedef struct {
   const char *packing, *kernel, *output_dir;
   long n, settle_steps, seed, average_snapshots, average_interval;
-  double d, d_spread, density, lx, ly, height, k_n, restitution, gravity, c, h, settle_tol, floor_z;
+  double d, d_spread, density, lx, ly, height, gravity, c, h, settle_tol, floor_z;
   int box_from_extent, write_hdf5;
+  TlContactLaw *law;
 } Config;
 
 static TlStatus configure(int argc, char **argv, Config *c)
@@ -63,9 +64,12 @@ static TlStatus configure(int argc, char **argv, Config *c)
   /* a file's packing: the box defaults to the extent of its centres plus d */
   c->box_from_extent = strcmp(c->packing, "random") != 0 && !(tl_options_has(o, "-lx") && tl_options_has(o, "-ly"));
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-floor_z", 0.0, -1e9, 1e9, "m", "height of the floor plane", &c->floor_z), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-k_n", 1e4, 1e-9, 1e15, "N/m", "normal stiffness of the linear law", &c->k_n), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-restitution", 0.3, 1e-3, 1.0, "", "restitution while settling", &c->restitution),
-                done);
+  {
+    /* linear spring-dashpot k_n = 1e4 N/m, restitution 0.3 while settling */
+    const TlContactValue law_values[] = {{"k_n", 1e4}, {"restitution", 0.3}};
+    const TlContactSpec law_spec = {"linear", NULL, NULL, NULL, law_values, 2};
+    TL_CHECK_GOTO(s, tl_contact_law_from_options(o, &law_spec, &c->law), done);
+  }
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-gravity", 9.81, 0.0, 1e6, "m/s^2", "gravity along -z", &c->gravity), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-settle_steps", 60000, 0, 100000000, "random packing: most settling steps",
                                       &c->settle_steps), done);
@@ -102,6 +106,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
     s = tl_registry_find(TL_CG_KERNEL_KIND, c->kernel, &known);
   }
 done:
+  if (s != TL_OK) tl_contact_law_destroy(&c->law);
   tl_options_destroy(&o);
   return s;
 }
@@ -329,13 +334,8 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     }
     if (s != TL_OK) goto done;
   }
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = c.k_n;
-  cp.restitution = c.restitution;
-  TlContactLaw *law = NULL;
-  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&cp, &law), done);
-  TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
+  TL_CHECK_GOTO(s, tl_dem_add_law(dem, c.law, NULL), done);
+  c.law = NULL; /* the world owns it */
   TlWall *floor_wall = NULL;
   TL_CHECK_GOTO(s, tl_wall_plane_create(tl_v3(0, 0, c.floor_z), tl_v3(0, 0, 1), &floor_wall), done);
   TL_CHECK_GOTO(s, tl_dem_add_wall(dem, floor_wall, 0), done);
@@ -531,6 +531,7 @@ done:
   tl_free(&wsink.c);
   tl_particle_snapshot_free(&snap);
   tl_dem_destroy(&dem);
+  tl_contact_law_destroy(&c.law);
   return s;
 }
 

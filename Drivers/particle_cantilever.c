@@ -42,6 +42,7 @@ typedef struct {
   const char *kernel;
   char *output_dir;
   TlOptions *options;
+  TlContactLaw *law;
 } Config;
 
 static const char *const steppers[] = {"newmark", "central_difference", NULL};
@@ -72,10 +73,23 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "beam density", &c->beam.rho), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.2, 1e-6, 1e3, "m", "particle diameter", &c->d), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho_g", 2e4, 1e-6, 1e8, "kg/m^3", "particle density", &c->rho_g), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-kn", 0.0, 0.0, 1e15, "N/m", "particle-wall normal stiffness (0: E d)", &c->kn), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-restitution", 1.0, 1e-3, 1.0, "",
                                        "normal restitution of a pair of grains (sets the viscous damping of every contact, "
                                        "walls included; the published runs used 0.99)", &c->restitution), done);
+  {
+    /* A linear spring k_n = E d with one damping coefficient for every
+     * contact, set by the restitution of a pair of grains (m_eff = m / 2), as
+     * the published runs do (their restitution 0.99 is a dashpot of
+     * 185 N s/m; the paper's text calls the scene undamped, the default
+     * here).  -contact_k_n and -contact_c_n override. */
+    const double kn = c->beam.E * c->d, r = 0.5 * c->d, m = c->rho_g * 4.0 / 3.0 * M_PI * r * r * r;
+    const double ln_e = log(c->restitution), eta = -ln_e / sqrt(M_PI * M_PI + ln_e * ln_e);
+    const double gamma_n = 2.0 * eta * sqrt(kn * 0.5 * m);
+    const TlContactValue law_values[] = {{"k_n", kn}, {"restitution", gamma_n > 0.0 ? -1.0 : 1.0}, {"c_n", gamma_n + 0.0 /* no -0 */}};
+    const TlContactSpec law_spec = {"linear", NULL, NULL, NULL, law_values, 3};
+    TL_CHECK_GOTO(s, tl_contact_law_from_options(o, &law_spec, &c->law), done);
+    TL_CHECK_GOTO(s, tl_contact_law_get(c->law, "k_n", &c->kn), done);
+  }
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-g", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-vy", 0.1, -1e3, 1e3, "m/s", "initial particle velocity along y", &c->vy), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-x0", 0.2, 0.0, 1e3, "m", "particles at x = +-x0", &c->x0), done);
@@ -139,10 +153,10 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->beam.nx = (size_t)nx;
   c->beam.ny = (size_t)ny;
   c->beam.nz = (size_t)nz;
-  if (c->kn == 0.0) c->kn = c->beam.E * c->d;
   c->options = o;
   return TL_OK;
 done:
+  tl_contact_law_destroy(&c->law);
   tl_options_destroy(&o);
   return s;
 }
@@ -258,20 +272,10 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_dem_create(&dem), done);
   int sp;
   TL_CHECK_GOTO(s, tl_particles_add_species(tl_dem_particles(dem), "grain", c.rho_g, r, r, &sp), done);
-  TlContactParameters contact;
-  tl_contact_parameters_default(&contact);
-  contact.k_n = c.kn;
-  /* One damping coefficient for every contact, set by the restitution of a
-   * pair of grains (m_eff = m / 2), as the published runs do (their
-   * restitution 0.99 is a dashpot of 185 N s/m; the paper's text calls the
-   * scene undamped, the default here). */
-  const double ln_e = log(c.restitution), eta = -ln_e / sqrt(M_PI * M_PI + ln_e * ln_e);
-  const double gamma_n = 2.0 * eta * sqrt(c.kn * 0.5 * m);
-  contact.restitution = gamma_n > 0.0 ? -1.0 : 1.0;
-  contact.gamma_n_linear = gamma_n;
-  TlContactLaw *law = NULL;
-  TL_CHECK_GOTO(s, tl_contact_law_create_linear(&contact, &law), done);
-  TL_CHECK_GOTO(s, tl_dem_add_law(dem, law, NULL), done);
+  double gamma_n; /* the contact dashpot, N s/m */
+  TL_CHECK_GOTO(s, tl_contact_law_get(c.law, "c_n", &gamma_n), done);
+  TL_CHECK_GOTO(s, tl_dem_add_law(dem, c.law, NULL), done);
+  c.law = NULL; /* the world owns it */
   size_t idx;
   int64_t id[2];
   for (int k = 0; k < 2; k++) {
@@ -466,6 +470,7 @@ done:
   tl_coupled_loop_destroy(&loop);
   tl_stepper_destroy(&st);
   tl_dem_destroy(&dem);
+  tl_contact_law_destroy(&c.law);
   tl_scoupling_destroy(&sc);
   tl_cantilever_destroy(&beam);
   tl_free(&c.output_dir);

@@ -30,15 +30,17 @@
 #include "tl_timeseries.h"
 
 typedef struct {
-  double d_min, d_max, density, E, nu, mu, gamma_n, gamma_t, pressure, dt, box_d0, phi0, inertial, inertial_gas;
+  double d_min, d_max, density, pressure, dt, box_d0, phi0, inertial, inertial_gas;
   double t_end, tolerance, pressure_tolerance;
   long seed, control_every;
   int threads;
   const char *out;
+  TlContactLaw *law;
 } Settings;
 
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
 {
+  s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Isotropic compression of a periodic Hertz packing to a target pressure, then "
                              "relaxation under a pressure servo (seeds/000 §3.1 preparation).",
@@ -46,11 +48,11 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
   TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
   TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (Table 1)", &s->density));
-  TL_CHECK(tl_options_get_real(*o, "-E", 50e9, 1.0, 1e13, "Pa", "Young's modulus of the grains (Table 1)", &s->E));
-  TL_CHECK(tl_options_get_real(*o, "-nu", 0.3, -0.99, 0.49, "", "Poisson ratio of the grains (Table 1)", &s->nu));
-  TL_CHECK(tl_options_get_real(*o, "-mu", 0.5, 0.0, 10.0, "", "friction coefficient μ_g (Table 1)", &s->mu));
-  TL_CHECK(tl_options_get_real(*o, "-gamma_n", 0.2, 0.0, 1e15, "1/(m s)", "normal damping γ_n (Table 1)", &s->gamma_n));
-  TL_CHECK(tl_options_get_real(*o, "-gamma_t", 0.1, 0.0, 1e15, "1/(m s)", "tangential damping γ_t (Table 1)", &s->gamma_t));
+  /* Hertz with viscous damping and Coulomb friction, seeds/000 Table 1:
+   * E = 50 GPa, nu = 0.3, mu_g = 0.5, gamma_n = 0.2, gamma_t = 0.1 1/(m s) */
+  const TlContactValue law_values[] = {{"E", 50e9}, {"nu", 0.3}, {"mu", 0.5}, {"gamma_n", 0.2}, {"gamma_t", 0.1}};
+  const TlContactSpec law_spec = {"hertz", "coulomb", NULL, NULL, law_values, 5};
+  TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
   TL_CHECK(tl_options_get_real(*o, "-pressure", 5e6, 1.0, 1e12, "Pa", "target confining pressure (seeds/000: 5 MPa)", &s->pressure));
   TL_CHECK(tl_options_get_real(*o, "-dt", 1e-8, 1e-15, 1.0, "s", "time step (Table 1)", &s->dt));
   TL_CHECK(tl_options_get_real(*o, "-box", 12.0, 2.5, 1000.0, "d0", "cell side in mean diameters d0", &s->box_d0));
@@ -85,6 +87,7 @@ static TlStatus run(int argc, char **argv)
   Settings s;
   TlStatus st = options(argc, argv, &o, &s);
   if (st != TL_OK) {
+    tl_contact_law_destroy(&s.law);
     tl_options_destroy(&o);
     return st;
   }
@@ -120,16 +123,7 @@ static TlStatus run(int argc, char **argv)
     }
     if (!placed) TL_ERROR(TL_ERR_ARG, "could not place particle %ld in the gas: -phi0 %g too dense", k, s.phi0);
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.youngs_modulus = s.E;
-  p.poisson_ratio = s.nu;
-  p.gamma_n = s.gamma_n;
-  p.gamma_t = s.gamma_t;
-  p.mu = s.mu;
-  TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_hertz(&p, &law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  TL_CHECK(tl_dem_add_law(dem, s.law, NULL));
   tl_dem_set_threads(dem, s.threads);
   tl_dem_track_energy(dem, 0);
   TL_CHECK(tl_dem_set_timestep(dem, s.dt, 0));

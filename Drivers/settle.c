@@ -35,14 +35,16 @@
 
 typedef struct {
   long n;
-  double d_min, d_max, density, E, e, mu, box, height, t_end, dt_fraction;
+  double d_min, d_max, density, E, box, height, t_end, dt_fraction;
   long snapshots, samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
   const char *out, *restart;
+  TlContactLaw *law;
 } Settings;
 
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
 {
+  s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Polydisperse spheres poured into a box and settled on a triangulated floor and plane "
                              "side walls; energies, coordination and the weight carried by the walls.",
@@ -53,8 +55,12 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (seeds/000 Table 1)", &s->density));
   TL_CHECK(tl_options_get_real(*o, "-E", 1e7, 1.0, 1e12, "Pa",
                                "modulus giving the linear stiffness k_n = E d_mean (soft, so that settling is quick)", &s->E));
-  TL_CHECK(tl_options_get_real(*o, "-e", 0.5, 1e-3, 1.0, "", "restitution coefficient", &s->e));
-  TL_CHECK(tl_options_get_real(*o, "-mu", 0.5, 0.0, 10.0, "", "friction coefficient (seeds/000 Table 1)", &s->mu));
+  /* linear spring-dashpot k_n = E d_mean, restitution 0.5, Coulomb mu = 0.5
+   * (seeds/000 Table 1); -contact_* override */
+  const TlContactValue law_values[] = {
+      {"k_n", s->E * 0.5 * (s->d_min + s->d_max)}, {"restitution", 0.5}, {"mu", 0.5}};
+  const TlContactSpec law_spec = {"linear", "coulomb", NULL, NULL, law_values, 3};
+  TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
   TL_CHECK(tl_options_get_real(*o, "-box", 0.04, 1e-6, 1e3, "m", "box width (x and y)", &s->box));
   TL_CHECK(tl_options_get_real(*o, "-height", 0.12, 1e-6, 1e3, "m", "box height", &s->height));
   TL_CHECK(tl_options_get_real(*o, "-t_end", 0.4, 0.0, 1e6, "s", "simulated time", &s->t_end));
@@ -110,6 +116,7 @@ static TlStatus run(int argc, char **argv)
   Settings s;
   TlStatus st = options(argc, argv, &o, &s);
   if (st != TL_OK) {
+    tl_contact_law_destroy(&s.law);
     tl_options_destroy(&o);
     return st;
   }
@@ -141,14 +148,9 @@ static TlStatus run(int argc, char **argv)
     double r = tl_species_sample_radius(&P->species_table[sp], &rng);
     TL_CHECK(tl_dem_add_particle(dem, x, v, r, sp, NULL));
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = s.E * 0.5 * (s.d_min + s.d_max);
-  p.restitution = s.e;
-  p.mu = s.mu;
-  TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  double k_n;
+  TL_CHECK(tl_contact_law_get(s.law, "k_n", &k_n));
+  TL_CHECK(tl_dem_add_law(dem, s.law, NULL));
   /* walls: triangulated floor, four planes */
   TlWall *w;
   if (s.plane_floor) {
@@ -175,7 +177,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_dem_setup(dem));
   long steps = (long)ceil(s.t_end / dt);
   printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
-         s.d_min, s.d_max, p.k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
+         s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
   /* output */
   TL_CHECK(tl_mkdir_p(s.out));
   char base[4096];

@@ -6,6 +6,8 @@
 
 #include "talus.h"
 
+/* contact_viscoelastic_hertz.c: normal contact part "viscoelastic_hertz". */
+TlStatus example_viscoelastic_hertz_register(void);
 /* element_hex20.c: element type "hex20" (Gmsh type 17). */
 TlStatus example_hex20_register(void);
 /* material_mooney_rivlin.c: material "mooney_rivlin". */

@@ -22,11 +22,11 @@
 /* The particles' contact law: linear spring of stiffness kn, no friction. */
 static TlStatus contact_law(double kn, TlContactLaw **law)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
-  TL_CHECK(tl_contact_law_create_linear(&cp, law));
-  return TL_OK;
+  TL_CHECK(tl_contact_law_create("linear", NULL, NULL, NULL, law));
+  TlStatus s = tl_contact_law_set(*law, "k_n", kn);
+  if (s == TL_OK) s = tl_contact_law_setup(*law);
+  if (s != TL_OK) tl_contact_law_destroy(law);
+  return s;
 }
 
 typedef struct {

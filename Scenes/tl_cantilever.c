@@ -18,6 +18,7 @@ void tl_cantilever_params_default(TlCantileverParams *p)
   p->nu = 0.0;
   p->rho = 1309.0;
   p->load = 1644.0;
+  p->material = "hooke";
 }
 
 static double tip_amplitude(double t, void *ctx)
@@ -59,7 +60,11 @@ TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **out)
   const size_t n[3] = {p->nx, p->ny, p->nz};
   const double lo[3] = {-0.5 * p->b, 0.0, -0.5 * p->h}, hi[3] = {0.5 * p->b, p->L, 0.5 * p->h};
   TL_CHECK_GOTO(s, tl_mesh_create_box(p->type, n, lo, hi, &c->mesh), fail);
-  TL_CHECK_GOTO(s, tl_material_create_hooke(p->E, p->nu, p->rho, &c->material), fail);
+  TL_CHECK_GOTO(s, tl_material_create(p->material ? p->material : "hooke", &c->material), fail);
+  TL_CHECK_GOTO(s, tl_material_set(c->material, "E", p->E), fail);
+  TL_CHECK_GOTO(s, tl_material_set(c->material, "nu", p->nu), fail);
+  TL_CHECK_GOTO(s, tl_material_set(c->material, "density", p->rho), fail);
+  TL_CHECK_GOTO(s, tl_material_setup(c->material), fail);
   TL_CHECK_GOTO(s, tl_solid_create(c->mesh, &c->solid), fail);
   TL_CHECK_GOTO(s, tl_solid_set_material(c->solid, NULL, c->material), fail);
   TL_CHECK_GOTO(s, tl_solid_fix(c->solid, "ymin", 7), fail);

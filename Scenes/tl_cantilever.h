@@ -19,6 +19,7 @@ typedef struct {
   double b, h, L;            /* m */
   double E, nu, rho;         /* Pa, -, kg/m^3 */
   double load;               /* tip load P (N), in -z */
+  const char *material;      /* the law's registered name, with E and nu ("hooke") */
 } TlCantileverParams;
 
 typedef struct {
@@ -33,7 +34,8 @@ typedef struct {
 } TlCantilever;
 
 /* S1 defaults: hex8 2 x 30 x 2, 0.8 x 0.8 x 12 m, E = 100 MPa, nu = 0,
- * rho = 1309 kg/m^3, P = 1644 N (twice the weight of S1's particles). */
+ * rho = 1309 kg/m^3, P = 1644 N (twice the weight of S1's particles),
+ * material "hooke". */
 void tl_cantilever_params_default(TlCantileverParams *p);
 TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **c);
 void tl_cantilever_destroy(TlCantilever **c);

@@ -235,12 +235,12 @@ static TlStatus build_particles(TlWave *w)
         if (j + 1 < w->nyp) TL_CHECK(tl_dem_add_bond(w->dem, a, (int64_t)pid(w, i, j + 1, k)));
         if (k + 1 < w->nxp) TL_CHECK(tl_dem_add_bond(w->dem, a, (int64_t)pid(w, i, j, k + 1)));
       }
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = w->k;
-  cp.bonded = !p->compression_only;
+  /* push-only ("linear": the bonds stay contacts, without tension) for the
+   * published runs' species, or bonds in tension and compression */
+  const TlContactValue kv[] = {{"k_n", w->k}};
+  const TlContactSpec spec = {p->compression_only ? "linear" : "bonded_linear", NULL, NULL, NULL, kv, 1};
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&cp, &law));
+  TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(w->dem, law, NULL));
   /* the lattice keeps its numbering: the layers are index ranges */
   tl_dem_set_sort_interval(w->dem, 0);

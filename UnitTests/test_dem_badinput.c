@@ -25,11 +25,8 @@ static TlStatus two_spheres(TlDem **out, double gap, double dt, int allow, TlVec
   TL_CHECK(tl_particles_add_species(P, "g", 2500, 0.01, 0.01, &sp));
   TL_CHECK(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.01, sp, NULL));
   TL_CHECK(tl_dem_add_particle(dem, tl_v3(0.02 + gap, 0, 0), v1, 0.01, sp, NULL));
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e5;
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_test_law(&law, "linear", "k_n", 1e5, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   TL_CHECK(tl_dem_set_timestep(dem, dt, allow));
   *out = dem;
@@ -67,25 +64,15 @@ int main(void)
   tl_particles_destroy(&P);
 
   /* bad law parameters */
-  TlContactParameters p;
   TlContactLaw *law = NULL;
-  tl_contact_parameters_default(&p);
-  p.k_n = -3;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", -3.0, NULL), TL_ERR_ARG);
   TL_TEST_ASSERT(mentions("k_n = -3"), "negative stiffness not named");
-  p.k_n = 1e5;
-  p.restitution = 1.5;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_ERR_ARG);
-  TL_TEST_ASSERT(mentions("restitution 1.5"), "restitution not named");
-  p.restitution = 1.0;
-  p.mu = -0.1;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e5, "restitution", 1.5, NULL), TL_ERR_ARG);
+  TL_TEST_ASSERT(mentions("restitution = 1.5"), "restitution not named");
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e5, "mu", -0.1, NULL), TL_ERR_ARG);
   TL_TEST_ASSERT(mentions("mu = -0.1"), "friction not named");
-  tl_contact_parameters_default(&p);
-  p.youngs_modulus = 1e7;
-  p.poisson_ratio = 0.7;
-  TL_TEST_STATUS(tl_contact_law_create_hertz(&p, &law), TL_ERR_ARG);
-  TL_TEST_ASSERT(mentions("Poisson ratio 0.7"), "Poisson ratio not named");
+  TL_TEST_STATUS(tl_test_law(&law, "hertz", "E", 1e7, "nu", 0.7, NULL), TL_ERR_ARG);
+  TL_TEST_ASSERT(mentions("nu = 0.7"), "Poisson ratio not named");
   TlWall *w = NULL;
   TL_TEST_STATUS(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 0), &w), TL_ERR_ARG);
   TL_TEST_ASSERT(mentions("normal (0, 0, 0)"), "zero plane normal not named");

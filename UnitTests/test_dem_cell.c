@@ -52,11 +52,8 @@ int main(void)
                                              tl_v3((i + 0.25 + basis[q][0]) * a, (j + 0.25 + basis[q][1]) * a,
                                                    (k + 0.25 + basis[q][2]) * a),
                                              tl_v3(0, 0, 0), 0.5 * d, sp, NULL), TL_OK);
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = kn;
   TlContactLaw *law;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
   /* deformation gradient: compression with a small shear */
   TlMat3 F = {{{0.99, 0.004, 0.0}, {0.0, 0.995, 0.0}, {0.002, 0.0, 0.998}}};

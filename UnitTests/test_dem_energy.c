@@ -38,13 +38,9 @@ static double run(int hertz, double dt_fraction, long steps, double *max_dev, do
         TlVec3 v = {tl_random_uniform(&s) - 0.5, tl_random_uniform(&s) - 0.5, tl_random_uniform(&s) - 0.5};
         tl_dem_add_particle(dem, x, tl_v3_scale(v, 0.2), r, sp, NULL);
       }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e4;
-  p.youngs_modulus = 1e7;
   TlContactLaw *law;
-  if (hertz) tl_contact_law_create_hertz(&p, &law);
-  else tl_contact_law_create_linear(&p, &law);
+  if (hertz) tl_test_law(&law, "hertz", "E", 1e7, NULL);
+  else tl_test_law(&law, "linear", "k_n", 1e4, NULL);
   tl_dem_add_law(dem, law, NULL);
   double dtc, k, mm;
   tl_dem_critical_timestep(dem, &dtc, &k, &mm);

@@ -77,13 +77,8 @@ static TlStatus run(const Frame *f, int steps, double dt, TlVec3 *out /* steps x
     TL_CHECK(tl_dem_add_particle(dem, x0[k], v0[k], 0.01, sp, NULL));
     ids[k] = k;
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e5;
-  p.restitution = 0.5;
-  p.mu = 0.4;
   TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create_linear(&p, &law));
+  TL_CHECK(tl_test_law(&law, "linear", "k_n", 1e5, "restitution", 0.5, "mu", 0.4, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   tl_dem_skip_fixed_pairs(dem, 0);
   tl_dem_set_sort_interval(dem, 0);

@@ -132,13 +132,8 @@ static void test_dynamic(int periodic)
       ok = tl_v3_norm(tl_domain_branch(&dom, P->x[i], x)) > P->radius[i] + r;
     if (ok) TL_TEST_STATUS(tl_dem_add_particle(dem, x, v, r, sp, NULL), TL_OK);
   }
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = 1e4;
-  p.restitution = 0.9;
-  p.mu = 0.3;
   TlContactLaw *law;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e4, "restitution", 0.9, "mu", 0.3, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
   TlWall *floor_, *roof;
   TL_TEST_STATUS(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &floor_), TL_OK);

@@ -56,21 +56,11 @@ static TlStatus build_column(TlDem *dem, double L, int hertz)
     TlVec3 v = tl_v3(0.2 * (urand(&seed) - 0.5), 0.2 * (urand(&seed) - 0.5), -0.1);
     TL_CHECK(tl_dem_add_particle(dem, x, v, r, sp, NULL));
   }
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
   TlContactLaw *law = NULL;
   if (hertz) {
-    cp.youngs_modulus = 5e6;
-    cp.poisson_ratio = 0.3;
-    cp.gamma_n = 5e3;
-    cp.mu = 0.5;
-    cp.mu_roll = 0.05;
-    TL_CHECK(tl_contact_law_create_hertz(&cp, &law));
+    TL_CHECK(tl_test_law(&law, "hertz", "E", 5e6, "nu", 0.3, "gamma_n", 5e3, "mu", 0.5, "mu_roll", 0.05, NULL));
   } else {
-    cp.k_n = 200.0;
-    cp.restitution = 0.3;
-    cp.mu = 0.4;
-    TL_CHECK(tl_contact_law_create_linear(&cp, &law));
+    TL_CHECK(tl_test_law(&law, "linear", "k_n", 200.0, "restitution", 0.3, "mu", 0.4, NULL));
   }
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
@@ -122,14 +112,8 @@ static TlStatus build(int scene, TlDem **out)
             TlVec3 v = tl_v3(0.3 * (urand(&seed) - 0.5), 0.3 * (urand(&seed) - 0.5), 0.3 * (urand(&seed) - 0.5));
             TL_CHECK(tl_dem_add_particle(dem, x, v, (0.45 + 0.07 * urand(&seed)) * d, sp, NULL));
           }
-    TlContactParameters cp;
-    tl_contact_parameters_default(&cp);
-    cp.youngs_modulus = 1e7;
-    cp.poisson_ratio = 0.3;
-    cp.gamma_n = 2e3;
-    cp.mu = 0.3;
     TlContactLaw *law = NULL;
-    TL_CHECK(tl_contact_law_create_hertz(&cp, &law));
+    TL_CHECK(tl_test_law(&law, "hertz", "E", 1e7, "nu", 0.3, "gamma_n", 2e3, "mu", 0.3, NULL));
     TL_CHECK(tl_dem_add_law(dem, law, NULL));
     TlMat3 hdot = {{{-0.5, 0.8, 0.0}, {0.0, -0.3, 0.0}, {0.2, 0.0, -0.4}}};
     TL_CHECK(tl_domain_set_h_rate(tl_dem_domain(dem), tl_m3_scale(tl_m3_mul(hdot, h0), 1.0)));

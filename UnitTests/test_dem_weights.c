@@ -40,12 +40,8 @@ static double rnd(unsigned *s)
 /* A linear law of stiffness k_n whose bonds act in tension. */
 static void add_bonded_law(TlDem *dem, double k_n)
 {
-  TlContactParameters p;
-  tl_contact_parameters_default(&p);
-  p.k_n = k_n;
-  p.bonded = 1;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&p, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "bonded_linear", "k_n", k_n, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
 }
 

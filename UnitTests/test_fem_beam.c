@@ -44,7 +44,9 @@ static double tip_w(const TlMesh *mesh, const TlSolid *solid, const double *u)
   return w / count;
 }
 
-static void static_deflection(const TlElementType *t, double tol)
+/* The tip deflection's ratio to Timoshenko's must lie in [lo, hi]: two-sided,
+ * around the measured value (NaN fails). */
+static void static_deflection(const TlElementType *t, double lo, double hi)
 {
   TlMesh *mesh = NULL;
   TlMaterial *mat = NULL;
@@ -67,7 +69,8 @@ static void static_deflection(const TlElementType *t, double tol)
   double w = -tip_w(mesh, solid, st->u);
   printf("%s 2x30x2: tip deflection %.6e m, Euler-Bernoulli %.6e, Timoshenko %.6e, ratio to Timoshenko %.4f\n",
          t->header.name, w, w_eb, w_t, w / w_t);
-  TL_TEST_ASSERT(fabs(w / w_t - 1.0) < tol, "%s tip deflection %g vs Timoshenko %g", t->header.name, w, w_t);
+  TL_TEST_ASSERT(w / w_t >= lo && w / w_t <= hi, "%s tip deflection %g vs Timoshenko %g: ratio %g outside [%g, %g]",
+                 t->header.name, w, w_t, w / w_t, lo, hi);
   /* External work of the (dead) end load equals the stored energy of the
    * linear-regime solution to second order: W = 1/2 F w. */
   double We = 0.0, *u0 = calloc((size_t)tl_solid_system(solid)->ndof, sizeof *u0);
@@ -209,9 +212,9 @@ int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   double t0 = omp_get_wtime();
-  static_deflection(&tl_element_hex27, 0.01);
+  static_deflection(&tl_element_hex27, 0.99, 1.01); /* measured 1.0000 */
   double t1 = omp_get_wtime();
-  static_deflection(&tl_element_hex8, 0.5);
+  static_deflection(&tl_element_hex8, 0.878, 0.898); /* measured 0.8885: shear locking, 2x30x2 */
   double t2 = omp_get_wtime();
   vibration_energy();
   frequency_bound(&tl_element_hex8);

@@ -1081,6 +1081,75 @@ static void load_test(const TlElementType *t)
   tl_mesh_destroy(&mesh);
 }
 
+/* A wrapper's displacement-dependent external load (a spring to the ground
+ * at one node, f = -k u) and its tangent: the system's external tangent
+ * (K += c d f_ext/du, with c = 1) against central differences of f_ext. */
+typedef struct {
+  size_t node;
+  double k;
+} GroundSpring;
+
+static TlStatus wrapper_ground(void *ctx, TlSolid *solid, int b, double t, const double *u, double *f, double c,
+                               TlSparse *K)
+{
+  (void)b, (void)t;
+  const GroundSpring *g = ctx;
+  const int dim = tl_solid_mesh(solid)->dim;
+  for (int q = 0; q < dim; ++q) {
+    if (f) f[g->node * dim + q] -= g->k * u[g->node * dim + q];
+    TlSparseIndex i = tl_solid_dof(solid, g->node, q);
+    if (K && i >= 0) TL_CHECK(tl_sparse_add(K, i, i, -c * g->k));
+  }
+  return TL_OK;
+}
+static const TlSolidWrapperOps ground_ops = {.header = {"solid_wrapper", "test_ground", "spring to the ground"},
+                                             .external = wrapper_ground};
+
+static void wrap_tangent_test(void)
+{
+  TlMesh *mesh = distorted_mesh(&tl_element_hex8);
+  TlMaterial *mat = make_law("neo_hookean", 0.3);
+  if (!mesh || !mat) return;
+  GroundSpring g = {mesh->blocks[0].conn[6], 2e7};
+  TlSolid *solid = NULL;
+  TL_TEST_STATUS(tl_solid_create(mesh, &solid), TL_OK);
+  tl_solid_set_material(solid, NULL, mat);
+  TL_TEST_STATUS(tl_solid_setup(solid), TL_OK);
+  TlSolidWrapper *hg = NULL;
+  TL_TEST_STATUS(tl_solid_add_wrapper(solid, 0, &ground_ops, &g, &hg), TL_OK);
+  TlMechSystem *sys = tl_solid_system(solid);
+  const size_t n = (size_t)sys->ndof;
+  double *u = calloc(n, sizeof *u), *d = calloc(n, sizeof *d), *up = calloc(n, sizeof *up), *fp = calloc(n, sizeof *fp),
+         *fm = calloc(n, sizeof *fm), *Kd = calloc(n, sizeof *Kd);
+  TlSparse *K = NULL;
+  TL_TEST_STATUS(sys->ops->create_matrix(sys, 1, &K), TL_OK);
+  if (!K || !u || !d || !up || !fp || !fm || !Kd || !sys->ops->external_tangent) {
+    TL_TEST_ASSERT(sys->ops->external_tangent != NULL, "the solid has an external tangent");
+  } else {
+    for (size_t i = 0; i < n; ++i) u[i] = 0.02 * urand(), d[i] = urand();
+    tl_sparse_zero(K);
+    TL_TEST_STATUS(sys->ops->external_tangent(sys, 0.0, u, 1.0, K), TL_OK);
+    tl_sparse_matvec(K, d, Kd);
+    const double h = 1e-6;
+    for (size_t i = 0; i < n; ++i) up[i] = u[i] + h * d[i];
+    TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, up, fp), TL_OK);
+    for (size_t i = 0; i < n; ++i) up[i] = u[i] - h * d[i];
+    TL_TEST_STATUS(sys->ops->external_force(sys, 0.0, up, fm), TL_OK);
+    double err = 0.0, scale = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+      err = fmax(err, fabs((fp[i] - fm[i]) / (2 * h) - Kd[i]));
+      scale = fmax(scale, fabs(Kd[i]));
+    }
+    printf("wrapper load's tangent: |K_ext d - d f_ext| = %.3g of %.3g\n", err, scale);
+    TL_TEST_ASSERT(scale > 0.0 && err <= 1e-6 * scale, "the wrapper load's tangent is off by %g of %g", err, scale);
+  }
+  tl_sparse_destroy(&K);
+  free(u), free(d), free(up), free(fp), free(fm), free(Kd);
+  tl_solid_destroy(&solid);
+  tl_material_destroy(&mat);
+  tl_mesh_destroy(&mesh);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -1109,6 +1178,7 @@ int main(void)
   system_test(&tl_element_quad8);
   reaction_test();
   wrap_test();
+  wrap_tangent_test();
   weights_test(&tl_element_hex8);
   weights_test(&tl_element_tet10);
   weights_test(&tl_element_quad8);

@@ -1,7 +1,8 @@
 /* ParaView itself opens the XDMF series: pvpython's XDMF reader must see
  * every time step, one vertex cell per particle with its arrays, and mesh
  * blocks of the right VTK cell types with the connectivity unchanged.
- * Skipped with a message when pvpython is absent (ParaView is optional). */
+ * Skipped (ctest's skip code, reported as a skip) when pvpython is absent
+ * (ParaView is optional). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -64,8 +65,7 @@ static const char *value_of(const char *out, const char *key, char *buf, size_t 
 int main(void)
 {
   if (!have_pvpython()) {
-    printf("SKIPPED: ParaView check (pvpython not found on PATH)\n");
-    return tl_test_report();
+    return tl_test_skip("ParaView check (pvpython not found on PATH)");
   }
   enum { N = 4 };
   TlVec3 x[N] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, v[N] = {{0}};

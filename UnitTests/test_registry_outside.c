@@ -205,12 +205,7 @@ static TlStatus sphere_create(const void *params, TlWall **w)
  * test names the contact-law interface.) */
 static TlStatus elastic_law(double k_n, TlContactLaw **law)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = k_n;
-  cp.restitution = 1.0;
-  cp.mu = 0.0;
-  return tl_contact_law_create_linear(&cp, law);
+  return tl_test_law(law, "linear", "k_n", k_n, "restitution", 1.0, (const char *)NULL);
 }
 
 typedef struct {

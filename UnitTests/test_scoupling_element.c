@@ -43,11 +43,8 @@ static TlDem *make_world(double r, int *sp, int *law)
   TlDem *dem = NULL;
   TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = 2e7;
   TlContactLaw *l = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &l), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&l, "linear", "k_n", 2e7, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(dem, l, law), TL_OK);
   return dem;
 }

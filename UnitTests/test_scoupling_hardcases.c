@@ -20,6 +20,7 @@
 #include "tl_coupled_loop.h"
 #include "tl_scoupling.h"
 #include "tl_test.h"
+#include "tl_triangle_geometry.h"
 
 typedef struct {
   TlCantilever *beam;
@@ -50,13 +51,8 @@ static void scene_create(Scene *S, double tip_load, double mu, double g, size_t 
   const double r = 0.1, kn = 2e7;
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(S->dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
-  cp.mu = mu;
-  cp.restitution = restitution;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, "mu", mu, "restitution", restitution, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(S->dem, law, NULL), TL_OK);
   for (size_t k = 0; k < n; k++) TL_TEST_STATUS(tl_dem_add_particle(S->dem, x[k], v[k], r, sp, NULL), TL_OK);
   tl_dem_set_gravity(S->dem, tl_v3(0, 0, -g));
@@ -112,6 +108,8 @@ static double total_energy(Scene *S, double grav0)
 
 /* Rolls a frictional particle for `steps` steps; returns the number of
  * history collapses and the peak energy over the initial one. */
+/* steps of the last roll() with an active contact on a vertex feature */
+static long vertex_steps;
 static void roll(const char *what, double tip_load, TlVec3 x, TlVec3 v, long steps, double *ratio, long *collapses,
                  long *contact_steps, long *concave_steps, double *fn_jump, double *fn_peak)
 {
@@ -136,6 +134,7 @@ static void roll(const char *what, double tip_load, TlVec3 x, TlVec3 v, long ste
     }
   }
   *concave_steps = 0;
+  vertex_steps = 0;
   *fn_jump = 0.0;
   *fn_peak = 0.0;
   TlCoupledEnergy e0;
@@ -158,6 +157,11 @@ static void roll(const char *what, double tip_load, TlVec3 x, TlVec3 v, long ste
       fn = tl_v3_dot(f, n);
       ft = tl_v3_norm(tl_v3_sub(f, tl_v3_scale(n, fn)));
     }
+    for (size_t i = 0; i < c->count; i++)
+      if (c->c[i].active && tl_tri_feature_is_vertex(c->c[i].feature)) {
+        vertex_steps++;
+        break;
+      }
     /* steps in contact with two triangles across a concave edge */
     for (size_t i = 0; i < c->count; i++)
       for (size_t j = i + 1; j < c->count; j++) {
@@ -203,7 +207,9 @@ static void test_rolling(void)
   TL_TEST_ASSERT(ratio < 1.05, "energy grew by a factor %g", ratio);
   /* Across the vertex at the top corner of the free end. */
   roll("across the vertex", 0.0, tl_v3(0.1, 2.1, z), tl_v3(0.6, 0.6, 0), 6000, &ratio, &col, &cs, &cc, &jump, &peak);
+  printf("  across the vertex: %ld steps on a vertex feature\n", vertex_steps);
   TL_TEST_ASSERT(cs > 500, "the particle rolls in contact (%ld steps)", cs);
+  TL_TEST_ASSERT(vertex_steps > 0, "the roll across the vertex never touched a vertex");
   TL_TEST_ASSERT(col == 0, "tangential history lost %ld times", col);
   TL_TEST_ASSERT(ratio < 1.05, "energy grew by a factor %g", ratio);
 }
@@ -235,6 +241,8 @@ static void test_concave(void)
   TL_TEST_ASSERT(cc > 20, "it crosses concave edges (%ld steps on one)", cc);
   TL_TEST_ASSERT(col == 0, "tangential history lost %ld times", col);
   TL_TEST_ASSERT(peak < 3.0, "normal force bounded: largest f_n %.3g m g", peak);
+  /* measured 1.22: a band that a doubling of the jump leaves */
+  TL_TEST_ASSERT(jump <= 1.5, "one-step change of f_n %.3g of f_n on the concave edges (measured 1.22)", jump);
   TL_TEST_ASSERT(ratio < 1.05, "energy grew by a factor %g", ratio);
 }
 
@@ -317,7 +325,9 @@ static void test_subcycling(void)
   printf("sub-cycling, 5 DEM steps per FEM step: peak energy / start %.6f with the last force, %.6f with the average\n",
          ratio[0], ratio[1]);
   TL_TEST_ASSERT(ratio[0] < 1.01, "sub-cycled coupling gains energy (peak / start %g)", ratio[0]);
-  TL_TEST_ASSERT(ratio[1] > ratio[0], "averaging should not hold energy better (%g vs %g)", ratio[1], ratio[0]);
+  /* the average feeds energy in by orders of magnitude (measured 9.9e3 x the
+   * start in 3000 steps): asserted above 1e3 */
+  TL_TEST_ASSERT(ratio[1] > 1e3, "averaging should feed energy in (peak / start %g, measured 9.9e3)", ratio[1]);
 }
 
 static void test_beyond_critical(void)

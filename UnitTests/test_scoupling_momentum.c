@@ -50,11 +50,8 @@ static TlDem *world(double r, double kn)
   TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
   return dem;
 }

@@ -5,7 +5,8 @@
  * coupling forces (node-wise and per face) agree bit for bit.  Explicit FEM
  * in lock-step and Newmark with 3 DEM steps per FEM step (predictor
  * scheme); Newmark with 2 and explicit with 1 in the interpolating scheme;
- * Newmark lock-step in the parallel one. */
+ * Newmark lock-step in the parallel one; two of them again with friction
+ * (the walls' tangential history across the restart). */
 #include <math.h>
 #include <string.h>
 #include "talus.h"
@@ -23,8 +24,11 @@ typedef struct {
   TlCheckpoint *cp;
 } Scene;
 
-/* The CG support of the scenes built next (surface unless a case says). */
+/* The CG support of the scenes built next (surface unless a case says), and
+ * their friction coefficient (frictionless unless a case says: with
+ * friction the walls' tangential history crosses the restart). */
 static int cg_support = TL_SCOUPLING_SUPPORT_SURFACE;
+static double friction_mu = 0.0;
 
 static void build(Scene *S, const char *stepper, int substeps, int scheme)
 {
@@ -45,11 +49,8 @@ static void build(Scene *S, const char *stepper, int substeps, int scheme)
   const double r = 0.1, kn = 2e7, m = 2e4 * 4.0 / 3.0 * M_PI * r * r * r;
   int sp;
   TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(S->dem), "g", 2e4, r, r, &sp), TL_OK);
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
-  cp.k_n = kn;
   TlContactLaw *law = NULL;
-  TL_TEST_STATUS(tl_contact_law_create_linear(&cp, &law), TL_OK);
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", kn, "mu", friction_mu, "k_t", 2.0 / 7.0 * kn, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_law(S->dem, law, NULL), TL_OK);
   const double z = 0.4 + r - m * 9.81 / kn;
   TL_TEST_STATUS(tl_dem_add_particle(S->dem, tl_v3(0.2, 0.2, z), tl_v3(0, 2.0, 0), r, sp, NULL), TL_OK);
@@ -118,6 +119,14 @@ static void test_restart(const char *stepper, int substeps, int scheme, long n)
                  stepper, ea.total, eb.total);
   double moved = fabs(PA->x[0].y - 0.2);
   TL_TEST_ASSERT(moved > 0.05, "the particles slid (%g m)", moved);
+  if (friction_mu > 0.0) {
+    /* friction acted: it spun the particles up (same spins after the restart) */
+    TL_TEST_ASSERT(PA->w && PB->w && memcmp(PA->w, PB->w, PA->n * sizeof *PA->w) == 0,
+                   "%s: spins differ after the frictional restart", stepper);
+    TL_TEST_ASSERT(PA->w && fabs(PA->w[0].x) > 1.0, "%s: friction did not spin the particle (w_x %g rad/s)", stepper,
+                   PA->w ? PA->w[0].x : 0.0);
+    if (PA->w) printf("friction mu = %g: particle 1 spins at %.6g rad/s\n", friction_mu, PA->w[0].x);
+  }
   /* The per-face forces the SCoupling elements carry, and their elements. */
   const size_t nfv = tl_scoupling_n_faces(A.sc) * (size_t)tl_scoupling_nodes_per_face(A.sc);
   TL_TEST_ASSERT(memcmp(tl_scoupling_face_forces(A.sc), tl_scoupling_face_forces(B.sc), nfv * sizeof(TlVec3)) == 0 &&
@@ -148,5 +157,11 @@ int main(void)
   cg_support = TL_SCOUPLING_SUPPORT_ELEMENTS;
   test_restart("newmark", 1, TL_COUPLING_LAGGED_WALLS, 600);
   test_restart("newmark", 2, TL_COUPLING_INTERPOLATE, 200);
+  /* Friction: the tangential history of the wall contacts is saved and
+   * loaded with the coupled loop. */
+  cg_support = TL_SCOUPLING_SUPPORT_SURFACE;
+  friction_mu = 0.5;
+  test_restart("central_difference", 1, TL_COUPLING_PREDICT, 600);
+  test_restart("newmark", 2, TL_COUPLING_LAGGED_WALLS, 200);
   return tl_test_report();
 }

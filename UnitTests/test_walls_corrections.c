@@ -265,6 +265,10 @@ static void test_threads(void)
          multi, moved);
   TL_TEST_ASSERT(same, "1 and 2 threads differ (%zu vs %zu contacts)", p1->count, p2->count);
   TL_TEST_ASSERT(multi > 10, "the bumpy surface should leave some particles with several contacts (%zu)", multi);
+  /* a shift of at most 0.01 m keeps most contacts (measured 13793 of 15329
+   * carried; the rest are new): at least 80 %, not all */
+  TL_TEST_ASSERT(moved >= 0.8 * (double)p1->count && moved < p1->count, "%zu histories carried of %zu contacts", moved,
+                 p1->count);
   for (int th = 0; th < 2; ++th)
     for (int k = 0; k < 2; ++k) tl_tricontacts_destroy(&a[th][k]);
   tl_free(&x);

@@ -39,14 +39,19 @@ typedef struct {
   int built;
 } Mini;
 
-static TlStatus mini_create(Mini *m, TlContactParameters *cp, int rotation)
+/* the linear law's parameters of a scene */
+typedef struct {
+  double k_n, restitution, mu;
+} TestLaw;
+
+static TlStatus mini_create(Mini *m, const TestLaw *cp, int rotation)
 {
   memset(m, 0, sizeof *m);
   TL_CHECK(tl_particles_create(&m->p));
   if (rotation) TL_CHECK(tl_particles_enable_rotation(m->p));
   TL_CHECK(tl_hgrid_create(&m->grid));
   TL_CHECK(tl_domain_init_open(&m->domain, tl_v3(-1, -1, -1), tl_v3(2, 2, 2)));
-  TL_CHECK(tl_contact_law_create_linear(cp, &m->law));
+  TL_CHECK(tl_test_law(&m->law, "linear", "k_n", cp->k_n, "restitution", cp->restitution, "mu", cp->mu, NULL));
   return TL_OK;
 }
 
@@ -101,8 +106,7 @@ static TlStatus mini_step(Mini *m)
 
 static void test_features(void)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 1000.0;
   Mini m;
   TL_TEST_STATUS(mini_create(&m, &cp, 0), TL_OK);
@@ -151,8 +155,7 @@ static void test_features(void)
  * 12 triangles; records the trajectory. */
 static TlStatus box_run(int triangles, int steps, TlVec3 *traj, TlVec3 *spin, int *max_contacts)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 1e5;
   cp.restitution = 0.8;
   cp.mu = 0.4;
@@ -223,8 +226,7 @@ static void test_box_bounce(void)
  * force history for a plane and for three triangulations of the floor. */
 static TlStatus slide_run(int kind, int corrections, int steps, TlVec3 *force, int *n_triangles_visited)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 1e4;
   cp.restitution = 0.5;
   cp.mu = 0.3;
@@ -296,8 +298,7 @@ static void test_sliding_triangulations(void)
  * history is the plane's, seam crossings included. */
 static TlStatus seam_run(int kind, int link, int steps, TlVec3 *force, size_t *n_linked)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 1e4;
   cp.restitution = 0.5;
   cp.mu = 0.3;
@@ -386,8 +387,7 @@ static void test_periodic_seam(void)
 static void test_grid_equals_brute(void)
 {
   for (int periodic = 0; periodic < 2; ++periodic) {
-    TlContactParameters cp;
-    tl_contact_parameters_default(&cp);
+    TestLaw cp = {0.0, 1.0, 0.0};
     cp.k_n = 1e3;
     Mini m;
     TL_TEST_STATUS(mini_create(&m, &cp, 0), TL_OK);
@@ -484,8 +484,7 @@ static void test_grid_equals_brute(void)
  * as a plane moving with the interpolated velocity. */
 static void test_moving_surface(void)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 1e3;
   cp.restitution = 0.3;
   TlVec3 fplane = tl_v3(0, 0, 0), fsurf = tl_v3(0, 0, 0);
@@ -523,8 +522,7 @@ static void test_moving_surface(void)
  * rotation on a rippling, folding sheet (convex and concave edges). */
 static TlStatus ripple_run(int partial, int steps, TlVec3 *x_end, long *builds)
 {
-  TlContactParameters cp;
-  tl_contact_parameters_default(&cp);
+  TestLaw cp = {0.0, 1.0, 0.0};
   cp.k_n = 2e4;
   cp.restitution = 0.5;
   cp.mu = 0.4;

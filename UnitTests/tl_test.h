@@ -31,6 +31,15 @@ static int tl_test_passed, tl_test_failed;
                    "%s = %.17g, expected %.17g (tol %g)", #a, tl_a_, tl_b_, (double)(tol)); \
   } while (0)
 
+/* |a - b| <= tol |b|: for values of any size (TL_TEST_CLOSE turns absolute
+ * below 1).  Written so that a NaN on either side fails. */
+#define TL_TEST_REL(a, b, tol)                                                         \
+  do {                                                                                 \
+    double tl_a_ = (a), tl_b_ = (b);                                                   \
+    TL_TEST_ASSERT(fabs(tl_a_ - tl_b_) <= (tol) * fabs(tl_b_),                         \
+                   "%s = %.17g, expected %.17g (relative tol %g)", #a, tl_a_, tl_b_, (double)(tol)); \
+  } while (0)
+
 /* Asserts that a call returns the given status. */
 #define TL_TEST_STATUS(call, expected)                                                 \
   do {                                                                                 \
@@ -59,6 +68,38 @@ static inline int tl_test_count(const char *text, const char *what)
   int n = 0;
   for (const char *p = text; (p = strstr(p, what)); p += strlen(what)) ++n;
   return n;
+}
+
+/* A contact law for tests: the normal part `normal` ("linear", "hertz",
+ * "bonded_linear") with Coulomb friction, constant rolling and constant
+ * adhesion parts, each off (mu, mu_roll, adhesion_force = 0) unless set by
+ * the name, value pairs that follow (ended by NULL); set up.  Defined only
+ * where tl_contact_law.h is included first. */
+#ifdef TL_CONTACT_LAW_H
+#include <stdarg.h>
+static inline TlStatus tl_test_law(TlContactLaw **law, const char *normal, ...)
+{
+  TL_CHECK(tl_contact_law_create(normal, "coulomb", "constant", "constant", law));
+  TlStatus s = tl_contact_law_set(*law, "mu", 0.0);
+  if (s == TL_OK) s = tl_contact_law_set(*law, "mu_roll", 0.0);
+  va_list ap;
+  va_start(ap, normal);
+  for (const char *name; s == TL_OK && (name = va_arg(ap, const char *));) s = tl_contact_law_set(*law, name, va_arg(ap, double));
+  va_end(ap);
+  if (s == TL_OK) s = tl_contact_law_setup(*law);
+  if (s != TL_OK) tl_contact_law_destroy(law);
+  return s;
+}
+#endif
+
+/* ctest's skip code (SKIP_RETURN_CODE of every unit test): a test that
+ * cannot run its check says why and ends with tl_test_skip, so ctest reports
+ * a skip, never a pass; checks that already failed still fail the test. */
+#define TL_TEST_SKIP_CODE 77
+static inline int tl_test_skip(const char *why)
+{
+  printf("SKIPPED: %s\n%d passed, %d failed\n", why, tl_test_passed, tl_test_failed);
+  return tl_test_failed ? (tl_test_failed > 100 ? 100 : tl_test_failed) : TL_TEST_SKIP_CODE;
 }
 
 static inline int tl_test_report(void)

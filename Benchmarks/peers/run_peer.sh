@@ -210,18 +210,22 @@ for ((k = 1; k <= repeat; ++k)); do
   if [ -s "$log.time" ]; then
     cpu=$(awk -v r="$ranks" 'NF == 3 { if ($1 > 0) printf " cpu_share=%.2f", ($2 + $3) / ($1 * r) }' "$log.time")
   fi
-  echo "run $k/$repeat: scene=$scene code=$code ranks=$ranks particles=$a steps=$s loop_time=$t us_per_particle_step=$us$cpu$load"
-  times+=("$t"); particles="$a"; steps_run="$s"
+  # the answer: the last thermo line of the timed run (the one just before
+  # its "Loop time"), when the deck prints "Step Atoms KinEng <rotational>"
+  answer=$(awk '/^ *Step +Atoms +KinEng/ { h = 1; next } h && /^ *[0-9]/ { last = $0 } /^Loop time of/ { h = 0; keep = last }
+                END { if (keep != "") { split(keep, f, " "); printf " ke=%s erot=%s", f[3], f[4] } }' "$log")
+  echo "run $k/$repeat: scene=$scene code=$code ranks=$ranks particles=$a steps=$s loop_time=$t us_per_particle_step=$us$cpu$load$answer"
+  times+=("$t"); particles="$a"; steps_run="$s"; last_answer="$answer"
   [ "${TALUS_PEERS_KEEP_LOGS:-0}" = 1 ] || rm -f "$log" "$log.out" "$log.time"
 done
 
 printf '%s\n' "${times[@]}" | sort -g | awk -v scene="$scene" -v code="$code" -v ranks="$ranks" \
-    -v n="$particles" -v s="$steps_run" '
+    -v n="$particles" -v s="$steps_run" -v answer="${last_answer:-}" '
   { t[NR] = $1 }
   END {
     med = (NR % 2) ? t[(NR + 1) / 2] : 0.5 * (t[NR / 2] + t[NR / 2 + 1])
     scale = 1e6 / (n * s)
     printf "spread: max/min = %.3f over %d runs\n", t[NR] / t[1], NR
-    printf "peer: scene=%s code=%s ranks=%d particles=%d steps=%d loop_time=%g us_per_particle_step=%.4f median=%.4f\n",
-      scene, code, ranks, n, s, t[1], t[1] * scale, med * scale
+    printf "peer: scene=%s code=%s ranks=%d particles=%d steps=%d loop_time=%g us_per_particle_step=%.4f median=%.4f%s\n",
+      scene, code, ranks, n, s, t[1], t[1] * scale, med * scale, answer
   }'

@@ -16,6 +16,7 @@
 #ifndef TL_PEER_H
 #define TL_PEER_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,8 @@ typedef struct {
   double loop_time;  /* peer's own Loop time of the fastest repeat, s */
   double us_min;     /* microseconds per particle-step, fastest repeat */
   double us_median;  /* microseconds per particle-step, median over repeats */
+  double ke, erot;   /* the deck's last thermo line (translational, rotational
+                        kinetic energy; 8 digits), NAN when it prints none */
 } TlPeerResult;
 
 /* The path of run_peer.sh. */
@@ -115,6 +118,9 @@ static inline TlStatus tl_peer_run(const char *scene, int ranks, long steps, int
   ok = ok && tl_peer_field(line, "loop_time", v, sizeof v) && sscanf(v, "%lf", &r->loop_time) == 1;
   ok = ok && tl_peer_field(line, "us_per_particle_step", v, sizeof v) && sscanf(v, "%lf", &r->us_min) == 1;
   ok = ok && tl_peer_field(line, "median", v, sizeof v) && sscanf(v, "%lf", &r->us_median) == 1;
+  r->ke = r->erot = NAN;
+  if (tl_peer_field(line, "ke", v, sizeof v)) sscanf(v, "%lf", &r->ke);
+  if (tl_peer_field(line, "erot", v, sizeof v)) sscanf(v, "%lf", &r->erot);
   if (!ok || r->particles <= 0 || !(r->us_min > 0.0))
     TL_ERROR(TL_ERR_FORMAT, "cannot parse the peer line \"%s\"", line);
   return TL_OK;

@@ -421,12 +421,44 @@ TlStatus tl_scoupling_accumulate_forces(TlSCoupling *sc, double scale, TlVec3 *t
 
 void tl_scoupling_clear_forces(TlSCoupling *sc)
 {
-  sc->support->clear(sc);
+  const TlSCouplingForceSet fs = sc->support->forces(sc);
+  const size_t per = (size_t)fs.per_item;
+  for (size_t t = 0; t < *fs.n_touched; t++) {
+    const size_t k = fs.list[t];
+    memset(fs.F + k * per, 0, per * sizeof *fs.F);
+    fs.touched[k] = 0;
+  }
+  *fs.n_touched = 0;
   for (size_t k = 0; k < sc->n_active; k++) sc->elem_active[sc->active_index[k]] = 0;
   sc->n_active = 0;
 }
 
-void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes) { sc->support->assemble(sc, f_nodes); }
+void tl_scoupling_add_item(const TlSCouplingForceSet *fs, size_t k, double *f_nodes)
+{
+  const size_t per = (size_t)fs->per_item;
+  const int *q = fs->local + k * per;
+  const TlVec3 *F = fs->F + k * per;
+  for (size_t a = 0; a < per; a++) {
+    double *f = f_nodes + 3 * fs->node[q[a]];
+    f[0] += F[a].x;
+    f[1] += F[a].y;
+    f[2] += F[a].z;
+  }
+}
+
+void tl_scoupling_activate_touched(TlSCoupling *sc, const TlSCouplingForceSet *fs, size_t n0)
+{
+  for (size_t t = n0; t < *fs->n_touched; t++) {
+    const size_t k = fs->list[t];
+    tl_scoupling_activate_element(sc, fs->owner ? fs->owner[k] : k);
+  }
+}
+
+void tl_scoupling_assemble_forces(const TlSCoupling *sc, double *f_nodes)
+{
+  const TlSCouplingForceSet fs = sc->support->forces(sc);
+  for (size_t t = 0; t < *fs.n_touched; t++) tl_scoupling_add_item(&fs, fs.list[t], f_nodes);
+}
 
 size_t tl_scoupling_n_faces(const TlSCoupling *sc) { return sc->n_faces; }
 const TlFaceRef *tl_scoupling_faces(const TlSCoupling *sc) { return sc->faces; }
@@ -451,7 +483,7 @@ TlStatus tl_scoupling_add_nodal_forces(TlSCoupling *sc, double scale, double *f_
   return TL_OK;
 }
 
-TlStatus tl_scoupling_save_force_set(const TlSCouplingForceSet *fs, TlCheckpointWriter *w, const char *group, const char *prefix)
+static TlStatus save_force_set(const TlSCouplingForceSet *fs, TlCheckpointWriter *w, const char *group, const char *prefix)
 {
   char name[128];
   int64_t *list = NULL;
@@ -467,7 +499,7 @@ TlStatus tl_scoupling_save_force_set(const TlSCouplingForceSet *fs, TlCheckpoint
 }
 
 /* Into a cleared set: the same items, in the same order, and their forces. */
-TlStatus tl_scoupling_load_force_set(const TlSCouplingForceSet *fs, TlCheckpointReader *r, const char *group, const char *prefix)
+static TlStatus load_force_set(const TlSCouplingForceSet *fs, TlCheckpointReader *r, const char *group, const char *prefix)
 {
   char name[128];
   size_t n = 0;
@@ -505,7 +537,8 @@ TlStatus tl_scoupling_save_forces(const TlSCoupling *sc, TlCheckpointWriter *w, 
   char name[128];
   snprintf(name, sizeof name, "%scg_support", prefix);
   TL_CHECK(tl_checkpoint_write_int64(w, group, name, sc->support->id));
-  return sc->support->save(sc, w, group, prefix);
+  const TlSCouplingForceSet fs = sc->support->forces(sc);
+  return save_force_set(&fs, w, group, prefix);
 }
 
 TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
@@ -519,7 +552,10 @@ TlStatus tl_scoupling_load_forces(TlSCoupling *sc, TlCheckpointReader *r, const 
              (long long)support, sc->support->id, sc->support->header.name);
   /* The same faces (elements), active elements and order as when saved. */
   tl_scoupling_clear_forces(sc);
-  return sc->support->load(sc, r, group, prefix);
+  const TlSCouplingForceSet fs = sc->support->forces(sc);
+  TL_CHECK(load_force_set(&fs, r, group, prefix));
+  tl_scoupling_activate_touched(sc, &fs, 0);
+  return TL_OK;
 }
 
 size_t tl_scoupling_n_elements(const TlSCoupling *sc) { return sc->n_elements; }

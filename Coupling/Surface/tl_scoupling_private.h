@@ -17,6 +17,21 @@
 #include "tl_scoupling.h"
 #include "tl_scoupling_faces.h"
 
+/* The per-item nodal forces of a support, with the items holding them in
+ * the order first touched: checkpointed as <prefix>touched_<item>s and
+ * <prefix><item>_forces. */
+typedef struct {
+  const char *item;
+  size_t n_items;
+  int per_item;          /* nodes per item */
+  TlVec3 *F;             /* n_items x per_item */
+  unsigned char *touched;
+  size_t *list, *n_touched;
+  const int *local;      /* n_items x per_item local node numbers */
+  const size_t *node;    /* local -> global node */
+  const size_t *owner;   /* the SCoupling element of each item (NULL: the item is one) */
+} TlSCouplingForceSet;
+
 typedef struct {
   TlOpsHeader header; /* kind "scoupling_support" */
   int id;             /* TL_SCOUPLING_SUPPORT_*: the option's value, checkpointed */
@@ -31,16 +46,11 @@ typedef struct {
    * adding into their accumulated forces, and activates the SCoupling
    * elements owning the items reached. */
   TlStatus (*spread)(TlSCoupling *sc);
-  /* Zeroes the accumulated forces. */
-  void (*clear)(TlSCoupling *sc);
   /* ADDS the accumulated load of SCoupling element e to f_nodes (3 per node). */
   void (*element_load)(const TlSCoupling *sc, size_t e, double *f_nodes);
-  /* ADDS every accumulated force, node-wise, to f_nodes. */
-  void (*assemble)(const TlSCoupling *sc, double *f_nodes);
-  /* The accumulated forces and the items holding them into / from a
-   * checkpoint group (loading into a cleared support). */
-  TlStatus (*save)(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix);
-  TlStatus (*load)(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix);
+  /* The accumulated forces, which the coupling clears, assembles and
+   * checkpoints (tl_scoupling.c). */
+  TlSCouplingForceSet (*forces)(const TlSCoupling *sc);
 } TlSCouplingSupportOps;
 
 extern const TlSCouplingSupportOps tl_scoupling_support_surface;
@@ -99,22 +109,11 @@ struct TlSCoupling {
   size_t *c_elem;    /* per contact: its face's element */
 };
 
-/* The per-item nodal forces of a support, with the items holding them in
- * the order first touched: checkpointed as <prefix>touched_<item>s and
- * <prefix><item>_forces. */
-typedef struct {
-  const char *item;
-  size_t n_items;
-  int per_item;
-  TlVec3 *F;
-  unsigned char *touched;
-  size_t *list, *n_touched;
-} TlSCouplingForceSet;
-
-TlStatus tl_scoupling_save_force_set(const TlSCouplingForceSet *fs, TlCheckpointWriter *w, const char *group,
-                                     const char *prefix);
-TlStatus tl_scoupling_load_force_set(const TlSCouplingForceSet *fs, TlCheckpointReader *r, const char *group,
-                                     const char *prefix);
+/* ADDS the forces of item k to f_nodes (3 per node). */
+void tl_scoupling_add_item(const TlSCouplingForceSet *fs, size_t k, double *f_nodes);
+/* The owners of the items touched since position n0 of the list become
+ * active (in the order their items were first touched). */
+void tl_scoupling_activate_touched(TlSCoupling *sc, const TlSCouplingForceSet *fs, size_t n0);
 /* SCoupling element e becomes active (step 1 of §5.3.1), once. */
 void tl_scoupling_activate_element(TlSCoupling *sc, size_t e);
 

@@ -6,7 +6,6 @@
 #include "tl_scoupling_private.h"
 
 #include <stdint.h>
-#include <string.h>
 
 #include "tl_memory.h"
 
@@ -102,10 +101,12 @@ static void elements_move(TlSCoupling *sc, const double *u)
   }
 }
 
-static void activate_elements(TlSCoupling *sc, size_t n0)
+static TlSCouplingForceSet element_set(const TlSCoupling *sc)
 {
-  const Elements *el = sc->support_data;
-  for (size_t t = n0; t < el->n_touched; t++) tl_scoupling_activate_element(sc, el->list[t]);
+  Elements *el = sc->support_data;
+  return (TlSCouplingForceSet){.item = "element", .n_items = sc->n_elements, .per_item = el->ne, .F = el->F,
+                               .touched = el->touched, .list = el->list, .n_touched = &el->n_touched,
+                               .local = el->elem_local, .node = el->vnode, .owner = NULL};
 }
 
 static TlStatus elements_spread(TlSCoupling *sc)
@@ -114,63 +115,15 @@ static TlStatus elements_spread(TlSCoupling *sc)
   const size_t n0 = el->n_touched;
   TL_CHECK(tl_cg_surface_face_forces(el->cg, sc->kernel, sc->n_contacts, sc->c_elem, sc->c_point, sc->c_force, el->F,
                                      el->touched, el->list, &el->n_touched));
-  activate_elements(sc, n0);
+  const TlSCouplingForceSet fs = element_set(sc);
+  tl_scoupling_activate_touched(sc, &fs, n0);
   return TL_OK;
-}
-
-static void elements_clear(TlSCoupling *sc)
-{
-  Elements *el = sc->support_data;
-  for (size_t t = 0; t < el->n_touched; t++) {
-    const size_t e = el->list[t];
-    memset(el->F + e * (size_t)el->ne, 0, (size_t)el->ne * sizeof *el->F);
-    el->touched[e] = 0;
-  }
-  el->n_touched = 0;
-}
-
-static void add_element(const Elements *el, size_t e, double *f_nodes)
-{
-  const int *q = el->elem_local + e * (size_t)el->ne;
-  const TlVec3 *F = el->F + e * (size_t)el->ne;
-  for (int a = 0; a < el->ne; a++) {
-    double *f = f_nodes + 3 * el->vnode[q[a]];
-    f[0] += F[a].x;
-    f[1] += F[a].y;
-    f[2] += F[a].z;
-  }
 }
 
 static void elements_element_load(const TlSCoupling *sc, size_t e, double *f_nodes)
 {
-  const Elements *el = sc->support_data;
-  if (el->touched[e]) add_element(el, e, f_nodes);
-}
-
-static void elements_assemble(const TlSCoupling *sc, double *f_nodes)
-{
-  const Elements *el = sc->support_data;
-  for (size_t t = 0; t < el->n_touched; t++) add_element(el, el->list[t], f_nodes);
-}
-
-static TlSCouplingForceSet element_set(const TlSCoupling *sc)
-{
-  Elements *el = sc->support_data;
-  return (TlSCouplingForceSet){"element", sc->n_elements, el->ne, el->F, el->touched, el->list, &el->n_touched};
-}
-
-static TlStatus elements_save(const TlSCoupling *sc, TlCheckpointWriter *w, const char *group, const char *prefix)
-{
   const TlSCouplingForceSet fs = element_set(sc);
-  return tl_scoupling_save_force_set(&fs, w, group, prefix);
-}
-
-static TlStatus elements_load(TlSCoupling *sc, TlCheckpointReader *r, const char *group, const char *prefix)
-{
-  const TlSCouplingForceSet fs = element_set(sc);
-  TL_CHECK(tl_scoupling_load_force_set(&fs, r, group, prefix));
-  activate_elements(sc, 0);
-  return TL_OK;
+  if (fs.touched[e]) tl_scoupling_add_item(&fs, e, f_nodes);
 }
 
 const TlSCouplingSupportOps tl_scoupling_support_elements = {
@@ -180,9 +133,6 @@ const TlSCouplingSupportOps tl_scoupling_support_elements = {
     .destroy = elements_destroy,
     .move = elements_move,
     .spread = elements_spread,
-    .clear = elements_clear,
     .element_load = elements_element_load,
-    .assemble = elements_assemble,
-    .save = elements_save,
-    .load = elements_load,
+    .forces = element_set,
 };

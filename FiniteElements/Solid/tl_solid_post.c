@@ -12,21 +12,31 @@ double tl_solid_total_mass(const TlSolid *s)
   return m;
 }
 
-TlStatus tl_solid_gauss_stress(TlSolid *s, int b, size_t e, int q, const double *u_nodes, TlMat3 *F, TlMat3 *S)
+/* Element e of block b at u_nodes: the displacement gradients F - I
+ * (w->F) and second Piola-Kirchhoff stresses (w->S) at its Gauss points,
+ * from the state of the last commit (left as it is). */
+static TlStatus element_points(TlSolid *s, int b, size_t e, const double *u_nodes, Scratch *w)
 {
-  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: stress before tl_solid_setup");
   const TlElementBlock *blk = &s->mesh->blocks[b];
   const SolidBlock *B = &s->blocks[b];
-  if (q < 0 || q >= B->nq) TL_ERROR(TL_ERR_ARG, "solid: Gauss point %d outside [0, %d)", q, B->nq);
-  Scratch *w = &s->scratch[0];
   int dim = s->dim;
   for (int a = 0; a < B->nn; ++a)
     for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * B->nn + a] * dim + i];
   tl_solid_deformation_gradients(B, dim, e, w->ue, w->F);
   size_t ss = B->material->state_size;
   if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
-  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL, ss ? w->state_new : NULL,
-                                w->S, NULL, NULL));
+  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL,
+                                         ss ? w->state_new : NULL, w->S, NULL, NULL));
+  return TL_OK;
+}
+
+TlStatus tl_solid_gauss_stress(TlSolid *s, int b, size_t e, int q, const double *u_nodes, TlMat3 *F, TlMat3 *S)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: stress before tl_solid_setup");
+  const SolidBlock *B = &s->blocks[b];
+  if (q < 0 || q >= B->nq) TL_ERROR(TL_ERR_ARG, "solid: Gauss point %d outside [0, %d)", q, B->nq);
+  Scratch *w = &s->scratch[0];
+  TL_CHECK(element_points(s, b, e, u_nodes, w));
   *F = w->F[q];
   for (int i = 0; i < 3; ++i) F->m[i][i] += 1.0;
   *S = w->S[q];
@@ -39,17 +49,9 @@ TlStatus tl_solid_element_stress(TlSolid *s, int b, size_t e, const double *u_no
   if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: stress before tl_solid_setup");
   if (b < 0 || b >= s->mesh->n_blocks || e >= s->mesh->blocks[b].n_elements)
     TL_ERROR(TL_ERR_ARG, "solid: no element %zu in block %d", e, b);
-  const TlElementBlock *blk = &s->mesh->blocks[b];
   const SolidBlock *B = &s->blocks[b];
   Scratch *w = &s->scratch[0];
-  int dim = s->dim;
-  for (int a = 0; a < B->nn; ++a)
-    for (int i = 0; i < dim; ++i) w->ue[a * dim + i] = u_nodes[blk->conn[e * B->nn + a] * dim + i];
-  tl_solid_deformation_gradients(B, dim, e, w->ue, w->F);
-  size_t ss = B->material->state_size;
-  if (ss) memcpy(w->state_old, B->state_old + e * B->nq * ss, B->nq * ss * sizeof(double));
-  TL_CHECK(tl_material_evaluate_gradient(B->material, B->nq, w->F, ss ? w->state_old : NULL,
-                                         ss ? w->state_new : NULL, w->S, NULL, NULL));
+  TL_CHECK(element_points(s, b, e, u_nodes, w));
   TlMat3 Ssum = tl_m3_zero(), csum = tl_m3_zero();
   double V = 0.0;
   for (int p = 0; p < B->nq; ++p) {

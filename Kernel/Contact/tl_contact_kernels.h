@@ -1,7 +1,8 @@
-/* Inline pieces shared by the built-in contact laws: the frame-invariant
- * Coulomb friction of seeds/004 (Eqs. 22-26), rolling resistance and the
- * damping ratio from a restitution coefficient.  Each law's evaluate loop
- * calls them per contact, so a law stays one tight loop. */
+/* Inline pieces of the built-in contact parts: the frame-invariant Coulomb
+ * friction of seeds/004 (Eqs. 22-26), rolling resistance and the damping
+ * ratio from a restitution coefficient.  A part's chunk loop calls them per
+ * contact, so a part stays one tight loop; a part written elsewhere may use
+ * them too. */
 #ifndef TL_CONTACT_KERNELS_H
 #define TL_CONTACT_KERNELS_H
 
@@ -82,70 +83,6 @@ static inline TlVec3 tl_rolling_couple(TlVec3 n, TlVec3 spin_rel, double mu_r, d
   double wn = tl_v3_norm(w);
   if (!(wn > 1e-300)) return (TlVec3){0, 0, 0};
   return tl_v3_scale(w, mu_r * reff * fn_plus / wn);
-}
-
-/* ---- the built-in laws, one contact at a time ----
- * The object behind "linear" and "hertz": their parameters and what is
- * precomputed from them.  The batch ops of tl_contact_linear.c and
- * tl_contact_hertz.c loop over these functions; the world's particle loop
- * calls them directly (same code, no staging of the geometry). */
-typedef struct {
-  TlContactLaw base;
-  TlContactParameters p;
-  double k_t;       /* linear: tangential stiffness (N/m); Hertz: k_t (Pa) */
-  double k_n;       /* Hertz: normal k_n (Pa) */
-  double eta;       /* linear: damping ratio from restitution */
-  double gamma_lin; /* linear: explicit damping N s/m */
-} TlStdLaw;
-
-extern const TlContactLawOps tl_contact_linear_ops;
-extern const TlContactLawOps tl_contact_hertz_ops;
-
-/* Inputs as in TlContactGeometry; outputs the force on i, the couple on i
- * and (when want_energy) the stored energy.  Returns 0 when the contact
- * carries no force (apart and not bonded). */
-static inline int tl_linear_contact(const TlStdLaw *law, TlVec3 n, double delta, TlVec3 vrel, TlVec3 spin_mean,
-                                    TlVec3 spin_rel, double meff, double reff, double *history, int bonded,
-                                    double dt, int want_energy, TlVec3 *force, TlVec3 *couple, double *energy)
-{
-  const TlContactParameters *p = &law->p;
-  if (delta <= 0.0 && !(p->bonded && bonded)) return 0;
-  const double kn = p->k_n, fa = p->adhesion_force;
-  double vn = tl_v3_dot(vrel, n); /* = -dδ/dt */
-  double cn = law->eta > 0.0 ? 2.0 * law->eta * sqrt(kn * meff) : law->gamma_lin + p->gamma_n * meff;
-  double fn = kn * delta - cn * vn;
-  if (fa > 0.0 && delta > 0.0) fn -= fa;
-  TlVec3 f = tl_v3_scale(n, -fn);
-  double fn_plus = fn > 0.0 ? fn : 0.0, et = 0.0;
-  if (p->mu > 0.0)
-    f = tl_v3_add(f, tl_friction_force(history, n, vrel, spin_mean, law->k_t, p->gamma_t_linear, p->mu, fn_plus, dt,
-                                       want_energy ? &et : NULL));
-  *couple = p->mu_roll > 0.0 ? tl_rolling_couple(n, spin_rel, p->mu_roll, reff, fn_plus) : (TlVec3){0, 0, 0};
-  *force = f;
-  if (want_energy) *energy = 0.5 * kn * delta * delta - (fa > 0.0 && delta > 0.0 ? fa * delta : 0.0) + et;
-  return 1;
-}
-
-static inline int tl_hertz_contact(const TlStdLaw *law, TlVec3 n, double delta, TlVec3 vrel, TlVec3 spin_mean,
-                                   TlVec3 spin_rel, double meff, double reff, double *history, double dt,
-                                   int want_energy, TlVec3 *force, TlVec3 *couple, double *energy)
-{
-  const TlContactParameters *p = &law->p;
-  if (delta <= 0.0) return 0;
-  const double kn = law->k_n, fa = p->adhesion_force;
-  double a = sqrt(delta * reff);
-  double vn = tl_v3_dot(vrel, n); /* = -dδ/dt */
-  double fn = a * (kn * delta - p->gamma_n * meff * vn);
-  if (fa > 0.0) fn -= fa;
-  TlVec3 f = tl_v3_scale(n, -fn);
-  double fn_plus = fn > 0.0 ? fn : 0.0, et = 0.0;
-  if (p->mu > 0.0)
-    f = tl_v3_add(f, tl_friction_force(history, n, vrel, spin_mean, law->k_t * a, p->gamma_t * meff * a, p->mu,
-                                       fn_plus, dt, want_energy ? &et : NULL));
-  *couple = p->mu_roll > 0.0 ? tl_rolling_couple(n, spin_rel, p->mu_roll, reff, fn_plus) : (TlVec3){0, 0, 0};
-  *force = f;
-  if (want_energy) *energy = 0.4 * kn * a * delta * delta - fa * delta + et;
-  return 1;
 }
 
 #endif

@@ -40,7 +40,9 @@
  * A law declares what it needs: history_doubles (0 for a frictionless,
  * history-free law, so no history storage exists) and needs_rotation (the
  * world then allocates rotational state).  Those depend on the parameters
- * (friction on or off), so they are fields of the object, set at creation. */
+ * (friction on or off), so they are fields of the object, set by
+ * tl_contact_law_setup.  A law may also ask for the radius as the lever arm
+ * of its contacts instead of r - δ/2 (lever_radius, below). */
 #ifndef TL_CONTACT_LAW_H
 #define TL_CONTACT_LAW_H
 
@@ -79,6 +81,47 @@ typedef struct {
   int want_energy;
 } TlContactBatch;
 
+/* One chunk of contacts in a structure of arrays: what the world's contact
+ * loop stages for a law, and what the parts of a composed law work on
+ * (tl_contact_part.h).  The caller fills n, dt, want_energy and the
+ * geometry (meaning as in TlContactGeometry; spin_mean and spin_rel point at
+ * zeros when the scene has no rotation); the law fills on, force, couple and,
+ * when want_energy, energy.  fn and scale are the parts' working space. */
+enum { TL_CONTACT_CHUNK = 64 };
+
+/* The target the world's contact loop is compiled for: x86-64 with AVX2 and
+ * FMA beside the baseline, the loader picking the one the processor runs.
+ * A part's evaluate_hot carries it so that its arithmetic in the world's
+ * loop is the one of that loop. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TL_CONTACT_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define TL_CONTACT_HOT_CLONES
+#endif
+
+
+typedef struct {
+  size_t n; /* <= TL_CONTACT_CHUNK */
+  double dt;
+  int want_energy;
+  /* geometry (input) */
+  TlVec3 normal[TL_CONTACT_CHUNK];
+  double overlap[TL_CONTACT_CHUNK];
+  TlVec3 vrel[TL_CONTACT_CHUNK];
+  const TlVec3 *spin_mean, *spin_rel;
+  double meff[TL_CONTACT_CHUNK], reff[TL_CONTACT_CHUNK];
+  double *history[TL_CONTACT_CHUNK]; /* NULL entries when the law keeps no state */
+  unsigned char bonded[TL_CONTACT_CHUNK];
+  /* output */
+  unsigned char on[TL_CONTACT_CHUNK]; /* 0: the contact carries no force (apart, not bonded) */
+  TlVec3 force[TL_CONTACT_CHUNK];     /* on i */
+  TlVec3 couple[TL_CONTACT_CHUNK];    /* pure torque on i */
+  double energy[TL_CONTACT_CHUNK];    /* stored elastic energy */
+  /* working space of the parts: the normal force (repulsive > 0) along -normal
+   * on i, and the normal part's scale of tangential stiffness and damping */
+  double fn[TL_CONTACT_CHUNK], scale[TL_CONTACT_CHUNK];
+} TlContactChunk;
+
 typedef struct TlContactLaw TlContactLaw;
 
 typedef struct {
@@ -86,6 +129,9 @@ typedef struct {
   /* Evaluates every contact of the batch.  Must be thread-safe for
    * distinct batches (the world calls it from several threads at once). */
   TlStatus (*evaluate)(const TlContactLaw *law, const TlContactBatch *batch);
+  /* Evaluates a staged chunk: the world's particle contact loop calls this
+   * for every law, built in or not.  Same thread-safety as evaluate. */
+  TlStatus (*evaluate_chunk)(const TlContactLaw *law, TlContactChunk *chunk);
   /* The largest normal stiffness dF/dδ the law reaches for a contact of
    * effective radius reff at overlap `overlap` (for Hertz it grows with the
    * overlap); used for the critical time step. */
@@ -96,6 +142,11 @@ typedef struct {
   /* One line describing the parameters, for logs. */
   void (*describe)(const TlContactLaw *law, char *text, size_t size);
   void (*destroy)(TlContactLaw *law);
+  /* Parameters by name and set-up (tl_contact_law_set, _get, _setup);
+   * NULL for a law without named parameters. */
+  TlStatus (*set)(TlContactLaw *law, const char *name, double value);
+  TlStatus (*get)(const TlContactLaw *law, const char *name, double *value);
+  TlStatus (*setup)(TlContactLaw *law);
 } TlContactLawOps;
 
 struct TlContactLaw {
@@ -103,46 +154,77 @@ struct TlContactLaw {
   size_t history_doubles; /* per-contact state the law keeps */
   int needs_rotation;     /* the law produces torques or reads spins */
   int bonded;             /* the law acts in tension on bonded contacts */
+  /* Lever arms, to the contact point, of the relative velocity and the
+   * torques: 0 (default) r - δ/2, the middle of the overlap; 1 the radius r,
+   * as LAMMPS's granular pair styles and fix wall/gran.  Whoever stages a
+   * contact (the world, a wall) reads it through tl_contact_lever. */
+  int lever_radius;
 };
 
-/* Parameters common to the built-in laws; each constructor reads the ones it
- * uses and refuses out-of-range values (negative stiffness, restitution
- * outside (0, 1], friction < 0 ...) with a message naming them. */
-typedef struct {
-  /* linear spring-dashpot */
-  double k_n;          /* N/m */
-  double restitution;  /* e in (0, 1]; sets the normal damping for a given meff */
-  double gamma_n_linear; /* N s/m, used when restitution <= 0 (explicit damping) */
-  /* Hertz (seeds/000 supplementary Eqs. 18-20) */
-  double youngs_modulus; /* Pa, gives k_n = (2/3) E / (1 - nu^2) if hertz_k_n <= 0 */
-  double poisson_ratio;
-  double hertz_k_n;    /* Pa: F_n = sqrt(δ reff) (k_n δ + γ_n meff dδ/dt) */
-  double hertz_k_t;    /* Pa: tangential stiffness k_t sqrt(δ reff) */
-  double gamma_n, gamma_t; /* Hertz viscous damping, normal and tangential, 1/(m s) (the
-                            * form of Eq. 18 and LAMMPS); gamma_n is also the LAMMPS-form
-                            * rate 1/s of the linear law when restitution <= 0 */
-  /* Coulomb friction (seeds/004 Eqs. 22-26) */
-  double mu;           /* 0 switches friction (and its history) off */
-  double k_t;          /* N/m tangential stiffness for the linear law (0: k_t = 2/7 k_n) */
-  double gamma_t_linear; /* N s/m tangential damping for the linear law */
-  /* rolling resistance (optional) */
-  double mu_roll;      /* 0: none; couple of magnitude mu_roll reff f_n opposing the
-                        * relative rolling velocity (constant directional torque) */
-  /* constant adhesion (optional) */
-  double adhesion_force; /* N, attractive while in contact; 0: none */
-  int bonded;          /* linear law only: bonds act in tension */
-} TlContactParameters;
+/* The lever arm of a body of radius r in a contact of overlap δ under `law`. */
+static inline double tl_contact_lever(const TlContactLaw *law, double r, double overlap)
+{
+  return law->lever_radius ? r : r - 0.5 * overlap;
+}
 
-/* Defaults: every optional part off, e = 1. */
-void tl_contact_parameters_default(TlContactParameters *p);
-
-/* The built-in laws. */
-TlStatus tl_contact_law_create_linear(const TlContactParameters *p, TlContactLaw **law);
-TlStatus tl_contact_law_create_hertz(const TlContactParameters *p, TlContactLaw **law);
-/* By registered name ("linear", "hertz"). */
-TlStatus tl_contact_law_create(const char *name, const TlContactParameters *p, TlContactLaw **law);
+/* ---- contact laws composed from parts ----
+ *
+ * A law is a normal part (required) with optional tangential (friction),
+ * rolling and adhesion parts, each a registered type with its own parameter
+ * table and per-contact state (tl_contact_part.h).  The life cycle:
+ *
+ *   tl_contact_law_create("hertz", "coulomb", NULL, NULL, &law);
+ *   tl_contact_law_set(law, "E", 7e10);  tl_contact_law_set(law, "mu", 0.5);
+ *   tl_contact_law_setup(law);           // validates, derives constants
+ *
+ * NULL or "none" leaves a part out.  Parameter names are unique within a
+ * law (the parts of one law never share a name).  A law must be set up
+ * before it is given to a world or a wall; evaluating one that is not set
+ * up is refused. */
+TlStatus tl_contact_law_create(const char *normal, const char *friction, const char *rolling,
+                               const char *adhesion, TlContactLaw **law);
+/* Sets or reads parameter `name` of whichever part owns it; a value outside
+ * the part's range is refused with the parameter, the value and the limit. */
+TlStatus tl_contact_law_set(TlContactLaw *law, const char *name, double value);
+TlStatus tl_contact_law_get(const TlContactLaw *law, const char *name, double *value);
+/* Checks the parameters against each other, computes what the parts derive
+ * from them (damping ratio, default tangential stiffness) and fixes
+ * history_doubles, needs_rotation and bonded.  Setting a parameter again
+ * requires another setup. */
+TlStatus tl_contact_law_setup(TlContactLaw *law);
 void tl_contact_law_destroy(TlContactLaw **law);
 TlStatus tl_contact_register_all(void);
+
+/* A law by its parts' names and parameter values: what
+ * tl_contact_law_build makes, and a scene's defaults for
+ * tl_contact_law_from_options (the parts it uses unless told otherwise and
+ * its own values, those of the papers it reproduces).  NULL part names:
+ * "linear" normal, no other part; parameters not named keep their part's
+ * default. */
+typedef struct {
+  const char *name;
+  double value;
+} TlContactValue;
+
+typedef struct {
+  const char *normal, *friction, *rolling, *adhesion;
+  const TlContactValue *values;
+  int n_values;
+} TlContactSpec;
+
+/* create + set every value (each must belong to a part) + setup. */
+TlStatus tl_contact_law_build(const TlContactSpec *spec, TlContactLaw **law);
+
+struct TlOptions;
+/* Reads -contact NAME, -friction NAME, -rolling NAME, -adhesion NAME (each
+ * a choice among the registered parts of its kind, "none" for the optional
+ * ones) and then every parameter of the chosen parts as -contact_<param>,
+ * with the part's unit, range and description (so -help lists them; -help
+ * with -contact hertz lists Hertz's), and returns the law set up.  Values of
+ * `defaults` for parameters of parts not chosen are ignored (a scene's mu
+ * when run with -friction none). */
+TlStatus tl_contact_law_from_options(struct TlOptions *options, const TlContactSpec *defaults,
+                                     TlContactLaw **law);
 
 /* Convenience: evaluates a single contact (tests, walls with one contact). */
 TlStatus tl_contact_law_evaluate_one(const TlContactLaw *law, const TlContactGeometry *g, double dt,

@@ -1,11 +1,18 @@
 /* Geometric predicates whose sign must be right: whether a point lies above,
  * on or below a plane through three points.  Used where a wrong sign changes
  * topology (classifying a shared edge of a triangulated wall as flat, convex
- * or concave).  With TALUS_WITH_CGAL the sign is exact (CGAL's filtered exact
- * predicates, through a small C++ shim); without it a floating-point filter
- * decides the clear cases and ambiguous ones are re-evaluated in quadruple
- * precision (113-bit significand), exact unless the inputs differ in magnitude
- * by more than about 2^60. */
+ * or concave).
+ *
+ * The sign is exact on both paths.  With TALUS_WITH_CGAL it comes from
+ * CGAL's filtered exact predicates (a small C++ shim).  Without it, a
+ * floating-point filter: the determinant in doubles with a forward error
+ * bound proportional to its permanent decides every clear case (the
+ * overwhelming majority, at the cost of about 30 flops); the few it cannot
+ * decide (coplanar or nearly coplanar points) are re-evaluated exactly by
+ * expansion arithmetic (error-free sums and products, each value carried as
+ * an unevaluated sum of non-overlapping doubles), in the manner of adaptive
+ * exact predicates.  Exact for every finite input whose products of three
+ * coordinate differences neither overflow nor underflow the double range. */
 #ifndef TL_PREDICATES_H
 #define TL_PREDICATES_H
 
@@ -14,7 +21,13 @@
 /* Sign (+1, 0, -1) of det[b - a, c - a, d - a]: +1 when d lies on the side of
  * the plane (a, b, c) that its normal (b - a) x (c - a) points to. */
 int tl_orient3d(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d);
-/* 1 when tl_orient3d is exact (built with CGAL), 0 otherwise. */
+/* The library's own filtered predicate (the path without CGAL), always
+ * available: *exact_stage (may be NULL) is set to 1 when the filter could not
+ * decide and the exact expansion stage ran. */
+int tl_orient3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, int *exact_stage);
+/* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
+/* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */
+int tl_predicates_use_cgal(void);
 
 #endif

@@ -297,7 +297,15 @@ TlStatus tl_dem_setup(TlDem *d)
       TL_ERROR(TL_ERR_ARG, "particles id %lld and id %lld overlap by %g, more than the smaller radius %g",
                (long long)P->id[i], (long long)P->id[j], ov, rs);
   }
-  TL_CHECK(tl_dem_eval_forces(d));
+  /* The first evaluation is of one instant: no time passes, so the laws'
+   * incremental histories (a tangential spring) must not advance over it; the
+   * laws see dt = 0.  LAMMPS's setup does the same (no shear update while
+   * update->setupflag), and only then do runs that start with contacts agree. */
+  const double dt = d->dt;
+  d->dt = 0.0;
+  TlStatus first = tl_dem_eval_forces(d);
+  d->dt = dt;
+  TL_CHECK(first);
   d->contact_work_pp = d->elastic_pp; /* stored energy at start counts as work done on contacts */
   for (size_t w = 0; w < d->n_walls; ++w) d->walls[w]->contact_work = d->walls[w]->elastic_energy;
   return TL_OK;

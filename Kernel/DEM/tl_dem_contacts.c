@@ -29,6 +29,7 @@ typedef struct {
   double el, pw;
   size_t touching;
   TlStatus status;
+  TlVec3 spin_mean[CHUNK], spin_rel[CHUNK]; /* staged spins of a chunk */
 } ChunkCtx;
 
 /* The nearest periodic image of a branch vector in an orthogonal box. */
@@ -51,107 +52,21 @@ static inline void release_contact(TlContactList *L, size_t k, size_t hd)
   if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
 }
 
+_Static_assert((int)CHUNK <= (int)TL_CONTACT_CHUNK, "a chunk of the contact list must fit a TlContactChunk");
+
+/* Spins of a scene without rotation. */
+static const TlVec3 no_spin[TL_CONTACT_CHUNK];
+
 /* The contact loop of one chunk, specialised at compile time on the domain
  * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
- * and on rotation, so the common cases carry no dead branches. */
-static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, Chunk ch, const int ORTHO,
-                                                                const int GENERAL, const int ROT, const int WEIGHTED)
-{
-  TlDem *d = c->d;
-  TlContactList *L = c->L;
-  const TlVec3 *x = c->x, *v = c->v, *w = c->w;
-  const double *radius = c->radius;
-  const TlDomain *dom = &d->domain;
-  const size_t hd = c->hd;
-  const int bonded = c->bonded;
-  TlContactGeometry g[CHUNK];
-  TlContactResult r[CHUNK];
-  uint32_t idx[CHUNK];
-  size_t m = 0;
-  for (size_t k = ch.start; k < ch.end; ++k) {
-    const uint32_t i = L->i[k], j = L->j[k];
-    TlVec3 b;
-    if (GENERAL) {
-      b = tl_domain_branch(dom, x[i], x[j]);
-    } else {
-      b.x = x[j].x - x[i].x;
-      b.y = x[j].y - x[i].y;
-      b.z = x[j].z - x[i].z;
-      if (ORTHO) minimum_image_ortho(c, &b);
-    }
-    const double ri = radius[i], rj = radius[j], cut = ri + rj;
-    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
-    if (r2 >= cut * cut && !bonded) {
-      release_contact(L, k, hd);
-      continue;
-    }
-    const double dist = sqrt(r2);
-    TlContactGeometry *G = &g[m];
-    const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
-    G->normal = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
-    G->overlap = cut - dist;
-    G->branch_i = tl_v3_scale(G->normal, ri - 0.5 * G->overlap);
-    G->branch_j = tl_v3_scale(G->normal, -(rj - 0.5 * G->overlap));
-    TlVec3 vr = tl_v3_sub(v[j], v[i]);
-    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
-    if (ROT) {
-      const TlVec3 wi = w[i], wj = w[j];
-      vr = tl_v3_add(vr, tl_v3_sub(tl_v3_cross(wj, G->branch_j), tl_v3_cross(wi, G->branch_i)));
-      G->spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
-      G->spin_rel = tl_v3_sub(wj, wi);
-    } else {
-      G->spin_mean = G->spin_rel = tl_v3(0, 0, 0);
-    }
-    G->vrel = vr;
-    const double isum = c->inv_mass[i] + c->inv_mass[j];
-    G->meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
-    G->reff = ri * rj / cut;
-    G->history = hd ? L->history + k * hd : NULL;
-    G->bonded = bonded;
-    idx[m++] = (uint32_t)k;
-  }
-  if (!m) return;
-  const TlContactLaw *law = d->laws[ch.law];
-  TlContactBatch batch = {m, g, r, d->dt, c->want_energy};
-  TlStatus s = law->ops->evaluate(law, &batch);
-  if (s != TL_OK) c->status = s;
-  TlVec3 *F = c->F, *T = c->T;
-  for (size_t q = 0; q < m; ++q) {
-    const size_t k = idx[q];
-    const uint32_t i = L->i[k], j = L->j[k];
-    const TlVec3 f = r[q].force;
-    /* a weighted contact (seeds/001 Eq. 24) acts with w_ab f on both
-     * particles and stores w_ab of its energy; its history is the law's */
-    const double wk = WEIGHTED ? c->cw[k] : 1.0;
-    if (c->want_energy) {
-      /* work of the contact over the step by the trapezoidal rule on the
-       * relative displacement dt vrel (vrel is the half-step velocity), so
-       * the dissipation booked is second-order accurate */
-      const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
-      double e = r[q].elastic_energy, p = 0.5 * (tl_v3_dot(tl_v3_add(fo, f), g[q].vrel)) + tl_v3_dot(r[q].couple, g[q].spin_rel);
-      c->el += WEIGHTED ? wk * e : e;
-      c->pw += WEIGHTED ? wk * p : p;
-    }
-    L->force[k] = f;
-    L->touching[k] = 1;
-    const TlVec3 fs = WEIGHTED ? tl_v3_scale(f, wk) : f;
-    const TlVec3 cs = WEIGHTED ? tl_v3_scale(r[q].couple, wk) : r[q].couple;
-    F[i] = tl_v3_add(F[i], fs);
-    F[j] = tl_v3_sub(F[j], fs);
-    if (ROT) {
-      T[i] = tl_v3_add(T[i], tl_v3_add(tl_v3_cross(g[q].branch_i, fs), cs));
-      T[j] = tl_v3_sub(T[j], tl_v3_add(tl_v3_cross(g[q].branch_j, fs), cs));
-    }
-  }
-  c->touching += m;
-}
-
-/* The same loop for the built-in laws (LAW 1 linear, 2 Hertz), with the law
- * evaluated in place: no staging of the geometry, forces scattered at once.
- * Same arithmetic as the batch ops (tl_contact_kernels.h). */
-static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *c, Chunk ch, const int ORTHO,
-                                                                      const int GENERAL, const int ROT, const int LAW,
-                                                                      const int WEIGHTED)
+ * and on rotation, so the common cases carry no dead branches.  It stages
+ * the touching contacts' geometry in cc, has the chunk's law evaluate them
+ * (one call per chunk, whatever the law), then scatters the forces.  The
+ * same path serves every law: the built-in parts, a composition of them and
+ * a law or part defined outside the library. */
+static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlContactChunk *cc, Chunk ch,
+                                                                const int ORTHO, const int GENERAL, const int ROT,
+                                                                const int WEIGHTED)
 {
   TlDem *d = c->d;
   TlContactList *L = c->L;
@@ -160,10 +75,16 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
   const TlDomain *dom = &d->domain;
   const size_t hd = c->hd;
   const int bonded = c->bonded, want = c->want_energy;
-  const TlStdLaw *law = (const TlStdLaw *)d->laws[ch.law];
-  const double dt = d->dt;
-  TlVec3 *F = c->F, *T = c->T;
   const double(*xr)[4] = c->xr;
+  TlVec3 *spin_mean = c->spin_mean, *spin_rel = c->spin_rel;
+  double li_[CHUNK], lj_[CHUNK]; /* lever arms along ±n */
+  uint32_t idx[CHUNK];
+  size_t m = 0;
+  const TlContactLaw *law = d->laws[ch.law];
+  /* r - δ/2 (the middle of the overlap) or, for a law that asks, the radius
+   * (tl_contact_lever): the same subtraction either way, so that the default
+   * rounds as before */
+  const double half = law->lever_radius ? 0.0 : 0.5;
   for (size_t k = ch.start; k < ch.end; ++k) {
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
@@ -190,39 +111,66 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
     const double inv = dist > 0.0 ? 1.0 / dist : 0.0;
     const TlVec3 n = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
     const double delta = cut - dist;
-    const double li = ri - 0.5 * delta, lj = rj - 0.5 * delta; /* lever arms along ±n */
+    const double li = ri - half * delta, lj = rj - half * delta;
     TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, v[j].z - v[i].z};
     if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
-    TlVec3 spin_mean = {0, 0, 0}, spin_rel = {0, 0, 0};
     if (ROT) {
       const TlVec3 wi = w[i], wj = w[j];
       /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
       TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
       vr = tl_v3_sub(vr, tl_v3_cross(s, n));
-      spin_mean = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
-      spin_rel = tl_v3_sub(wj, wi);
+      spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+      spin_rel[m] = tl_v3_sub(wj, wi);
     }
+#if defined(__x86_64__) && defined(__GNUC__)
+    /* vr stays three scalars, as in a loop that uses it at once: staged as a
+     * vector, the compiler would contract the cross product into fused
+     * multiply-adds in another order and move the last bit of the forces */
+    __asm__("" : "+x"(vr.x), "+x"(vr.y), "+x"(vr.z));
+#endif
     const double isum = inv_mass[i] + inv_mass[j];
-    const double meff = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
-    const double reff = ri * rj / cut;
-    double *hist = hd ? L->history + k * hd : NULL;
-    TlVec3 f, cpl;
-    double e = 0.0;
-    int on = LAW == 1 ? tl_linear_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, bonded, dt, want,
-                                          &f, &cpl, &e)
-                      : tl_hertz_contact(law, n, delta, vr, spin_mean, spin_rel, meff, reff, hist, dt, want, &f,
-                                         &cpl, &e);
-    if (!on) {
+    cc->normal[m] = n;
+    cc->overlap[m] = delta;
+    cc->vrel[m] = vr;
+    cc->meff[m] = isum > 0.0 ? 1.0 / isum : 0.5 * (c->mass[i] + c->mass[j]);
+    cc->reff[m] = ri * rj / cut;
+    cc->history[m] = hd ? L->history + k * hd : NULL;
+    cc->bonded[m] = (unsigned char)bonded;
+    li_[m] = li;
+    lj_[m] = lj;
+    idx[m++] = (uint32_t)k;
+  }
+  if (!m) return;
+  cc->n = m;
+  cc->spin_mean = ROT ? spin_mean : no_spin;
+  cc->spin_rel = ROT ? spin_rel : no_spin;
+  TlStatus st = law->ops->evaluate_chunk(law, cc);
+  if (st != TL_OK) {
+    c->status = st;
+    return;
+  }
+  TlVec3 *F = c->F, *T = c->T;
+  for (size_t q = 0; q < m; ++q) {
+    const size_t k = idx[q];
+    if (!cc->on[q]) {
       if (L->touching[k]) {
         L->touching[k] = 0;
         L->force[k] = tl_v3(0, 0, 0);
       }
       continue;
     }
+    const uint32_t i = L->i[k], j = L->j[k];
+    TlVec3 f = cc->force[q], cpl = cc->couple[q];
+    /* a weighted contact (seeds/001 Eq. 24) acts with w_ab f on both
+     * particles and stores w_ab of its energy; its history is the law's */
     const double wk = WEIGHTED ? c->cw[k] : 1.0;
     if (want) {
+      /* work of the contact over the step by the trapezoidal rule on the
+       * relative displacement dt vrel (vrel is the half-step velocity), so
+       * the dissipation booked is second-order accurate */
       const TlVec3 fo = L->touching[k] ? L->force[k] : tl_v3(0, 0, 0);
-      const double p = 0.5 * tl_v3_dot(tl_v3_add(fo, f), vr) + tl_v3_dot(cpl, spin_rel);
+      const double e = cc->energy[q];
+      const double p = 0.5 * tl_v3_dot(tl_v3_add(fo, f), cc->vrel[q]) + tl_v3_dot(cpl, cc->spin_rel[q]);
       c->el += WEIGHTED ? wk * e : e;
       c->pw += WEIGHTED ? wk * p : p;
     }
@@ -236,6 +184,8 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
     F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
     if (ROT) {
       /* branch_i = li n, branch_j = -lj n */
+      const TlVec3 n = cc->normal[q];
+      const double li = li_[q], lj = lj_[q];
       const TlVec3 nf = tl_v3_cross(n, f);
       T[i].x += li * nf.x + cpl.x; T[i].y += li * nf.y + cpl.y; T[i].z += li * nf.z + cpl.z;
       T[j].x += lj * nf.x - cpl.x; T[j].y += lj * nf.y - cpl.y; T[j].z += lj * nf.z - cpl.z;
@@ -247,32 +197,29 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
 #define TL_DISPATCH_CHUNKS(FN, ...)                                                  \
   do {                                                                               \
     if (general) {                                                                   \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 1, 0 __VA_ARGS__);    \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 1, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 1, 0 __VA_ARGS__);    \
     } else if (ortho) {                                                              \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 1, 0, 0 __VA_ARGS__);    \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 1, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 1, 0, 0 __VA_ARGS__);    \
     } else {                                                                         \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, chunks[k], 0, 0, 0 __VA_ARGS__);    \
+      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 0, 1 __VA_ARGS__); \
+      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 0, 0 __VA_ARGS__);    \
     }                                                                                \
   } while (0)
 
 /* Compiled twice: for x86-64 with AVX2 and FMA (three-operand forms and
  * fused multiply-adds shorten this register-hungry loop by a third) and for
- * the baseline; the loader picks the one the processor runs. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define TL_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define TL_HOT_CLONES
-#endif
+ * the baseline; the loader picks the one the processor runs.  The parts'
+ * chunk loops carry the same clones (evaluate_hot), so the arithmetic of a
+ * contact is the one of a single fused loop. */
+#define TL_HOT_CLONES TL_CONTACT_HOT_CLONES
 
-/* The contact loop of a range of chunks.  One law for the whole range (the
- * common case) runs the fused loop of the built-in laws; anything else goes
- * through the batch ops.  It is compiled twice: unweighted (the plain
- * world's loop, its code untouched by the weights) and with per-contact
- * weights (a volume coupling's overlap), both for the same processors so
- * that weights of 1 give the same arithmetic. */
+/* The contact loop of a range of chunks, every law through the same path.
+ * It is compiled twice: unweighted (the plain world's loop, its code
+ * untouched by the weights) and with per-contact weights (a volume
+ * coupling's overlap), both for the same processors so that weights of 1
+ * give the same arithmetic. */
 #define TL_DEFINE_PROCESS_RANGE(name, weighted)                                                              \
   TL_HOT_CLONES static void name(ChunkCtx *c, const Chunk *chunks, size_t lo, size_t hi)                     \
   {                                                                                                          \
@@ -280,16 +227,11 @@ static inline __attribute__((always_inline)) void process_chunk_fused(ChunkCtx *
     const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);       \
     const int ortho = dom->any_periodic && !general;                                                         \
     const int rot = c->w != NULL;                                                                            \
-    int uniform = 1;                                                                                         \
-    for (size_t k = lo + 1; k < hi && uniform; ++k) uniform = chunks[k].law == chunks[lo].law;               \
-    const TlContactLawOps *ops = lo < hi ? c->d->laws[chunks[lo].law]->ops : NULL;                          \
-    if (uniform && ops == &tl_contact_linear_ops) {                                                          \
-      TL_DISPATCH_CHUNKS(process_chunk_fused, , 1, weighted);                                                \
-    } else if (uniform && ops == &tl_contact_hertz_ops) {                                                    \
-      TL_DISPATCH_CHUNKS(process_chunk_fused, , 2, weighted);                                                \
-    } else {                                                                                                 \
-      TL_DISPATCH_CHUNKS(process_chunk, , weighted);                                                         \
-    }                                                                                                        \
+    TlContactChunk chunk;                                                                                    \
+    TlContactChunk *cc = &chunk;                                                                             \
+    cc->dt = c->d->dt;                                                                                       \
+    cc->want_energy = c->want_energy;                                                                        \
+    TL_DISPATCH_CHUNKS(process_chunk, , weighted);                                                           \
   }
 TL_DEFINE_PROCESS_RANGE(process_range, 0)
 TL_DEFINE_PROCESS_RANGE(process_range_weighted, 1)

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include "tl_memory.h"
+#include "tl_predicates.h"
 
 /* One directed edge of a triangle, for building the edge list by sorting. */
 typedef struct {
@@ -39,6 +40,7 @@ void tl_trisurface_destroy(TlTriSurface **surface)
   tl_free(&s->box_hi);
   tl_free(&s->edge_shape);
   tl_free(&s->edge_fold);
+  tl_free(&s->edge_sharp);
   tl_free(&s->edge_twin);
   tl_free(&s->edge_shift);
   tl_free(surface);
@@ -92,6 +94,7 @@ static TlStatus tl_trisurface_build_topology(TlTriSurface *s)
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_tri, 2 * ne, sizeof *s->edge_tri), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_shape, ne, sizeof *s->edge_shape), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_fold, ne, sizeof *s->edge_fold), done);
+  TL_CHECK_GOTO(status, tl_calloc(&s->edge_sharp, ne, sizeof *s->edge_sharp), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_twin, ne, sizeof *s->edge_twin), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->edge_shift, ne, sizeof *s->edge_shift), done);
   for (size_t k = 0; k < ne; ++k) s->edge_twin[k] = -1;
@@ -145,6 +148,8 @@ TlStatus tl_trisurface_create(size_t n_vertices, const double *x, size_t n_trian
   s->n_triangles = n_triangles;
   s->flat_tolerance = 1e-9;
   s->quality_tolerance = 1e-6;
+  s->feature_angle = TL_TRISURFACE_FEATURE_ANGLE;
+  s->feature_cos = cos(s->feature_angle * (TL_PI / 180.0));
   TL_CHECK_GOTO(status, tl_calloc(&s->x, n_vertices, sizeof *s->x), fail);
   TL_CHECK_GOTO(status, tl_calloc(&s->v, n_vertices, sizeof *s->v), fail);
   TL_CHECK_GOTO(status, tl_calloc(&s->tri, 3 * n_triangles, sizeof *s->tri), fail);
@@ -210,7 +215,16 @@ static TlStatus triangle_geometry(TlTriSurface *s, size_t t)
   return TL_OK;
 }
 
-/* Shape and fold of edge e from the normals of its triangles. */
+/* Shape, fold and sharpness of edge e.  A fold whose sine is within the
+ * flat tolerance is flat (a tolerance on a magnitude: the sense does not
+ * matter).  Any other fold takes its sense, concave or convex, from the exact
+ * orientation predicate (B's far vertex above or below A's plane), so that a
+ * fold is never given the wrong sense by round-off, whatever the
+ * tolerances, and exactly coplanar faces are flat.  Flat edges thus cost
+ * nothing more, and for folded ones the predicate's floating-point filter
+ * decides in a few dozen flops (its exact stage is for nearly coplanar
+ * faces, which only a flat tolerance below round-off lets through).  The
+ * angle between the two normals then compares with the feature angle. */
 static void edge_geometry(TlTriSurface *s, size_t e)
 {
   int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
@@ -218,13 +232,14 @@ static void edge_geometry(TlTriSurface *s, size_t e)
     /* a boundary edge, or the absorbed half of a periodic pair */
     s->edge_shape[e] = TL_EDGE_BOUNDARY;
     s->edge_fold[e] = 0.0;
+    s->edge_sharp[e] = 0;
     return;
   }
   /* Sine of the fold: how far B's far vertex rises above A's plane,
    * relative to its distance from the shared edge (B brought into A's
    * frame across a periodic face). */
   TlVec3 p0 = s->x[s->edge_vertex[2 * e]], p1 = s->x[s->edge_vertex[2 * e + 1]];
-  const int *vb = s->tri + 3 * (size_t)tb;
+  const int *va = s->tri + 3 * (size_t)ta, *vb = s->tri + 3 * (size_t)tb;
   TlVec3 shift = tl_v3(0, 0, 0);
   int e0 = s->edge_vertex[2 * e], e1 = s->edge_vertex[2 * e + 1];
   if (s->edge_twin[e] >= 0) {
@@ -238,14 +253,19 @@ static void edge_geometry(TlTriSurface *s, size_t e)
   int far = vb[0];
   for (int k = 0; k < 3; ++k)
     if (vb[k] != e0 && vb[k] != e1) far = vb[k];
+  TlVec3 q = s->edge_twin[e] >= 0 ? tl_v3_sub(s->x[far], shift) : s->x[far];
   TlVec3 u = tl_v3_normalize(tl_v3_sub(p1, p0));
-  TlVec3 d = tl_v3_sub(tl_v3_sub(s->x[far], shift), p0);
+  TlVec3 d = tl_v3_sub(q, p0);
   TlVec3 h = tl_v3_axpy(d, -tl_v3_dot(d, u), u);
   double fold = tl_v3_dot(s->normal[ta], h) / tl_v3_norm(h);
+  if (fabs(fold) > s->flat_tolerance) fold = tl_orient3d(s->x[va[0]], s->x[va[1]], s->x[va[2]], q) * fabs(fold);
   s->edge_fold[e] = fold;
   s->edge_shape[e] = fold > s->flat_tolerance    ? TL_EDGE_CONCAVE
                      : fold < -s->flat_tolerance ? TL_EDGE_CONVEX
                                                  : TL_EDGE_FLAT;
+  /* the fold angle is the angle between the normals (0 when flat, up to
+   * 180 degrees for a closed blade): its cosine against the feature's */
+  s->edge_sharp[e] = s->edge_shape[e] != TL_EDGE_FLAT && tl_v3_dot(s->normal[ta], s->normal[tb]) < s->feature_cos;
 }
 
 static void surface_box(TlTriSurface *s)
@@ -308,6 +328,21 @@ TlStatus tl_trisurface_set_tolerances(TlTriSurface *s, double flat_tolerance, do
   s->flat_tolerance = flat_tolerance;
   s->quality_tolerance = quality_tolerance;
   TL_CHECK(tl_trisurface_update(s));
+  return TL_OK;
+}
+
+TlStatus tl_trisurface_set_feature_angle(TlTriSurface *s, double degrees)
+{
+  if (!s) TL_ERROR(TL_ERR_ARG, "tl_trisurface_set_feature_angle: NULL surface");
+  if (!(degrees >= 0.0 && degrees <= 180.0))
+    TL_ERROR(TL_ERR_ARG, "feature angle %g degrees outside [0, 180]", degrees);
+  s->feature_angle = degrees;
+  s->feature_cos = cos(degrees * (TL_PI / 180.0));
+  for (size_t e = 0; e < s->n_edges; ++e)
+    if (s->edge_shape[e] != TL_EDGE_BOUNDARY) {
+      int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
+      s->edge_sharp[e] = s->edge_shape[e] != TL_EDGE_FLAT && tl_v3_dot(s->normal[ta], s->normal[tb]) < s->feature_cos;
+    }
   return TL_OK;
 }
 

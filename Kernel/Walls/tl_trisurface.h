@@ -16,7 +16,14 @@
  * (their normal (b - a) x (c - a) points to it); triangles sharing an edge
  * must traverse it in opposite directions.  Edge shapes are stored as seen
  * from the + side; a particle on the - side of a two-sided surface sees them
- * inverted (tl_trisurface_edge_shape_seen_from).  Degenerate triangles
+ * inverted (tl_trisurface_edge_shape_seen_from).  The shape is decided by the
+ * sign of an exact orientation predicate (tl_predicates.h) and the flat
+ * tolerance; a folded edge is also sharp (edge_sharp) when its fold exceeds
+ * the feature angle.  Shapes and sharpness are refreshed with the rest of the
+ * geometry by every update, of the whole surface or of the triangles a moving
+ * surface's contacts touch (a fold may cross the feature angle as the
+ * surface deforms; the predicate's floating-point filter keeps the refresh
+ * as cheap as the fold itself).  Degenerate triangles
  * (zero-area slivers or needles, quality below quality_tolerance) are refused
  * at creation and at every update, with the triangle and its quality named:
  * their normal is undefined. */
@@ -56,6 +63,7 @@ typedef struct {
   TlVec3 surface_lo, surface_hi; /* box of the whole surface */
   signed char *edge_shape; /* TlEdgeShape per edge, seen from the + side */
   double *edge_fold;       /* sine of the fold angle: > 0 concave, < 0 convex */
+  unsigned char *edge_sharp; /* 1: folded by more than the feature angle (a corner of the design, not of the mesh) */
   /* Edges joined across a periodic face (tl_trisurface_link_periodic): the
    * vertex of the second triangle that is the image of edge_vertex[2e]
    * (-1 for ordinary edges), and the lattice translation from the first
@@ -67,7 +75,25 @@ typedef struct {
   /* Classification tolerances. */
   double flat_tolerance;    /* |fold sine| below it counts as flat (default 1e-9) */
   double quality_tolerance; /* tl_triangle_quality below it is refused (default 1e-6) */
+  /* Feature angle, degrees (default TL_TRISURFACE_FEATURE_ANGLE), and its
+   * cosine: an edge whose faces' normals differ by more is sharp. */
+  double feature_angle, feature_cos;
 } TlTriSurface;
+
+/* Default feature angle, degrees.  The triangle-edge corrections average the
+ * contacts of a particle across a concave fold (seeds/001 §5.1.1,
+ * Modification 2), which is right where the triangles discretise one smooth
+ * surface and wrong where two different faces meet (a box, a hopper, a
+ * blade), whose contacts add.  Mesh-processing codes separate the two by a
+ * feature angle between 20 and 45 degrees.  35 sits between the round angles
+ * of designs (30, 45, 60, 90) so that no common geometry lies on the
+ * threshold, where round-off would decide: a cylinder of 12 or more
+ * segments (folds of 30 degrees or less) and a deformed finite-element
+ * surface (folds of a few degrees) stay smooth; an octagonal drum (45), a
+ * box (90) and the corners of hoppers and mixers of 45 degrees or more are
+ * faces.  A hopper whose transition folds by 30 degrees or less needs a
+ * smaller angle (the wall parameter feature_angle). */
+#define TL_TRISURFACE_FEATURE_ANGLE 35.0
 
 /* Builds a surface from n_vertices positions (x: 3 doubles each) and
  * n_triangles vertex triples, checks the topology (indices in range, no
@@ -93,6 +119,10 @@ TlStatus tl_trisurface_update(TlTriSurface *s);
  * O(triangles).  Both compute the same numbers bit for bit. */
 TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const double *v);
 TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles);
+/* Sets the feature angle (degrees, in [0, 180]; 180: no edge is sharp, the
+ * corrections of seeds/001 alone) and reclassifies the sharpness of every
+ * edge from the current normals. */
+TlStatus tl_trisurface_set_feature_angle(TlTriSurface *s, double degrees);
 /* Changes the tolerances (positive, below 1) and reclassifies. */
 TlStatus tl_trisurface_set_tolerances(TlTriSurface *s, double flat_tolerance,
                                       double quality_tolerance);

@@ -19,6 +19,7 @@ void tl_tricontacts_destroy(TlTriContactSet **set)
   tl_free(&(*set)->group);
   tl_free(&(*set)->history);
   tl_free(&(*set)->link);
+  tl_free(&(*set)->region);
   tl_free(&(*set)->used);
   tl_free(&(*set)->bucket);
   tl_free(&(*set)->sorted);
@@ -29,6 +30,7 @@ void tl_tricontacts_clear(TlTriContactSet *set)
 {
   set->count = 0;
   set->n_groups = 0;
+  set->regions_valid = 0;
 }
 
 void tl_tricontacts_swap(TlTriContactSet *a, TlTriContactSet *b)
@@ -42,6 +44,7 @@ TlStatus tl_tricontacts_append(TlTriContactSet *set, const TlTriContactRecord *r
 {
   TL_CHECK(tl_array_reserve(&set->c, &set->capacity, set->count + 1, sizeof *set->c));
   set->c[set->count++] = *r;
+  set->regions_valid = 0;
   return TL_OK;
 }
 
@@ -128,6 +131,7 @@ TlStatus tl_tricontacts_sort(TlTriContactSet *set)
    * particle (O(count + particles)), then insertion sort by triangle within
    * each particle's few contacts. */
   size_t n = set->count;
+  set->regions_valid = 0;
   if (n > 1) {
     int32_t pmax = 0;
     for (size_t i = 0; i < n; ++i) pmax = set->c[i].particle > pmax ? set->c[i].particle : pmax;
@@ -188,16 +192,18 @@ static int tl_record_better(const TlTriContactRecord *a, const TlTriContactRecor
 TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurface *s)
 {
   size_t n = set->count;
+  set->regions_valid = 0;
   if (n == 0) return TL_OK;
   if (n > (size_t)INT32_MAX) TL_ERROR(TL_ERR_ARG, "%zu wall contacts exceed the limit %d", n, INT32_MAX);
   TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, n, sizeof *set->link));
+  TL_CHECK(tl_array_reserve(&set->region, &set->region_capacity, n, sizeof *set->region));
   TlTriContactRecord *c = set->c;
-  int32_t *link = set->link;
+  int32_t *link = set->link, *region = set->region;
   long ng = (long)set->n_groups;
   TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
     for (long g = 0; g < ng; ++g) {
       size_t g0 = set->group[g], g1 = set->group[g + 1];
-      for (size_t i = g0; i < g1; ++i) link[i] = (int32_t)i;
+      for (size_t i = g0; i < g1; ++i) link[i] = region[i] = (int32_t)i;
       if (g1 - g0 < 2) continue;
       for (size_t i = g0; i < g1; ++i) {
         int32_t t = c[i].triangle;
@@ -207,11 +213,18 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
           long j = tl_find_triangle(c, g0, g1, nb);
           if (j < 0) continue;
           int e = s->tri_edge[3 * (size_t)t + k];
+          TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center, c[i].triangle);
+          /* one smooth piece of surface unless the edge is a sharp valley
+           * seen from the particle (touched triangles of one piece are
+           * joined edge to edge, so the pre-merge records link them all) */
+          if (!(shape == TL_EDGE_CONCAVE && s->edge_sharp[e])) {
+            int32_t qi = tl_root(region, (int32_t)i), qj = tl_root(region, (int32_t)j);
+            if (qi != qj) region[qi > qj ? qi : qj] = qi < qj ? qi : qj;
+          }
           int kb = 0;
           while (kb < 2 && s->tri_edge[3 * (size_t)nb + kb] != e) ++kb;
           if (!tl_tri_feature_on_edge(c[i].feature, k) && !tl_tri_feature_on_edge(c[j].feature, kb))
             continue;
-          TlEdgeShape shape = tl_trisurface_edge_shape_seen_from(s, e, c[i].center, c[i].triangle);
           if (shape == TL_EDGE_CONCAVE) continue;
           int32_t ri = tl_root(link, (int32_t)i), rj = tl_root(link, (int32_t)j);
           if (ri == rj) continue;
@@ -220,14 +233,18 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
           else link[ri] = rj;
         }
       }
-      for (size_t i = g0; i < g1; ++i) c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
+      for (size_t i = g0; i < g1; ++i) {
+        c[i].active = tl_root(link, (int32_t)i) == (int32_t)i;
+        region[i] = tl_root(region, (int32_t)i); /* a label from now on */
+      }
     });
   /* compact */
   size_t m = 0;
   for (size_t i = 0; i < n; ++i)
-    if (c[i].active) c[m++] = c[i];
+    if (c[i].active) region[m] = region[i], c[m++] = c[i];
   set->count = m;
   TL_CHECK(tl_tricontacts_build_groups(set));
+  set->regions_valid = 1;
   return TL_OK;
 }
 
@@ -297,6 +314,9 @@ TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSe
 void tl_tricontacts_apply_weights(TlTriContactSet *set)
 {
   TlTriContactRecord *c = set->c;
+  /* without the regions of Modification 1, every contact of a particle is
+   * in one piece (seeds/001) */
+  const int32_t *region = set->regions_valid ? set->region : NULL;
   long ng = (long)set->n_groups;
   TL_PARALLEL_IF(ng > 2048, "omp parallel for schedule(dynamic, 64)",
     for (long g = 0; g < ng; ++g) {
@@ -305,13 +325,17 @@ void tl_tricontacts_apply_weights(TlTriContactSet *set)
         c[g0].weight = 1.0;
         continue;
       }
-      double sum = 0.0;
-      for (size_t i = g0; i < g1; ++i) sum += tl_v3_norm(c[i].force);
+      /* the weights within each piece first, from the unscaled forces */
       for (size_t i = g0; i < g1; ++i) {
-        double w = sum > 0.0 ? tl_v3_norm(c[i].force) / sum : 1.0 / (double)(g1 - g0);
-        c[i].weight = w;
-        c[i].force = tl_v3_scale(c[i].force, w);
-        c[i].torque = tl_v3_scale(c[i].torque, w);
+        double sum = 0.0;
+        size_t count = 0;
+        for (size_t j = g0; j < g1; ++j)
+          if (!region || region[j] == region[i]) sum += tl_v3_norm(c[j].force), ++count;
+        c[i].weight = sum > 0.0 ? tl_v3_norm(c[i].force) / sum : 1.0 / (double)count;
+      }
+      for (size_t i = g0; i < g1; ++i) {
+        c[i].force = tl_v3_scale(c[i].force, c[i].weight);
+        c[i].torque = tl_v3_scale(c[i].torque, c[i].weight);
       }
     });
 }
@@ -341,6 +365,7 @@ TlStatus tl_tricontacts_remap(TlTriContactSet *set, const size_t *old_to_new, si
     ++m;
   }
   set->count = m;
+  set->regions_valid = 0;
   /* re-sort records and history together: insertion order by key through
    * a permutation kept in the scratch link array */
   TL_CHECK(tl_array_reserve(&set->link, &set->link_capacity, m, sizeof *set->link));

@@ -16,16 +16,26 @@
  *      surface.  Such links are followed transitively (a flat fan of
  *      triangles around a vertex is one cluster), and in each cluster only
  *      the contact of largest overlap is kept (ties: lowest triangle index).
- *      Contacts across concave edges stay separate;
+ *      Contacts across concave edges stay separate.  The same pass joins
+ *      the particle's touched triangles into pieces of smooth surface:
+ *      triangles sharing an edge are one piece unless the edge, seen from
+ *      the particle, is a valley sharper than the surface's feature angle
+ *      (edge_sharp): such an edge, or a vertex where such edges meet,
+ *      separates different faces (of a box, a hopper, a blade);
  *   4. tl_tricontacts_carry_history: each kept contact finds its history in
  *      the previous step's set: the same triangle, or else (the particle
  *      moved to a neighbouring triangle) the nearest contact of that particle
  *      that disappeared, so friction survives crossing an edge;
  *   5. forces from the contact law (by the wall);
  *   6. tl_tricontacts_apply_weights (Modification 2): the remaining forces
- *      of a particle on this surface are scaled by w = |f| / Σ|f|, so the
- *      total is a weighted mean, continuous when an edge changes from flat
- *      to concave as the surface deforms.
+ *      of a particle on each piece of this surface are scaled by
+ *      w = |f| / Σ|f| over that piece, so the total of a piece is a weighted
+ *      mean, continuous when an edge changes from flat to concave as the
+ *      surface deforms (seeds/001), and the pieces add, as separate walls
+ *      do: a sphere in the corner of a box of triangles feels the force of
+ *      the box of planes.  (The total jumps when a fold crosses the feature
+ *      angle: the angle separates folds of a mesh from corners of a design,
+ *      which a deforming surface should not cross.)
  *
  * The records also serve the coupling: after a step each kept record holds
  * the triangle, the contact point and its barycentric coordinates, and the
@@ -67,6 +77,10 @@ typedef struct {
   double *history;
   /* scratch */
   int32_t *link; size_t link_capacity;
+  /* piece of smooth surface of each record (a label), aligned with c; valid
+   * after tl_tricontacts_merge_shared_edges until the set changes */
+  int32_t *region; size_t region_capacity;
+  int regions_valid;
   unsigned char *used; size_t used_capacity;
   size_t *bucket; size_t bucket_capacity;
   TlTriContactRecord *sorted; size_t sorted_capacity;
@@ -92,7 +106,8 @@ TlStatus tl_tricontacts_detect_brute(TlTriContactSet *set, const TlTriSurface *s
                                      const double *radius);
 /* Orders by (particle, triangle) and builds the per-particle groups. */
 TlStatus tl_tricontacts_sort(TlTriContactSet *set);
-/* Modification 1, then drops the contacts it eliminated (groups kept). */
+/* Modification 1, then drops the contacts it eliminated (groups kept);
+ * labels the pieces of smooth surface (set->region). */
 TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurface *s);
 /* Sizes set->history for history_doubles per contact and fills it from prev
  * (which holds last step's kept contacts and their history; may be NULL):
@@ -100,7 +115,9 @@ TlStatus tl_tricontacts_merge_shared_edges(TlTriContactSet *set, const TlTriSurf
  * follows the same match, with or without history. */
 TlStatus tl_tricontacts_carry_history(TlTriContactSet *set, const TlTriContactSet *prev,
                                       size_t history_doubles);
-/* Modification 2 on the force and torque of every record; sets weight. */
+/* Modification 2 on the force and torque of every record, the weighted mean
+ * within each piece of smooth surface (all of a particle's contacts are one
+ * piece when the merge did not run); sets weight. */
 void tl_tricontacts_apply_weights(TlTriContactSet *set);
 /* Appends every record of src to dst. */
 TlStatus tl_tricontacts_append_all(TlTriContactSet *dst, const TlTriContactSet *src);

@@ -130,7 +130,9 @@ static TlStatus plane_interact(TlWall *w, const TlWallStep *st)
       TlContactGeometry *c = &g[m];
       c->normal = tl_v3_neg(nrm);
       c->overlap = ri - s;
-      c->branch_i = tl_v3_scale(nrm, -0.5 * (ri + s)); /* middle of the overlap, as between particles */
+      /* the middle of the overlap, as between particles, or the radius for a
+       * law that asks for it (tl_contact_lever) */
+      c->branch_i = st->law->lever_radius ? tl_v3_scale(nrm, -ri) : tl_v3_scale(nrm, -0.5 * (ri + s));
       c->branch_j = tl_v3(0, 0, 0);
       TlVec3 vi = P->v[i];
       if (P->w) {

@@ -1,6 +1,7 @@
 #include "tl_wall_trisurface.h"
 
 #include "tl_trisurface_bins.h"
+#include "tl_wall_trisurface_private.h"
 
 #include <math.h>
 #include <omp.h>
@@ -11,49 +12,6 @@
 #include "tl_memory.h"
 #include "tl_parallel.h"
 #include "tl_registry.h"
-
-/* Per-thread detection buffers, so that candidate lists grow without locks
- * and are reused from step to step. */
-typedef struct {
-  TlTriContactSet *found;
-  size_t *candidates;
-  size_t candidate_capacity, n_candidates;
-  int32_t *pairs; /* (triangle, particle) candidate pairs found by this thread */
-  size_t pair_capacity, n_pairs;
-} TlTriThread;
-
-typedef struct {
-  TlWall base;
-  TlTriSurface *surface;
-  TlTriContactSet *current, *previous;
-  int corrections, brute_force, drift;
-  int n_threads;
-  TlTriThread *thread;
-  /* law input and output, aligned with current->c */
-  TlContactGeometry *geometry;
-  TlContactResult *result;
-  size_t geometry_capacity, result_capacity;
-  TlTriBins bins; /* triangles near particles */
-  /* Candidate pairs (triangle, particle) within radius + skin, found through
-   * the grid (Algorithm 2) and kept until some particle has moved more than
-   * skin/2 or the surface has moved, as a Verlet list */
-  int32_t *pair;
-  size_t n_pairs, pair_capacity;
-  TlVec3 *x_list;
-  size_t n_list, x_list_capacity;
-  TlVec3 *vertex_list; /* vertex positions at the list build */
-  size_t vertex_list_capacity;
-  unsigned long list_version;
-  double list_skin;
-  int list_valid;
-  long list_builds;
-  /* Distinct triangles of the list, for partial geometry updates. */
-  int32_t *listed;
-  size_t n_listed, listed_capacity;
-  unsigned char *seen; /* per triangle, scratch of the above */
-  size_t seen_capacity;
-  unsigned long listed_version; /* list build they belong to (0: none) */
-} TlWallTriSurface;
 
 static const TlWallOps tl_wall_trisurface_ops;
 
@@ -74,13 +32,6 @@ const TlTriContactSet *tl_wall_trisurface_contacts(const TlWall *w)
   return tl_wall_is_trisurface(w) ? ((const TlWallTriSurface *)w)->current : NULL;
 }
 
-#define TL_REQUIRE_SURFACE(t)                                                                 \
-  do {                                                                                        \
-    if (!(t)->surface)                                                                        \
-      TL_ERROR(TL_ERR_STATE, "wall '%s' has no surface yet (tl_wall_trisurface_set_surface)",  \
-               (t)->base.name);                                                               \
-  } while (0)
-
 #define TL_REQUIRE_TRISURFACE(w)                                                              \
   do {                                                                                        \
     if (!tl_wall_is_trisurface(w))                                                            \
@@ -99,6 +50,17 @@ TlStatus tl_wall_trisurface_set_brute_force(TlWall *w, int on)
 {
   TL_REQUIRE_TRISURFACE(w);
   tl_as_trisurface(w)->brute_force = on != 0;
+  return TL_OK;
+}
+
+TlStatus tl_wall_trisurface_set_feature_angle(TlWall *w, double degrees)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  if (t->surface) TL_CHECK(tl_trisurface_set_feature_angle(t->surface, degrees));
+  else if (!(degrees >= 0.0 && degrees <= 180.0))
+    TL_ERROR(TL_ERR_ARG, "wall '%s': feature angle %g degrees outside [0, 180]", w->name, degrees);
+  t->feature_angle = degrees;
   return TL_OK;
 }
 
@@ -135,7 +97,7 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
 
 /* The parameter block of the constructor by name: switches as 0 or 1. */
 typedef struct {
-  double corrections, brute_force, drift;
+  double corrections, brute_force, drift, feature_angle;
 } TriSurfaceParams;
 
 static const TlParam tl_wall_trisurface_params[] = {
@@ -145,6 +107,10 @@ static const TlParam tl_wall_trisurface_params[] = {
      offsetof(TriSurfaceParams, brute_force)},
     {"drift", 0.0, 0.0, 1.0, "", "1: advance moves the vertices with their velocities; 0: the owner sets them",
      offsetof(TriSurfaceParams, drift)},
+    {"feature_angle", TL_TRISURFACE_FEATURE_ANGLE, 0.0, 180.0, "deg",
+     "concave folds sharper than this are corners between faces, whose contacts add; flatter ones are folds of one "
+     "smooth surface, whose contacts are averaged (seeds/001 Modification 2); 180: average all",
+     offsetof(TriSurfaceParams, feature_angle)},
 };
 
 /* The constructor by name: a wall without a surface yet. */
@@ -160,6 +126,7 @@ static TlStatus tl_wall_trisurface_construct(const void *params, TlWall **w)
   t->corrections = q->corrections != 0.0;
   t->brute_force = q->brute_force != 0.0;
   t->drift = q->drift != 0.0;
+  t->feature_angle = q->feature_angle;
   t->n_threads = omp_get_max_threads();
   if (t->n_threads < 1) t->n_threads = 1;
   TL_CHECK_GOTO(status, tl_tricontacts_create(&t->current), fail);
@@ -186,6 +153,8 @@ TlStatus tl_wall_trisurface_set_surface(TlWall *w, TlTriSurface *surface)
   TlWallTriSurface *t = tl_as_trisurface(w);
   snprintf(t->base.name, sizeof t->base.name, "%s", surface->n_triangles == 1 ? "triangle" : "trisurface");
   t->surface = surface;
+  /* the wall's feature angle classifies the surface's edges */
+  TL_CHECK(tl_trisurface_set_feature_angle(surface, t->feature_angle));
   return TL_OK;
 }
 
@@ -197,7 +166,9 @@ TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w)
   }
   *w = NULL;
   if (!surface) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_create: NULL surface");
-  TlStatus status = tl_wall_create("trisurface", 0, NULL, w);
+  /* the surface keeps the feature angle it was given */
+  TlWallSetting angle = {"feature_angle", surface->feature_angle};
+  TlStatus status = tl_wall_create("trisurface", 1, &angle, w);
   if (status == TL_OK) status = tl_wall_trisurface_set_surface(*w, surface);
   else tl_trisurface_destroy(&surface);
   if (status != TL_OK) {
@@ -436,8 +407,9 @@ static TlStatus tl_wall_trisurface_interact(TlWall *w, const TlWallStep *step)
       size_t i = (size_t)r->particle;
       TlContactGeometry *g = &t->geometry[k];
       /* lever arm to the middle of the overlap, as between particles and for
-       * the plane; the record keeps the point on the triangle for coupling */
-      TlVec3 branch = tl_v3_scale(r->normal, -(r->radius - 0.5 * r->overlap));
+       * the plane (or the radius, for a law that asks: tl_contact_lever); the
+       * record keeps the point on the triangle for coupling */
+      TlVec3 branch = tl_v3_scale(r->normal, -tl_contact_lever(law, r->radius, r->overlap));
       TlVec3 v_wall = tl_trisurface_velocity_at(s, r->triangle, r->bary);
       TlVec3 v_part = p->v[i];
       if (rot) v_part = tl_v3_add(v_part, tl_v3_cross(p->w[i], branch));
@@ -535,70 +507,6 @@ static TlStatus tl_wall_trisurface_advance(TlWall *w, double time, double dt)
   TlTriSurface *s = t->surface;
   for (size_t i = 0; i < s->n_vertices; ++i) s->x[i] = tl_v3_axpy(s->x[i], dt, s->v[i]);
   TL_CHECK(tl_trisurface_update(s));
-  return TL_OK;
-}
-
-/* Checkpoint: vertex positions and velocities, then the kept contacts and
- * their history, as raw bytes (bit-exact restart). */
-typedef struct {
-  uint64_t n_vertices, n_contacts, history_doubles;
-} TlTriCheckpointHeader;
-
-static size_t tl_wall_trisurface_checkpoint_size(const TlWall *w)
-{
-  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
-  const TlTriContactSet *c = t->current;
-  if (!t->surface) return 0; /* refused by save */
-  return sizeof(TlTriCheckpointHeader) + 2 * t->surface->n_vertices * sizeof(TlVec3) +
-         c->count * sizeof(TlTriContactRecord) + c->count * c->history_doubles * sizeof(double);
-}
-
-static TlStatus tl_wall_trisurface_checkpoint_save(const TlWall *w, void *buffer, size_t size)
-{
-  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
-  const TlTriContactSet *c = t->current;
-  TL_REQUIRE_SURFACE(t);
-  size_t need = tl_wall_trisurface_checkpoint_size(w);
-  if (size < need) TL_ERROR(TL_ERR_ARG, "wall '%s' checkpoint buffer of %zu bytes, need %zu", w->name, size, need);
-  char *b = buffer;
-  TlTriCheckpointHeader h = {t->surface->n_vertices, c->count, c->history_doubles};
-  memcpy(b, &h, sizeof h), b += sizeof h;
-  memcpy(b, t->surface->x, t->surface->n_vertices * sizeof(TlVec3)), b += t->surface->n_vertices * sizeof(TlVec3);
-  memcpy(b, t->surface->v, t->surface->n_vertices * sizeof(TlVec3)), b += t->surface->n_vertices * sizeof(TlVec3);
-  if (c->count) memcpy(b, c->c, c->count * sizeof *c->c), b += c->count * sizeof *c->c;
-  if (c->count && c->history_doubles) memcpy(b, c->history, c->count * c->history_doubles * sizeof(double));
-  return TL_OK;
-}
-
-static TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer, size_t size)
-{
-  TlWallTriSurface *t = tl_as_trisurface(w);
-  TlTriContactSet *c = t->current;
-  const char *b = buffer;
-  TlTriCheckpointHeader h;
-  TL_REQUIRE_SURFACE(t);
-  if (size < sizeof h) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint of %zu bytes is truncated", w->name, size);
-  memcpy(&h, b, sizeof h), b += sizeof h;
-  if (h.n_vertices != t->surface->n_vertices)
-    TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %llu vertices, the surface %zu", w->name,
-             (unsigned long long)h.n_vertices, t->surface->n_vertices);
-  size_t need = sizeof h + 2 * h.n_vertices * sizeof(TlVec3) + h.n_contacts * sizeof(TlTriContactRecord) +
-                h.n_contacts * h.history_doubles * sizeof(double);
-  if (size != need) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %zu bytes, expected %zu", w->name, size, need);
-  memcpy(t->surface->x, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
-  memcpy(t->surface->v, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
-  TL_CHECK(tl_trisurface_update(t->surface));
-  tl_tricontacts_clear(c);
-  TL_CHECK(tl_array_reserve(&c->c, &c->capacity, h.n_contacts, sizeof *c->c));
-  if (h.n_contacts) memcpy(c->c, b, h.n_contacts * sizeof *c->c), b += h.n_contacts * sizeof *c->c;
-  c->count = h.n_contacts;
-  c->history_doubles = h.history_doubles;
-  if (h.n_contacts && h.history_doubles) {
-    TL_CHECK(tl_array_reserve(&c->history, &c->history_capacity, h.n_contacts * h.history_doubles, sizeof(double)));
-    memcpy(c->history, b, h.n_contacts * h.history_doubles * sizeof(double));
-  }
-  TL_CHECK(tl_tricontacts_sort(c));
-  t->list_valid = 0;
   return TL_OK;
 }
 

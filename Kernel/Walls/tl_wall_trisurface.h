@@ -38,7 +38,8 @@
 #include "tl_wall.h"
 
 /* Wraps a surface (the wall takes ownership, also on failure): the wall
- * type "trisurface" by name with its defaults, given the surface. */
+ * type "trisurface" by name with its defaults, given the surface, whose own
+ * feature angle is kept. */
 TlStatus tl_wall_trisurface_create(TlTriSurface *surface, TlWall **w);
 /* A single triangle (a, b, c); refused if degenerate. */
 TlStatus tl_wall_triangle_create(TlVec3 a, TlVec3 b, TlVec3 c, TlWall **w);
@@ -52,6 +53,9 @@ TlStatus tl_wall_trisurface_set_corrections(TlWall *w, int on);
 /* Detection by the grid (default) or by testing every particle against
  * every triangle (test oracle). */
 TlStatus tl_wall_trisurface_set_brute_force(TlWall *w, int on);
+/* Feature angle of the surface, degrees in [0, 180] (tl_trisurface.h:
+ * concave folds sharper than it separate faces whose contacts add). */
+TlStatus tl_wall_trisurface_set_feature_angle(TlWall *w, double degrees);
 /* When on, advance moves every vertex by dt times its velocity (a surface
  * moving on its own); off (default) when the owner sets the vertices. */
 TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on);
@@ -59,7 +63,8 @@ TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on);
  * once; the wall takes ownership, also on failure. */
 TlStatus tl_wall_trisurface_set_surface(TlWall *w, TlTriSurface *surface);
 /* Registers the type "trisurface" (parameters corrections, brute_force,
- * drift: switches 0 or 1, as the setters below). */
+ * drift: switches 0 or 1, and feature_angle in degrees, as the setters
+ * above). */
 TlStatus tl_wall_register_trisurface(void);
 
 #endif

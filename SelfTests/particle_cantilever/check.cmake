@@ -50,6 +50,10 @@ if(WRITE_BASELINE)
   endforeach()
   file(WRITE ${BASELINE} "${text}")
   message("wrote ${BASELINE}")
+  if(DEFINED TRAJ_BASELINE)
+    file(COPY_FILE ${OUT}/trajectory.csv ${TRAJ_BASELINE})
+    message("wrote ${TRAJ_BASELINE}")
+  endif()
   return()
 endif()
 
@@ -66,6 +70,9 @@ else()
   endif()
 endif()
 set(failed 0)
+# awk reads "nan", "inf" or an empty field as 0: every value a check uses
+# must be a finite number, or the test fails.
+set(number_re "^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$")
 foreach(line IN LISTS lines)
   string(REGEX REPLACE " +" ";" f "${line}")
   list(GET f 0 k)
@@ -77,7 +84,12 @@ foreach(line IN LISTS lines)
     set(failed 1)
     continue()
   endif()
-  set(x ${val_${k}})
+  set(x "${val_${k}}")
+  if(NOT x MATCHES "${number_re}")
+    message(SEND_ERROR "  ${k} = '${x}' is not a finite number")
+    set(failed 1)
+    continue()
+  endif()
   # CMake has no floating point: awk evaluates |x - ref| <= at + rt |ref|.
   execute_process(COMMAND ${AWK} "BEGIN { d = ${x} - (${ref}); if (d < 0) d = -d; r = (${ref}); if (r < 0) r = -r; exit !(d <= ${at} + ${rt} * r) }"
                   RESULT_VARIABLE ok)
@@ -88,12 +100,49 @@ foreach(line IN LISTS lines)
     set(failed 1)
   endif()
 endforeach()
+# The whole trajectory (every row and column of trajectory.csv) against
+# TRAJ_BASELINE: the same number of rows, every field a number, and each
+# within TRAJ_TOL (absolute; positions in m, counts exactly equal at any
+# tolerance below 1).
+if(DEFINED TRAJ_BASELINE)
+  if(NOT EXISTS ${TRAJ_BASELINE})
+    message(FATAL_ERROR "trajectory baseline ${TRAJ_BASELINE} is missing")
+  endif()
+  execute_process(COMMAND ${AWK} -F, -v tol=${TRAJ_TOL} "
+      FNR == 1 { next }
+      NR == FNR { for (i = 1; i <= NF; ++i) b[FNR, i] = $i; nb = FNR; nf = NF; next }
+      { n = FNR
+        if (NF != nf) { print \"row \" FNR \": \" NF \" fields, baseline \" nf; bad = 1; next }
+        for (i = 1; i <= NF; ++i) {
+          if ($i !~ /^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$/) { print \"row \" FNR \" field \" i \": '\" $i \"' is not a number\"; bad = 1; continue }
+          d = $i - b[FNR, i]; if (d < 0) d = -d
+          if (!(d <= tol)) { if (++shown <= 5) print \"row \" FNR \" field \" i \": \" $i \" against \" b[FNR, i]; bad = 1 }
+        } }
+      END { if (n != nb) { print n \" rows, baseline \" nb; bad = 1 }; exit bad }"
+    ${TRAJ_BASELINE} ${OUT}/trajectory.csv RESULT_VARIABLE bad OUTPUT_VARIABLE why)
+  if(NOT bad EQUAL 0)
+    message(SEND_ERROR "trajectory differs from ${TRAJ_BASELINE} beyond ${TRAJ_TOL}:\n${why}")
+    set(failed 1)
+  else()
+    message("  trajectory: every row within ${TRAJ_TOL} of ${TRAJ_BASELINE}")
+  endif()
+endif()
 # One physics check: when LIMIT is defined, awk evaluates CONDITION; if it
 # does not hold, MESSAGE is reported and the test fails.
 function(check_physics LIMIT CONDITION MESSAGE)
   if(NOT DEFINED ${LIMIT})
     return()
   endif()
+  # the condition's operands (the run's values and the limits) must be numbers
+  string(REGEX REPLACE "(<=|>=|&&)" ";" operands "${CONDITION}")
+  foreach(v IN LISTS operands)
+    string(STRIP "${v}" v)
+    if(NOT v MATCHES "${number_re}")
+      message(SEND_ERROR "${MESSAGE} ('${v}' is not a finite number)")
+      set(failed 1 PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
   execute_process(COMMAND ${AWK} "BEGIN { exit !(${CONDITION}) }" RESULT_VARIABLE ok)
   if(NOT ok EQUAL 0)
     message(SEND_ERROR "${MESSAGE}")

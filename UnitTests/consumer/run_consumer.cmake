@@ -1,22 +1,14 @@
 # Installs the built Talus into a scratch prefix, then builds and runs an
 # outside program against it twice: through find_package(Talus) and through
-# pkg-config.  Arguments: TALUS_BINARY_DIR, CONSUMER_SOURCE_DIR, WORK_DIR.
-file(REMOVE_RECURSE ${WORK_DIR})
-set(prefix ${WORK_DIR}/prefix)
-function(run)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  message(STATUS "${out}")
-endfunction()
-
-run(${CMAKE_COMMAND} --install ${TALUS_BINARY_DIR} --prefix ${prefix})
+# pkg-config.  Arguments: TALUS_OUT_OF_TREE (the path of
+# cmake/TalusOutOfTree.cmake), TALUS_BINARY_DIR, CONSUMER_SOURCE_DIR, WORK_DIR.
+include(${TALUS_OUT_OF_TREE})
+talus_install_scratch(${TALUS_BINARY_DIR} ${WORK_DIR} prefix)
 
 # find_package
-run(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WORK_DIR}/cmake-build -DCMAKE_PREFIX_PATH=${prefix})
-run(${CMAKE_COMMAND} --build ${WORK_DIR}/cmake-build)
-run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/lib ${WORK_DIR}/cmake-build/consumer -radius 0.25)
+talus_run(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE_DIR} -B ${WORK_DIR}/cmake-build -DCMAKE_PREFIX_PATH=${prefix})
+talus_run(${CMAKE_COMMAND} --build ${WORK_DIR}/cmake-build)
+talus_run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/lib ${WORK_DIR}/cmake-build/consumer -radius 0.25)
 
 # pkg-config
 find_program(PKG_CONFIG pkg-config REQUIRED)
@@ -28,5 +20,5 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "pkg-config does not find talus in ${prefix}/lib/pkgconfig")
 endif()
 separate_arguments(flags UNIX_COMMAND "${flags}")
-run(${CC} ${CONSUMER_SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer-pc ${flags})
-run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/lib ${WORK_DIR}/consumer-pc -radius 0.25)
+talus_run(${CC} ${CONSUMER_SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer-pc ${flags})
+talus_run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${prefix}/lib ${WORK_DIR}/consumer-pc -radius 0.25)

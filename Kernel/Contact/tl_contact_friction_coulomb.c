@@ -1,0 +1,78 @@
+/* Coulomb friction part: the frame-invariant tangential spring of seeds/004
+ * (Eqs. 22-26, tl_friction_force), cut to the cone mu <f_N>_+.  Its stiffness
+ * and damping are scaled per contact by the normal part's tangential scale
+ * (1 for a linear spring, sqrt(δ reff) for Hertz):
+ *   k_T = k_t scale,  c_T = (gamma_t m_eff + c_t) scale,
+ * with k_t = 0 meaning the normal part's default (2/7 k_n linear,
+ * 2 E / ((1 + ν)(2 - ν)) Hertz).  mu = 0 switches the part off (no history). */
+#include <math.h>
+#include <stddef.h>
+#include "tl_contact_kernels.h"
+#include "tl_contact_part.h"
+
+typedef struct {
+  TlContactPart base;
+  double mu, k_t_given, gamma_t, c_t;
+  double k_t; /* given or the normal part's default */
+} Coulomb;
+
+static const TlParam params[] = {
+    {"mu", 0.5, 0.0, 1e300, "", "Coulomb friction coefficient (0: no friction)", offsetof(Coulomb, mu)},
+    {"k_t", 0.0, 0.0, 1e300, "N/m/scale",
+     "tangential stiffness per unit of the normal part's scale (1 linear: N/m; sqrt(delta reff) hertz: Pa); "
+     "0: the normal part's default", offsetof(Coulomb, k_t_given)},
+    {"gamma_t", 0.0, 0.0, 1e300, "1/s/scale", "mass-proportional tangential damping, c_T = gamma_t m_eff scale",
+     offsetof(Coulomb, gamma_t)},
+    {"c_t", 0.0, 0.0, 1e300, "N s/m/scale", "tangential damping, c_T += c_t scale", offsetof(Coulomb, c_t)},
+};
+
+static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
+{
+  Coulomb *f = (Coulomb *)part;
+  part->active = f->mu > 0.0;
+  part->history_doubles = TL_FRICTION_HISTORY;
+  part->needs_rotation = 1;
+  if (!part->active) return TL_OK;
+  f->k_t = f->k_t_given;
+  if (!(f->k_t > 0.0) && normal->ops->tangential_stiffness) f->k_t = normal->ops->tangential_stiffness(normal);
+  if (!(f->k_t > 0.0) || !isfinite(f->k_t))
+    TL_ERROR(TL_ERR_ARG,
+             "coulomb friction part: tangential stiffness k_t = %g must be positive and finite; the normal part "
+             "'%s' gives no default (set k_t, or what the normal part derives it from)",
+             f->k_t, normal->ops->header.name);
+  return TL_OK;
+}
+
+static inline void coulomb_loop(const TlContactPart *part, TlContactChunk *c)
+{
+  const Coulomb *cf = (const Coulomb *)part;
+  const double kt = cf->k_t, gamma_t = cf->gamma_t, c_t = cf->c_t, mu = cf->mu, dt = c->dt;
+  const size_t off = part->history_offset;
+  const int want = c->want_energy;
+  for (size_t q = 0; q < c->n; ++q) {
+    if (!c->on[q]) continue;
+    const double fn = c->fn[q], s = c->scale[q];
+    const double fn_plus = fn > 0.0 ? fn : 0.0;
+    double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;
+    if (c_t > 0.0) ct += c_t * s;
+    c->force[q] = tl_v3_add(c->force[q], tl_friction_force(c->history[q] + off, c->normal[q], c->vrel[q],
+                                                           c->spin_mean[q], kt * s, ct, mu, fn_plus, dt,
+                                                           want ? &et : NULL));
+    if (want) c->energy[q] += et;
+  }
+}
+TL_CONTACT_PART_LOOPS(coulomb, coulomb_loop)
+
+static double coulomb_max_stiffness(const TlContactPart *part, double reff, double overlap)
+{
+  const TlContactPart *n = part->normal;
+  return ((const Coulomb *)part)->k_t * n->ops->tangential_scale(n, reff, overlap);
+}
+
+static const TlContactPartOps coulomb_ops = {
+    {"contact_friction", "coulomb", "Coulomb friction with the objective tangential history of seeds/004"},
+    sizeof(Coulomb), (int)(sizeof params / sizeof params[0]), params, coulomb_setup, coulomb_evaluate,
+    coulomb_evaluate_hot, NULL, NULL, NULL, NULL, coulomb_max_stiffness, NULL};
+
+TlStatus tl_contact_register_coulomb(void);
+TlStatus tl_contact_register_coulomb(void) { return tl_contact_part_register(&coulomb_ops); }

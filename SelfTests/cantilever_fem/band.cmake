@@ -1,0 +1,22 @@
+# Runs DRIVER with ARGS and checks that the summary line's KEY lies in
+# [LO, HI]: a two-sided band around a measured value (a one-sided |x| <= tol
+# lets a change in one direction pass).  The value must be a finite number.
+separate_arguments(args UNIX_COMMAND "${ARGS}")
+execute_process(COMMAND ${DRIVER} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${DRIVER} failed (exit ${rc})")
+endif()
+string(REGEX MATCH "summary:[^\n]*" summary "${out}")
+if(NOT summary MATCHES " ${KEY}=([^ \n]+)")
+  message(FATAL_ERROR "no ${KEY} in the summary line: ${summary}")
+endif()
+set(v "${CMAKE_MATCH_1}")
+if(NOT v MATCHES "^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$")
+  message(FATAL_ERROR "${KEY} = '${v}' is not a finite number")
+endif()
+execute_process(COMMAND ${AWK} "BEGIN { exit !(${v} >= ${LO} && ${v} <= ${HI}) }" RESULT_VARIABLE bad)
+if(NOT bad EQUAL 0)
+  message(FATAL_ERROR "${KEY} = ${v} outside [${LO}, ${HI}]")
+endif()
+message("${KEY} = ${v} in [${LO}, ${HI}]")
