@@ -162,6 +162,29 @@ TlStatus tl_h5_group(TlH5File *file, const char *path)
   return TL_OK;
 }
 
+/* Creation properties of an array: chunked (at most 2^20 elements a chunk)
+ * with the Fletcher32 checksum, which HDF5 verifies on every read, so a
+ * corrupted file is refused instead of read as values.  Scalars and empty
+ * arrays cannot be chunked: contiguous, without checksum. */
+static hid_t tl_h5_dcpl(int rank, const hsize_t *dims)
+{
+  hsize_t count = 1, row = 1;
+  for (int i = 0; i < rank; ++i) count *= dims[i];
+  if (rank == 0 || count == 0) return H5P_DEFAULT;
+  for (int i = 1; i < rank; ++i) row *= dims[i];
+  hsize_t chunk[TL_H5_MAX_RANK];
+  for (int i = 0; i < rank; ++i) chunk[i] = dims[i];
+  hsize_t rows = ((hsize_t)1 << 20) / row;
+  chunk[0] = rows < 1 ? 1 : rows < dims[0] ? rows : dims[0];
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (dcpl < 0) return dcpl;
+  if (H5Pset_chunk(dcpl, rank, chunk) < 0 || H5Pset_fletcher32(dcpl) < 0) {
+    H5Pclose(dcpl);
+    return H5I_INVALID_HID;
+  }
+  return dcpl;
+}
+
 TlStatus tl_h5_write(TlH5File *file, const char *path, hid_t memtype, int rank, const hsize_t *dims,
                      const void *data)
 {
@@ -174,9 +197,10 @@ TlStatus tl_h5_write(TlH5File *file, const char *path, hid_t memtype, int rank, 
   if (count > 0 && !data) TL_ERROR(TL_ERR_ARG, "dataset '%s' of '%s': no data given", path, file->path);
   hid_t space = rank == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(rank, dims, NULL);
   if (space < 0) return TL_H5_FAIL(file, "create dataspace for", path);
-  hid_t lcpl = tl_h5_lcpl();
-  hid_t d = H5Dcreate2(file->id, path, memtype, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t lcpl = tl_h5_lcpl(), dcpl = tl_h5_dcpl(rank, dims);
+  hid_t d = dcpl < 0 ? H5I_INVALID_HID : H5Dcreate2(file->id, path, memtype, space, lcpl, dcpl, H5P_DEFAULT);
   H5Pclose(lcpl);
+  if (dcpl >= 0 && dcpl != H5P_DEFAULT) H5Pclose(dcpl);
   H5Sclose(space);
   if (d < 0) return TL_H5_FAIL(file, "create dataset", path);
   herr_t e = count > 0 ? H5Dwrite(d, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
@@ -246,7 +270,8 @@ TlStatus tl_h5_read(const TlH5File *file, const char *path, hid_t memtype, int r
   TL_CHECK(tl_h5_open_dataset(file, path, &d));
   herr_t e = H5Dread(d, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
   H5Dclose(d);
-  if (e < 0) return TL_H5_FAIL(file, "read dataset", path);
+  /* a Fletcher32 mismatch fails the read (HDF5 checks by default) */
+  if (e < 0) return TL_H5_FAIL(file, "read dataset (corrupted? its checksum is verified)", path);
   return TL_OK;
 }
 
