@@ -12,7 +12,6 @@
  *    refuses it.
  * The unchanged file loads.  Each change is written with HDF5 itself (so the
  * checksum is recomputed: the loader's checks, not the checksum, catch it). */
-#include <hdf5.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,6 +20,7 @@
 #include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_test.h"
+#include "tl_test_h5.h"
 
 static TlStatus build(TlDem **out)
 {
@@ -54,44 +54,6 @@ static TlStatus build(TlDem **out)
   return TL_OK;
 }
 
-static void copy_file(const char *from, const char *to)
-{
-  FILE *f = fopen(from, "rb"), *g = fopen(to, "wb");
-  if (f && g) {
-    char buf[65536];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, f)) > 0) fwrite(buf, 1, n, g);
-  }
-  if (f) fclose(f);
-  if (g) fclose(g);
-}
-
-/* Sets element k of a double or int64 dataset (scalars: k = 0) in place. */
-static int set_value(const char *file, const char *dataset, size_t k, double value, int is_int)
-{
-  hid_t f = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
-  if (f < 0) return 0;
-  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
-  int ok = 0;
-  if (d >= 0) {
-    hid_t sp = H5Dget_space(d);
-    hssize_t n = H5Sget_simple_extent_npoints(sp);
-    H5Sclose(sp);
-    hid_t type = is_int ? H5T_NATIVE_INT64 : H5T_NATIVE_DOUBLE;
-    size_t size = is_int ? sizeof(int64_t) : sizeof(double);
-    char *buf = calloc((size_t)n + 1, size);
-    if (n > (hssize_t)k && H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0) {
-      if (is_int) ((int64_t *)buf)[k] = (int64_t)value;
-      else ((double *)buf)[k] = value;
-      ok = H5Dwrite(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0;
-    }
-    free(buf);
-    H5Dclose(d);
-  }
-  H5Fclose(f);
-  return ok;
-}
-
 /* Loads `file` into a freshly built world; returns the status. */
 static TlStatus load(const char *file)
 {
@@ -112,40 +74,14 @@ static TlStatus load(const char *file)
 
 static void refused(const char *dataset, size_t k, double value, int is_int, const char *fragment)
 {
-  copy_file("good.h5", "changed.h5");
-  int set = set_value("changed.h5", dataset, k, value, is_int);
+  tl_test_copy_file("good.h5", "changed.h5");
+  int set = tl_test_h5_set("changed.h5", dataset, k, value, is_int);
   TL_TEST_ASSERT(set, "cannot change %s[%zu] in the test file", dataset, k);
   if (!set) return;
   TlStatus s = load("changed.h5");
   TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), fragment),
                  "%s[%zu] = %g: status %d, message '%s' (expected it to name '%s')", dataset, k, value, (int)s,
                  tl_error_message(), fragment);
-}
-
-/* Flips one byte in the stored data of a chunked dataset. */
-static int flip_stored_byte(const char *file, const char *dataset)
-{
-  hid_t f = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return 0;
-  hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
-  haddr_t addr = HADDR_UNDEF;
-  hsize_t size = 0;
-  if (d >= 0) {
-    hsize_t coord[2] = {0, 0};
-    unsigned mask = 0;
-    H5Dget_chunk_info_by_coord(d, coord, &mask, &addr, &size);
-    H5Dclose(d);
-  }
-  H5Fclose(f);
-  if (addr == HADDR_UNDEF || size < 16) return 0;
-  FILE *g = fopen(file, "r+b");
-  if (!g) return 0;
-  fseek(g, (long)(addr + 9), SEEK_SET);
-  int c = fgetc(g);
-  fseek(g, (long)(addr + 9), SEEK_SET);
-  fputc(c ^ 0x20, g);
-  fclose(g);
-  return 1;
 }
 
 int main(void)
@@ -177,8 +113,8 @@ int main(void)
   refused("/dem/steps", 0, -3, 1, "dem/steps = -3");
 
   /* A flipped byte in stored data: the checksum. */
-  copy_file("good.h5", "flipped.h5");
-  int flipped = flip_stored_byte("flipped.h5", "/dem/particles/v");
+  tl_test_copy_file("good.h5", "flipped.h5");
+  int flipped = tl_test_flip_stored_byte("flipped.h5", "/dem/particles/v");
   TL_TEST_ASSERT(flipped, "cannot locate the stored velocities (not chunked?)");
   if (flipped) {
     TlStatus s = load("flipped.h5");
