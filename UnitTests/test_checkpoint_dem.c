@@ -8,8 +8,8 @@
  *  - a negative contact count, a negative touching count, a negative step
  *    count;
  *  - a negative time step, a time step above the critical one, a NaN time;
- *  - a flipped byte in a dataset's stored data: the Fletcher32 checksum
- *    refuses it.
+ *  - a flipped byte in a dataset's stored data: the whole-file checksum
+ *    refuses it, and with that renewed, the dataset's Fletcher32 checksum.
  * The unchanged file loads.  Each change is written with HDF5 itself (so the
  * checksum is recomputed: the loader's checks, not the checksum, catch it). */
 #include <math.h>
@@ -113,13 +113,19 @@ int main(void)
   refused("/dem/steps", 0, -3, 1, "dem/steps = -3");
 
   /* A flipped byte in stored data: the checksum. */
+  /* A flipped byte in stored data: the whole-file checksum refuses it; with
+   * that checksum renewed, the dataset's Fletcher32 checksum does. */
   tl_test_copy_file("good.h5", "flipped.h5");
   int flipped = tl_test_flip_stored_byte("flipped.h5", "/dem/particles/v");
-  TL_TEST_ASSERT(flipped, "cannot locate the stored velocities (not chunked?)");
+  TL_TEST_ASSERT(flipped, "cannot locate the stored data of /dem/particles/v (not chunked?)");
   if (flipped) {
     TlStatus s = load("flipped.h5");
-    TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), "dem/particles/v"),
+    TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), "flipped.h5' is corrupted"),
                    "a flipped byte: status %d, message '%s'", (int)s, tl_error_message());
+    TL_TEST_STATUS(tl_h5_seal("flipped.h5"), TL_OK);
+    s = load("flipped.h5");
+    TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), "dem/particles/v") && strstr(tl_error_message(), "checksum"),
+                   "a flipped byte, resealed: status %d, message '%s'", (int)s, tl_error_message());
   }
   return tl_test_report();
 }

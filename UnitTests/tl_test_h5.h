@@ -1,10 +1,13 @@
 /* Test helpers that change a checkpoint file behind the library's back:
- * through HDF5 itself (a value changed, the checksum recomputed) or as raw
- * bytes (a flipped byte, the checksum left stale). */
+ * through HDF5 itself (a value changed, every checksum recomputed) or as raw
+ * bytes (a flipped byte, the checksums left stale; tl_h5_seal then renews
+ * the whole-file one, leaving the dataset's Fletcher32 stale). */
 #ifndef TL_TEST_H5_H
 #define TL_TEST_H5_H
 
 #include <hdf5.h>
+
+#include "tl_hdf5_util.h"
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -44,7 +47,9 @@ static inline int tl_test_h5_set(const char *file, const char *dataset, size_t k
     H5Dclose(d);
   }
   H5Fclose(f);
-  return ok;
+  /* the whole-file checksum follows the change: the loader's checks must
+   * catch the value itself */
+  return ok && tl_h5_seal(file) == TL_OK;
 }
 
 /* Flips one byte in the stored data of a chunked dataset. */
@@ -61,6 +66,11 @@ static inline int tl_test_flip_stored_byte(const char *file, const char *dataset
     H5Dget_chunk_info_by_coord(d, coord, &mask, &addr, &size);
     H5Dclose(d);
   }
+  /* chunk addresses count from the end of the user block */
+  hsize_t userblock = 0;
+  hid_t fcpl = H5Fget_create_plist(f);
+  if (fcpl >= 0) H5Pget_userblock(fcpl, &userblock), H5Pclose(fcpl);
+  if (addr != HADDR_UNDEF) addr += userblock;
   H5Fclose(f);
   if (addr == HADDR_UNDEF || size < 16) return 0;
   FILE *g = fopen(file, "r+b");

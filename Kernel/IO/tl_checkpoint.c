@@ -36,7 +36,7 @@ TlStatus tl_checkpoint_writer_open(const char *path, TlCheckpointWriter **writer
   *writer = NULL;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_h5_create(path, &w->file), fail);
+  TL_CHECK_GOTO(s, tl_h5_create_sealed(path, &w->file), fail);
   TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&w->file, "/", "talus_checkpoint_version", TL_CHECKPOINT_VERSION), fail);
   *writer = w;
   return TL_OK;
@@ -115,7 +115,7 @@ TlStatus tl_checkpoint_reader_open(const char *path, TlCheckpointReader **reader
   *reader = NULL;
   TL_CHECK(TL_NEW(r));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_h5_open(path, &r->file), fail);
+  TL_CHECK_GOTO(s, tl_h5_open_sealed(path, &r->file), fail);
   int64_t version = 0;
   if (tl_h5_attr_read_int64(&r->file, "/", "talus_checkpoint_version", &version) != TL_OK) {
     s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,

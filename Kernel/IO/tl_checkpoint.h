@@ -16,6 +16,11 @@
  * named section, then writes all of them with tl_checkpoint_save() and
  * restores them with tl_checkpoint_load().
  *
+ * Integrity: the file starts with a 512-byte block holding its size and a
+ * checksum, verified before HDF5 reads anything (tl_hdf5_util.h); every array
+ * also carries HDF5's Fletcher32 checksum; and every module's load() checks
+ * the values it restores (tl_checkpoint_check_*).
+ *
  * File layout (docs/output.md):
  *   /               attributes talus_checkpoint_version (int64), time
  *                   (double), step (int64), sections (string array)
