@@ -324,8 +324,8 @@ static TlStatus parse(Reader *r, GmshData *g)
       TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected a section header ($Name), found '%s'", r->path,
                r->tok_line, r->tok);
     if (!strcmp(r->tok, "$MeshFormat")) {
-      double version;
-      long ftype, dsize;
+      double version = 0.0;
+      long ftype = 0, dsize = 0;
       TL_CHECK(read_double(r, "format version", &version));
       int vline = r->tok_line;
       TL_CHECK(read_long(r, "file type", 0, 1, &ftype));

@@ -417,7 +417,7 @@ TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const ch
     if (len >= sizeof tok) TL_ERROR(TL_ERR_ARG, "option %s: value %d of '%s' is too long", name, *count + 1, src);
     memcpy(tok, p, len);
     tok[len] = '\0';
-    double v;
+    double v = 0.0;
     TL_CHECK(tl_parse_real(name, tok, &v));
     TL_CHECK(tl_check_range(name, v, lo, hi, unit));
     values[(*count)++] = v;
