@@ -79,7 +79,12 @@ static herr_t collect(hid_t obj, const char *name, const H5O_info_t *info, void 
   return 0;
 }
 
-static char good[64];
+static char good[64], edited[64];
+static void remove_files(void)
+{
+  unlink(good);
+  unlink(edited);
+}
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
@@ -87,6 +92,8 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
   tl_fuzz_init();
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   snprintf(good, sizeof good, "fuzz_ckpt_good.%ld", (long)getpid());
+  snprintf(edited, sizeof edited, "fuzz_ckpt_edit.%ld", (long)getpid());
+  atexit(remove_files);
   TlDem *dem = NULL;
   TlCheckpoint *cp = NULL;
   if (build(&dem) != TL_OK || tl_dem_step(dem, 200) != TL_OK || tl_checkpoint_create(&cp) != TL_OK ||
@@ -148,10 +155,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (path) (void)load(path);
     return 0;
   }
-  char path[64];
-  snprintf(path, sizeof path, "fuzz_ckpt_edit.%ld", (long)getpid());
-  copy(good, path);
-  edit(path, data, size);
-  (void)load(path);
+  copy(good, edited);
+  edit(edited, data, size);
+  (void)load(edited);
   return 0;
 }

@@ -10,11 +10,16 @@
 
 #include "talus.h"
 
-/* Writes the input to "<stem>.<pid>" and returns that name (static). */
+static char tl_fuzz_path[256];
+static void tl_fuzz_remove(void) { unlink(tl_fuzz_path); }
+
+/* Writes the input to "<stem>.<pid>" and returns that name (static; removed
+ * at exit). */
 static const char *tl_fuzz_file(const char *stem, const uint8_t *data, size_t size)
 {
-  static char path[256];
-  snprintf(path, sizeof path, "%s.%ld", stem, (long)getpid());
+  char *path = tl_fuzz_path;
+  if (!path[0]) atexit(tl_fuzz_remove);
+  snprintf(path, sizeof tl_fuzz_path, "%s.%ld", stem, (long)getpid());
   FILE *f = fopen(path, "wb");
   if (!f) return NULL;
   if (size) fwrite(data, 1, size, f);

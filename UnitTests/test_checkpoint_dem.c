@@ -6,7 +6,8 @@
  *    position far outside the periodic cell, a negative radius, a mass that
  *    disagrees with its inverse;
  *  - a negative contact count, a negative touching count, a negative step
- *    count;
+ *    count, particle and contact counts beyond the stored arrays (they
+ *    sized allocations of tens of GB);
  *  - a negative time step, a time step above the critical one, a NaN time;
  *  - a flipped byte in a dataset's stored data: the whole-file checksum
  *    refuses it, and with that renewed, the dataset's Fletcher32 checksum.
@@ -107,6 +108,9 @@ int main(void)
   refused("/dem/particles/mass", 7, 1.0, 0, "particle 7 has mass 1");
   refused("/dem/contacts/n", 0, -5, 1, "dem/contacts/n = -5 outside");
   refused("/dem/n_touching", 0, -1, 1, "n_touching");
+  /* counts that used to size allocations of tens of GB (found by fuzzing) */
+  refused("/dem/contacts/n", 0, 4e9, 1, "dem/contacts/n = 4000000000 does not match the stored force");
+  refused("/dem/particles/n", 0, 4e9, 1, "dem/particles/n = 4000000000 does not match the stored x");
   refused("/dem/dt", 0, -4e-5, 0, "dem/dt = -4e-05 outside");
   refused("/dem/dt", 0, 1.0, 0, "exceeds the critical time step");
   refused("/dem/t", 0, NAN, 0, "dem/t = nan");

@@ -20,6 +20,20 @@ static TlStatus save_list(const TlContactList *L, TlCheckpointWriter *w, const c
   return TL_OK;
 }
 
+/* A count read from the file sizes allocations only once the array it
+ * counts is stored with that length. */
+static TlStatus check_stored_length(TlCheckpointReader *r, const char *group, const char *name, size_t expect,
+                                    const char *count_name, int64_t count)
+{
+  size_t have = 0;
+  TL_CHECK(tl_checkpoint_length(r, group, name, &have));
+  if (have != expect)
+    TL_ERROR(TL_ERR_FORMAT, "%s: %s/%s = %lld does not match the stored %s (%zu values, %zu expected)",
+             tl_checkpoint_reader_path(r), group[0] == '/' ? group + 1 : group, count_name, (long long)count, name,
+             have, expect);
+  return TL_OK;
+}
+
 static TlStatus load_list(TlContactList *L, TlCheckpointReader *r, const char *group, int n_laws, int may_be_unbuilt)
 {
   const char *path = tl_checkpoint_reader_path(r);
@@ -37,6 +51,7 @@ static TlStatus load_list(TlContactList *L, TlCheckpointReader *r, const char *g
   }
   if (n64 > (int64_t)UINT32_MAX) TL_ERROR(TL_ERR_ARG, "%s: '%s' holds %lld contacts (limit %u)", path, group, (long long)n64, UINT32_MAX);
   size_t n = (size_t)n64;
+  TL_CHECK(check_stored_length(r, group, "force", 3 * n, "n", n64));
   TL_CHECK(tl_contact_list_reserve(L, n));
   TL_CHECK(tl_checkpoint_read_bytes(r, group, "i", n * sizeof *L->i, L->i));
   TL_CHECK(tl_checkpoint_read_bytes(r, group, "j", n * sizeof *L->j, L->j));
@@ -267,6 +282,7 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
   if (!P->f_ext && tl_checkpoint_has(r, sub, "f_ext")) TL_CHECK(tl_particles_enable_external_force(P));
   if (tl_checkpoint_has(r, sub, "f_coupling")) TL_CHECK(tl_particles_enable_coupling_force(P));
   if (tl_checkpoint_has(r, sub, "weight")) TL_CHECK(tl_particles_enable_weights(P));
+  TL_CHECK(check_stored_length(r, sub, "x", 3 * n, "n", n64));
   TL_CHECK(tl_particles_reserve(P, n));
   TL_CHECK(tl_checkpoint_read_int64(r, sub, "next_id", &P->next_id));
   TL_CHECK(tl_checkpoint_read_doubles(r, sub, "x", 3 * n, (double *)P->x));
