@@ -356,7 +356,6 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
         if (lists[q]->i[k] >= n || lists[q]->j[k] >= n)
           TL_ERROR(TL_ERR_ARG, "%s: contact %zu joins particles %u and %u; there are %zu", path, k, lists[q]->i[k],
                    lists[q]->j[k], n);
-  TL_CHECK(tl_checkpoint_check_count(r, group, "n_touching", (int64_t)d->n_touching, 0, (int64_t)d->list.n));
   TL_CHECK(tl_dem_make_chunks(&d->list, &d->chunks, &d->chunks_cap, &d->n_chunks));
   if (d->bonds.n != (size_t)-1) {
     if (d->bonds.n) TL_CHECK(tl_contact_list_index(&d->bonds, 0));
