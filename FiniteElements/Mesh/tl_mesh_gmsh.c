@@ -196,11 +196,16 @@ static TlStatus read_entities(Reader *r, GmshData *g)
   return TL_OK;
 }
 
+/* Bytes left in the file: a count announced in a header cannot exceed what
+ * the rest of the file can hold (each item takes at least two bytes), so a
+ * corrupt header is refused before it sizes an allocation. */
+static long bytes_left(const Reader *r) { return (long)(r->len - r->pos); }
+
 static TlStatus read_nodes(Reader *r, GmshData *g)
 {
   long nblocks, nnodes, min_tag, max_tag;
   TL_CHECK(read_long(r, "number of node blocks", 0, 100000000, &nblocks));
-  TL_CHECK(read_long(r, "number of nodes", 0, 1000000000, &nnodes));
+  TL_CHECK(read_long(r, "number of nodes", 0, bytes_left(r) / 2, &nnodes));
   TL_CHECK(read_long(r, "smallest node tag", 0, LONG_MAX, &min_tag));
   TL_CHECK(read_long(r, "largest node tag", 0, 4 * (nnodes + 1000000L), &max_tag));
   TL_CHECK(tl_calloc(&g->node_tag_to_index, max_tag + 1, sizeof(long)));
@@ -209,14 +214,14 @@ static TlStatus read_nodes(Reader *r, GmshData *g)
   TL_CHECK(tl_calloc(&g->x, 3 * (nnodes ? nnodes : 1), sizeof(double)));
   long *tags = NULL;
   size_t done = 0;
-  for (long b = 0; b < nblocks; ++b) {
-    long edim, etag, parametric, n;
-    TL_CHECK(read_long(r, "entity dimension", 0, 3, &edim));
-    TL_CHECK(read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag));
-    TL_CHECK(read_long(r, "parametric flag", 0, 1, &parametric));
-    TL_CHECK(read_long(r, "nodes in block", 0, nnodes - (long)done, &n));
-    TL_CHECK(tl_realloc(&tags, n ? n : 1, sizeof(long)));
-    TlStatus s = TL_OK;
+  TlStatus s = TL_OK;
+  for (long b = 0; b < nblocks && s == TL_OK; ++b) {
+    long edim, etag, parametric, n = 0;
+    s = read_long(r, "entity dimension", 0, 3, &edim);
+    if (s == TL_OK) s = read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag);
+    if (s == TL_OK) s = read_long(r, "parametric flag", 0, 1, &parametric);
+    if (s == TL_OK) s = read_long(r, "nodes in block", 0, nnodes - (long)done, &n);
+    if (s == TL_OK) s = tl_realloc(&tags, n ? n : 1, sizeof(long));
     for (long i = 0; i < n && s == TL_OK; ++i) {
       s = read_long(r, "node tag", 1, max_tag, &tags[i]);
       if (s == TL_OK && g->node_tag_to_index[tags[i]] >= 0)
@@ -231,13 +236,10 @@ static TlStatus read_nodes(Reader *r, GmshData *g)
         s = read_double(r, "parametric coordinate", &u);
       }
     }
-    if (s != TL_OK) {
-      tl_free(&tags);
-      return tl_error_trace(s, __FILE__, __LINE__);
-    }
-    done += n;
+    if (s == TL_OK) done += n;
   }
   tl_free(&tags);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
   if ((long)done != nnodes)
     TL_ERROR(TL_ERR_FORMAT, "%s line %d: the node blocks hold %zu nodes, the header announced %ld",
              r->path, r->line, done, nnodes);
@@ -250,7 +252,7 @@ static TlStatus read_elements(Reader *r, GmshData *g)
 {
   long nblocks, nel, min_tag, max_tag;
   TL_CHECK(read_long(r, "number of element blocks", 0, 100000000, &nblocks));
-  TL_CHECK(read_long(r, "number of elements", 0, 1000000000, &nel));
+  TL_CHECK(read_long(r, "number of elements", 0, bytes_left(r) / 2, &nel));
   TL_CHECK(read_long(r, "smallest element tag", 0, LONG_MAX, &min_tag));
   TL_CHECK(read_long(r, "largest element tag", 0, LONG_MAX, &max_tag));
   TL_CHECK(tl_calloc(&g->elements, nel ? nel : 1, sizeof(RawElement)));
@@ -322,8 +324,8 @@ static TlStatus parse(Reader *r, GmshData *g)
       TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected a section header ($Name), found '%s'", r->path,
                r->tok_line, r->tok);
     if (!strcmp(r->tok, "$MeshFormat")) {
-      double version;
-      long ftype, dsize;
+      double version = 0.0;
+      long ftype = 0, dsize = 0;
       TL_CHECK(read_double(r, "format version", &version));
       int vline = r->tok_line;
       TL_CHECK(read_long(r, "file type", 0, 1, &ftype));
@@ -357,13 +359,18 @@ static TlStatus parse(Reader *r, GmshData *g)
       }
       TL_CHECK(expect(r, "$EndPhysicalNames"));
     } else if (!strcmp(r->tok, "$Entities")) {
+      if (g->n_entities) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Entities section", r->path, r->tok_line);
       TL_CHECK(read_entities(r, g));
     } else if (!strcmp(r->tok, "$Nodes")) {
+      /* One node and one element section: a second would replace the node
+       * numbering the elements already read refer to. */
+      if (have_nodes) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Nodes section", r->path, r->tok_line);
       TL_CHECK(read_nodes(r, g));
       have_nodes = 1;
     } else if (!strcmp(r->tok, "$Elements")) {
       if (!have_nodes)
         TL_ERROR(TL_ERR_FORMAT, "%s line %d: $Elements before $Nodes", r->path, r->tok_line);
+      if (have_elements) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Elements section", r->path, r->tok_line);
       TL_CHECK(read_elements(r, g));
       have_elements = 1;
     } else {

@@ -35,6 +35,7 @@ static TlStatus solid_checkpoint_load(void *object, TlCheckpointReader *r, const
     char name[64];
     snprintf(name, sizeof name, "block%d_state", b);
     TL_CHECK(tl_checkpoint_read_doubles(r, group, name, n, B->state_old));
+    TL_CHECK(tl_checkpoint_check_finite(r, group, name, n, B->state_old));
     if (n) memcpy(B->state_new, B->state_old, n * sizeof(double));
   }
   return TL_OK;

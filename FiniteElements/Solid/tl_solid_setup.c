@@ -237,6 +237,13 @@ TlStatus tl_solid_setup(TlSolid *s)
   for (int b = 0; b < mesh->n_blocks; ++b)
     if (s->blocks[b].material->state_size > maxss) maxss = s->blocks[b].material->state_size;
   size_t npts = (size_t)CHUNK * s->max_nq, nd = s->max_nd;
+  /* DB also holds the nn x nn consistent element mass (tl_solid_system.c),
+   * larger than 6 nd for elements of more than 6 dim nodes (Hex27: 729 > 486). */
+  size_t ndb = 6 * nd;
+  for (int b = 0; b < mesh->n_blocks; ++b) {
+    size_t nn = (size_t)s->blocks[b].nn;
+    if (nn * nn > ndb) ndb = nn * nn;
+  }
   for (int t = 0; t < s->n_threads; ++t) {
     Scratch *w = &s->scratch[t];
     TL_CHECK(tl_calloc(&w->F, npts, sizeof(TlMat3)));
@@ -250,7 +257,7 @@ TlStatus tl_solid_setup(TlSolid *s)
     TL_CHECK(tl_calloc(&w->fe, nd, sizeof(double)));
     TL_CHECK(tl_calloc(&w->Ke, nd * nd, sizeof(double)));
     TL_CHECK(tl_calloc(&w->B, 6 * nd, sizeof(double)));
-    TL_CHECK(tl_calloc(&w->DB, 6 * nd, sizeof(double)));
+    TL_CHECK(tl_calloc(&w->DB, ndb, sizeof(double)));
     TL_CHECK(tl_calloc(&w->ue, nd, sizeof(double)));
     TL_CHECK(tl_calloc(&w->dofs, nd, sizeof(TlSparseIndex)));
   }

@@ -86,7 +86,7 @@ static TlStatus op_consistent_mass(TlMechSystem *sys, double c, TlSparse *M)
   TlSolid *s = (TlSolid *)sys;
   int dim = s->dim;
   int indexed = M->elem_pos_ptr && M->n_elements == (TlSparseIndex)s->n_pattern;
-  double *Mab = s->scratch[0].DB, *Me = s->scratch[0].Ke; /* nn^2 <= 6 nd */
+  double *Mab = s->scratch[0].DB, *Me = s->scratch[0].Ke; /* DB sized max(6 nd, nn^2) */
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     const SolidBlock *B = &s->blocks[b];
     int nn = B->nn, nd = B->nd;

@@ -5,6 +5,7 @@
  * f_ext (the start-of-step external force of the work integral), W_ext, the
  * last dt (kept factors are dropped when it changes), the explicit
  * stepper's critical step and energy budget, and the kept factors. */
+#include <limits.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -48,6 +49,30 @@ static TlStatus stepper_save(const void *object, TlCheckpointWriter *w, const ch
   return TL_OK;
 }
 
+/* The state as the stepper would have made it: a finite time, a finite
+ * last step >= 0 (0 before the first step; no larger than the critical step
+ * of an explicit scheme that computed one, unless allowed), finite vectors, work and budget, non-negative counters. */
+static TlStatus check_state(const TlStepper *st, TlCheckpointReader *r, const char *group, int64_t steps,
+                            int64_t rejected)
+{
+  size_t n = (size_t)st->n;
+  TL_CHECK(tl_checkpoint_check_range(r, group, "t", st->t, -1e300, 1e300));
+  TL_CHECK(tl_checkpoint_check_range(r, group, "dt", st->dt, 0.0, 1e300));
+  TL_CHECK(tl_checkpoint_check_positive(r, group, "dt_crit", 1, &st->dt_crit, 1));
+  if (st->dt_crit > 0.0 && !st->opt.allow_unstable && st->dt > st->dt_crit * (1.0 + 1e-12))
+    TL_ERROR(TL_ERR_FORMAT, "%s: %s/dt = %g s exceeds the saved critical step dt_crit = %g s",
+             tl_checkpoint_reader_path(r), group, st->dt, st->dt_crit);
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "u", n, st->u));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "v", n, st->v));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "a", n, st->a));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "f_ext", n, st->f_ext));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "external_work", 1, &st->W_ext));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "energy_budget", 1, &st->energy_budget));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "steps", steps, 0, LONG_MAX));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "rejected", rejected, 0, LONG_MAX));
+  return TL_OK;
+}
+
 static TlStatus stepper_load(void *object, TlCheckpointReader *r, const char *group)
 {
   TlStepper *st = object;
@@ -80,6 +105,7 @@ static TlStatus stepper_load(void *object, TlCheckpointReader *r, const char *gr
   TL_CHECK(tl_checkpoint_read_double(r, group, "energy_budget", &st->energy_budget));
   TL_CHECK(tl_checkpoint_read_int64(r, group, "steps", &steps));
   TL_CHECK(tl_checkpoint_read_int64(r, group, "rejected", &rejected));
+  TL_CHECK(check_state(st, r, group, steps, rejected));
   st->stats.steps = (long)steps;
   st->stats.rejected = (long)rejected;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "factored", &factored));

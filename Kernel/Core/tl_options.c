@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "tl_log.h"
 #include "tl_memory.h"
@@ -40,10 +41,15 @@ static char *tl_options_strdup(const char *s)
   return d;
 }
 
-/* An option name is '-' followed by a letter: "-0.5" and "-1e3" are values. */
+/* An option name is '-' followed by a letter: "-0.5" and "-1e3" are values,
+ * and so are "-nan" and "-inf" (whole numbers to strtod), which the getters
+ * then refuse as not finite rather than as a missing value. */
 static int tl_is_option_name(const char *s)
 {
-  return s[0] == '-' && (isalpha((unsigned char)s[1]) || s[1] == '_');
+  if (!(s[0] == '-' && (isalpha((unsigned char)s[1]) || s[1] == '_'))) return 0;
+  char *end = NULL;
+  (void)strtod(s, &end);
+  return !(end && end != s && *end == '\0');
 }
 
 static TlOptionEntry *tl_find(TlOptions *o, const char *name)
@@ -159,6 +165,11 @@ void tl_options_destroy(TlOptions **options)
 
 TlStatus tl_options_insert_file(TlOptions *o, const char *path)
 {
+  /* A directory opens (and reads as empty) on some systems: only a regular
+   * file, or a pipe or device such as /dev/stdin, is an options file. */
+  struct stat st;
+  if (stat(path, &st) != 0) TL_ERROR(TL_ERR_IO, "cannot open options file '%s': %s", path, strerror(errno));
+  if (S_ISDIR(st.st_mode)) TL_ERROR(TL_ERR_IO, "options file '%s' is a directory, not a file", path);
   FILE *f = fopen(path, "r");
   if (!f) TL_ERROR(TL_ERR_IO, "cannot open options file '%s': %s", path, strerror(errno));
   /* File entries go in first-come; command-line entries already present win. */
@@ -197,6 +208,8 @@ TlStatus tl_options_insert_file(TlOptions *o, const char *path)
     }
     if ((s = tl_add_entry(o, name, value, source, 0))) break;
   }
+  if (s == TL_OK && ferror(f))
+    s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "cannot read options file '%s' (after line %d)", path, lineno);
 done:
   for (size_t k = 0; k < n_seen; ++k) free(seen[k]);
   free(seen);
@@ -381,23 +394,43 @@ TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, 
   return TL_OK;
 }
 
-TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
-                                  const char *help, double *values, int max, int *count)
+TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const char *def, double lo, double hi,
+                                        const char *unit, const char *help, double *values, int max, int *count)
 {
   TL_CHECK(tl_document(o, name, "<real,real,...>", def, unit, help));
   const char *text;
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
   const char *src = given ? text : def;
-  char buf[1024];
-  snprintf(buf, sizeof buf, "%s", src ? src : "");
+  if (!src) src = "";
   *count = 0;
-  char *save = NULL;
-  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+  if (!src[0]) TL_ERROR(TL_ERR_ARG, "option %s: an empty list (give values such as 0.1,0.2)", name);
+  /* Field by field: an empty field (",", "0.005,,0.006", "1,") is an error,
+   * not skipped. */
+  for (const char *p = src;; ++p) {
+    const char *comma = strchr(p, ',');
+    size_t len = comma ? (size_t)(comma - p) : strlen(p);
+    if (len == 0)
+      TL_ERROR(TL_ERR_ARG, "option %s: value %d of '%s' is empty", name, *count + 1, src);
     if (*count >= max) TL_ERROR(TL_ERR_ARG, "option %s: more than %d values in '%s'", name, max, src);
-    TL_CHECK(tl_parse_real(name, tok, &values[(*count)++]));
+    char tok[128];
+    if (len >= sizeof tok) TL_ERROR(TL_ERR_ARG, "option %s: value %d of '%s' is too long", name, *count + 1, src);
+    memcpy(tok, p, len);
+    tok[len] = '\0';
+    double v = 0.0;
+    TL_CHECK(tl_parse_real(name, tok, &v));
+    TL_CHECK(tl_check_range(name, v, lo, hi, unit));
+    values[(*count)++] = v;
+    if (!comma) break;
+    p = comma;
   }
   return TL_OK;
+}
+
+TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
+                                  const char *help, double *values, int max, int *count)
+{
+  return tl_options_get_real_list_range(o, name, def, 0.0, INFINITY, unit, help, values, max, count);
 }
 
 int tl_options_has(TlOptions *o, const char *name)

@@ -48,9 +48,14 @@ TlStatus tl_options_get_choice(TlOptions *o, const char *name, const char *def,
 TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, double lo, double hi,
                                const char *unit, const TlScale *scales, int n, const char *help,
                                double *value);
-/* Comma-separated reals ("-c_list 0,2,4"); up to max values, *count set. */
+/* Comma-separated non-negative reals ("-c_list 0,2,4": times, sizes, widths);
+ * up to max values, *count set.  An empty list or an empty field ("1,,2")
+ * is refused by name. */
 TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
                                   const char *help, double *values, int max, int *count);
+/* The same with every value in [lo, hi]. */
+TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const char *def, double lo, double hi,
+                                        const char *unit, const char *help, double *values, int max, int *count);
 /* Whether the option was given (and marks it used). */
 int tl_options_has(TlOptions *o, const char *name);
 

@@ -1,5 +1,6 @@
 #include "tl_checkpoint.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -35,7 +36,7 @@ TlStatus tl_checkpoint_writer_open(const char *path, TlCheckpointWriter **writer
   *writer = NULL;
   TL_CHECK(TL_NEW(w));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_h5_create(path, &w->file), fail);
+  TL_CHECK_GOTO(s, tl_h5_create_sealed(path, &w->file), fail);
   TL_CHECK_GOTO(s, tl_h5_attr_write_int64(&w->file, "/", "talus_checkpoint_version", TL_CHECKPOINT_VERSION), fail);
   *writer = w;
   return TL_OK;
@@ -114,7 +115,7 @@ TlStatus tl_checkpoint_reader_open(const char *path, TlCheckpointReader **reader
   *reader = NULL;
   TL_CHECK(TL_NEW(r));
   TlStatus s;
-  TL_CHECK_GOTO(s, tl_h5_open(path, &r->file), fail);
+  TL_CHECK_GOTO(s, tl_h5_open_sealed(path, &r->file), fail);
   int64_t version = 0;
   if (tl_h5_attr_read_int64(&r->file, "/", "talus_checkpoint_version", &version) != TL_OK) {
     s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
@@ -227,6 +228,56 @@ TlStatus tl_checkpoint_read_double(const TlCheckpointReader *r, const char *grou
 TlStatus tl_checkpoint_read_int64(const TlCheckpointReader *r, const char *group, const char *name, int64_t *value)
 {
   return tl_ckpt_read(r, group, name, H5T_NATIVE_INT64, H5T_INTEGER, "int64", 0, 1, value);
+}
+
+/* "group/name" for messages. */
+static const char *tl_ckpt_where(const char *group, const char *name, char *buf, size_t cap)
+{
+  if (group && group[0]) snprintf(buf, cap, "%s/%s", group[0] == '/' ? group + 1 : group, name);
+  else snprintf(buf, cap, "%s", name);
+  return buf;
+}
+
+TlStatus tl_checkpoint_check_finite(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                    const double *values)
+{
+  char where[TL_CKPT_PATH_MAX];
+  for (size_t i = 0; i < n; ++i)
+    if (!isfinite(values[i]))
+      TL_ERROR(TL_ERR_FORMAT, "%s: %s[%zu] = %g is not a finite number", tl_checkpoint_reader_path(r),
+               tl_ckpt_where(group, name, where, sizeof where), i, values[i]);
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_check_positive(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                      const double *values, int allow_zero)
+{
+  char where[TL_CKPT_PATH_MAX];
+  for (size_t i = 0; i < n; ++i)
+    if (!isfinite(values[i]) || !(allow_zero ? values[i] >= 0.0 : values[i] > 0.0))
+      TL_ERROR(TL_ERR_FORMAT, "%s: %s[%zu] = %g must be finite and %s", tl_checkpoint_reader_path(r),
+               tl_ckpt_where(group, name, where, sizeof where), i, values[i], allow_zero ? ">= 0" : "> 0");
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_check_range(const TlCheckpointReader *r, const char *group, const char *name, double value,
+                                   double lo, double hi)
+{
+  char where[TL_CKPT_PATH_MAX];
+  if (!isfinite(value) || !(value >= lo && value <= hi))
+    TL_ERROR(TL_ERR_FORMAT, "%s: %s = %g outside [%g, %g]", tl_checkpoint_reader_path(r),
+             tl_ckpt_where(group, name, where, sizeof where), value, lo, hi);
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_check_count(const TlCheckpointReader *r, const char *group, const char *name, int64_t value,
+                                   int64_t lo, int64_t hi)
+{
+  char where[TL_CKPT_PATH_MAX];
+  if (value < lo || value > hi)
+    TL_ERROR(TL_ERR_FORMAT, "%s: %s = %lld outside [%lld, %lld]", tl_checkpoint_reader_path(r),
+             tl_ckpt_where(group, name, where, sizeof where), (long long)value, (long long)lo, (long long)hi);
+  return TL_OK;
 }
 
 TlStatus tl_checkpoint_read_string(const TlCheckpointReader *r, const char *group, const char *name, char **value)

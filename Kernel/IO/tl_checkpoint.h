@@ -16,6 +16,11 @@
  * named section, then writes all of them with tl_checkpoint_save() and
  * restores them with tl_checkpoint_load().
  *
+ * Integrity: the file starts with a 512-byte block holding its size and a
+ * checksum, verified before HDF5 reads anything (tl_hdf5_util.h); every array
+ * also carries HDF5's Fletcher32 checksum; and every module's load() checks
+ * the values it restores (tl_checkpoint_check_*).
+ *
  * File layout (docs/output.md):
  *   /               attributes talus_checkpoint_version (int64), time
  *                   (double), step (int64), sections (string array)
@@ -82,6 +87,23 @@ TlStatus tl_checkpoint_read_double(const TlCheckpointReader *r, const char *grou
 TlStatus tl_checkpoint_read_int64(const TlCheckpointReader *r, const char *group, const char *name, int64_t *value);
 /* *value is allocated (free with tl_free). */
 TlStatus tl_checkpoint_read_string(const TlCheckpointReader *r, const char *group, const char *name, char **value);
+
+/* Validation of what was read, as the creating API would check it: an error
+ * names the file, the dataset, the index and the value.  A checkpoint is
+ * input like any other: every module's load() checks the values it restores
+ * before the scene uses them. */
+/* Every value finite. */
+TlStatus tl_checkpoint_check_finite(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                    const double *values);
+/* Every value finite and > 0 (strictly), or >= 0 when allow_zero. */
+TlStatus tl_checkpoint_check_positive(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
+                                      const double *values, int allow_zero);
+/* A finite scalar in [lo, hi]. */
+TlStatus tl_checkpoint_check_range(const TlCheckpointReader *r, const char *group, const char *name, double value,
+                                   double lo, double hi);
+/* An integer scalar in [lo, hi]. */
+TlStatus tl_checkpoint_check_count(const TlCheckpointReader *r, const char *group, const char *name, int64_t value,
+                                   int64_t lo, int64_t hi);
 
 /* ---------------------------------------------------------------- sections */
 /* What a module provides to be checkpointed.  save() writes the object's

@@ -1,5 +1,6 @@
 #include "tl_hdf5_util.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -44,17 +45,20 @@ static hid_t tl_h5_fapl(void)
                (file)->path, tl_h5_reason())
 
 /* ------------------------------------------------------------ files */
-TlStatus tl_h5_create(const char *path, TlH5File *file)
+static TlStatus tl_h5_create_impl(const char *path, TlH5File *file, int sealed)
 {
   tl_h5_silence();
   file->id = H5I_INVALID_HID;
   file->path = file->temp = NULL;
+  file->sealed = sealed;
   TL_CHECK(tl_strdup(path, &file->path));
   TlStatus s;
   TL_CHECK_GOTO(s, tl_atomic_temp_name(path, &file->temp), fail);
-  hid_t fapl = tl_h5_fapl();
-  file->id = H5Fcreate(file->temp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  hid_t fapl = tl_h5_fapl(), fcpl = H5Pcreate(H5P_FILE_CREATE);
+  if (sealed && fcpl >= 0) H5Pset_userblock(fcpl, TL_H5_SEAL_BYTES);
+  file->id = H5Fcreate(file->temp, H5F_ACC_TRUNC, fcpl >= 0 ? fcpl : H5P_DEFAULT, fapl);
   H5Pclose(fapl);
+  if (fcpl >= 0) H5Pclose(fcpl);
   if (file->id < 0) {
     s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot create '%s' (temporary for '%s'): %s",
                      file->temp, path, tl_h5_reason());
@@ -68,6 +72,68 @@ fail:
   return s;
 }
 
+TlStatus tl_h5_create(const char *path, TlH5File *file) { return tl_h5_create_impl(path, file, 0); }
+TlStatus tl_h5_create_sealed(const char *path, TlH5File *file) { return tl_h5_create_impl(path, file, 1); }
+
+/* ------------------------------------------------------------ seal */
+#define TL_H5_SEAL_MAGIC "talus-seal-1"
+
+/* Size and FNV-1a checksum of the bytes of f from offset TL_H5_SEAL_BYTES. */
+static int tl_h5_digest(FILE *f, unsigned long long *size, unsigned long long *hash)
+{
+  unsigned long long h = 1469598103934665603ULL, n = 0;
+  unsigned char buf[65536];
+  if (fseek(f, TL_H5_SEAL_BYTES, SEEK_SET) != 0) return 0;
+  size_t k;
+  while ((k = fread(buf, 1, sizeof buf, f)) > 0) {
+    for (size_t i = 0; i < k; ++i) h = (h ^ buf[i]) * 1099511628211ULL;
+    n += k;
+  }
+  if (ferror(f)) return 0;
+  *size = n;
+  *hash = h;
+  return 1;
+}
+
+TlStatus tl_h5_seal(const char *path)
+{
+  FILE *f = fopen(path, "r+b");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot open '%s' to write its checksum", path);
+  unsigned long long n = 0, h = 0;
+  char block[TL_H5_SEAL_BYTES];
+  memset(block, 0, sizeof block);
+  int ok = tl_h5_digest(f, &n, &h);
+  snprintf(block, sizeof block, "%s size=%llu fnv1a64=%016llx\n", TL_H5_SEAL_MAGIC, n, h);
+  ok = ok && fseek(f, 0, SEEK_SET) == 0 && fwrite(block, 1, sizeof block, f) == sizeof block;
+  ok = (fclose(f) == 0) && ok;
+  if (!ok) TL_ERROR(TL_ERR_IO, "cannot write the checksum of '%s'", path);
+  return TL_OK;
+}
+
+/* Verifies the seal of path before HDF5 reads it. */
+static TlStatus tl_h5_verify_seal(const char *path)
+{
+  FILE *f = fopen(path, "rb");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot read '%s': %s", path, strerror(errno));
+  char block[TL_H5_SEAL_BYTES + 1];
+  size_t got = fread(block, 1, TL_H5_SEAL_BYTES, f);
+  block[got] = '\0';
+  unsigned long long n_said = 0, h_said = 0, n = 0, h = 0;
+  size_t magic = strlen(TL_H5_SEAL_MAGIC);
+  int have = got == TL_H5_SEAL_BYTES && strncmp(block, TL_H5_SEAL_MAGIC, magic) == 0 &&
+             sscanf(block + magic, " size=%llu fnv1a64=%llx", &n_said, &h_said) == 2;
+  int digest = have && tl_h5_digest(f, &n, &h);
+  fclose(f);
+  if (!have)
+    TL_ERROR(TL_ERR_FORMAT, "'%s' has no checksum block (not a Talus checkpoint, written by a version without "
+             "checksums, or its first bytes are damaged)", path);
+  if (!digest) TL_ERROR(TL_ERR_IO, "cannot read '%s' to verify its checksum", path);
+  if (n != n_said || h != h_said)
+    TL_ERROR(TL_ERR_FORMAT, "'%s' is corrupted: %llu bytes with checksum %016llx, its block says %llu bytes with "
+             "checksum %016llx", path, n, h, n_said, h_said);
+  return TL_OK;
+}
+
 TlStatus tl_h5_commit(TlH5File *file)
 {
   if (!file->temp || file->id < 0) TL_ERROR(TL_ERR_STATE, "commit of an HDF5 file that is not being written");
@@ -79,7 +145,9 @@ TlStatus tl_h5_commit(TlH5File *file)
                      file->temp, file->path, tl_h5_reason());
     unlink(file->temp);
   } else {
-    s = tl_atomic_commit_path(file->temp, file->path);
+    if (file->sealed) s = tl_h5_seal(file->temp);
+    if (s == TL_OK) s = tl_atomic_commit_path(file->temp, file->path);
+    else unlink(file->temp);
     if (s != TL_OK) tl_error_trace(s, __FILE__, __LINE__);
   }
   tl_free(&file->temp);
@@ -99,6 +167,7 @@ void tl_h5_abort(TlH5File *file)
 TlStatus tl_h5_open(const char *path, TlH5File *file)
 {
   tl_h5_silence();
+  file->sealed = 0;
   file->id = H5I_INVALID_HID;
   file->path = file->temp = NULL;
   if (access(path, R_OK) != 0)
@@ -113,6 +182,16 @@ TlStatus tl_h5_open(const char *path, TlH5File *file)
     tl_free(&file->path);
     return s;
   }
+  return TL_OK;
+}
+
+TlStatus tl_h5_open_sealed(const char *path, TlH5File *file)
+{
+  file->id = H5I_INVALID_HID;
+  file->path = file->temp = NULL;
+  TL_CHECK(tl_h5_verify_seal(path));
+  TL_CHECK(tl_h5_open(path, file));
+  file->sealed = 1;
   return TL_OK;
 }
 
@@ -162,6 +241,29 @@ TlStatus tl_h5_group(TlH5File *file, const char *path)
   return TL_OK;
 }
 
+/* Creation properties of an array: chunked (at most 2^20 elements a chunk)
+ * with the Fletcher32 checksum, which HDF5 verifies on every read, so a
+ * corrupted file is refused instead of read as values.  Scalars and empty
+ * arrays cannot be chunked: contiguous, without checksum. */
+static hid_t tl_h5_dcpl(int rank, const hsize_t *dims)
+{
+  hsize_t count = 1, row = 1;
+  for (int i = 0; i < rank; ++i) count *= dims[i];
+  if (rank == 0 || count == 0) return H5P_DEFAULT;
+  for (int i = 1; i < rank; ++i) row *= dims[i];
+  hsize_t chunk[TL_H5_MAX_RANK];
+  for (int i = 0; i < rank; ++i) chunk[i] = dims[i];
+  hsize_t rows = ((hsize_t)1 << 20) / row;
+  chunk[0] = rows < 1 ? 1 : rows < dims[0] ? rows : dims[0];
+  hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (dcpl < 0) return dcpl;
+  if (H5Pset_chunk(dcpl, rank, chunk) < 0 || H5Pset_fletcher32(dcpl) < 0) {
+    H5Pclose(dcpl);
+    return H5I_INVALID_HID;
+  }
+  return dcpl;
+}
+
 TlStatus tl_h5_write(TlH5File *file, const char *path, hid_t memtype, int rank, const hsize_t *dims,
                      const void *data)
 {
@@ -174,9 +276,10 @@ TlStatus tl_h5_write(TlH5File *file, const char *path, hid_t memtype, int rank, 
   if (count > 0 && !data) TL_ERROR(TL_ERR_ARG, "dataset '%s' of '%s': no data given", path, file->path);
   hid_t space = rank == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(rank, dims, NULL);
   if (space < 0) return TL_H5_FAIL(file, "create dataspace for", path);
-  hid_t lcpl = tl_h5_lcpl();
-  hid_t d = H5Dcreate2(file->id, path, memtype, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t lcpl = tl_h5_lcpl(), dcpl = tl_h5_dcpl(rank, dims);
+  hid_t d = dcpl < 0 ? H5I_INVALID_HID : H5Dcreate2(file->id, path, memtype, space, lcpl, dcpl, H5P_DEFAULT);
   H5Pclose(lcpl);
+  if (dcpl >= 0 && dcpl != H5P_DEFAULT) H5Pclose(dcpl);
   H5Sclose(space);
   if (d < 0) return TL_H5_FAIL(file, "create dataset", path);
   herr_t e = count > 0 ? H5Dwrite(d, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
@@ -246,7 +349,8 @@ TlStatus tl_h5_read(const TlH5File *file, const char *path, hid_t memtype, int r
   TL_CHECK(tl_h5_open_dataset(file, path, &d));
   herr_t e = H5Dread(d, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
   H5Dclose(d);
-  if (e < 0) return TL_H5_FAIL(file, "read dataset", path);
+  /* a Fletcher32 mismatch fails the read (HDF5 checks by default) */
+  if (e < 0) return TL_H5_FAIL(file, "read dataset (corrupted? its checksum is verified)", path);
   return TL_OK;
 }
 

@@ -23,6 +23,7 @@ typedef struct {
   hid_t id;   /* HDF5 file id, H5I_INVALID_HID when closed */
   char *path; /* the final path, named in messages */
   char *temp; /* the temporary name while writing, NULL when reading */
+  int sealed; /* whole-file checksum in the user block (tl_h5_create_sealed) */
 } TlH5File;
 
 /* Creates a new file under a temporary name next to `path`. */
@@ -33,6 +34,15 @@ TlStatus tl_h5_commit(TlH5File *file);
 void tl_h5_abort(TlH5File *file);
 /* Opens an existing file read-only. */
 TlStatus tl_h5_open(const char *path, TlH5File *file);
+/* Sealed files: the first TL_H5_SEAL_BYTES (an HDF5 user block) hold the
+ * size and a 64-bit FNV-1a checksum of the rest, written at commit and
+ * verified by tl_h5_open_sealed before HDF5 parses anything, so a damaged
+ * file is refused by name instead of reaching the HDF5 library's own
+ * parsers.  tl_h5_seal (re)writes the block of a closed file. */
+#define TL_H5_SEAL_BYTES 512
+TlStatus tl_h5_create_sealed(const char *path, TlH5File *file);
+TlStatus tl_h5_open_sealed(const char *path, TlH5File *file);
+TlStatus tl_h5_seal(const char *path);
 /* Closes a file opened for reading (harmless on a closed one). */
 void tl_h5_close(TlH5File *file);
 

@@ -248,8 +248,19 @@ static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
   memcpy(v, b, sizeof v); b += sizeof v;
   memcpy(&n, b, sizeof n); b += sizeof n;
   memcpy(&hd, b, sizeof hd); b += sizeof hd;
-  if (size < sizeof v + 2 * sizeof(size_t) + n * (hd * sizeof(double) + 1 + sizeof(TlVec3)))
-    TL_ERROR(TL_ERR_FORMAT, "plane checkpoint of %zu bytes too short for %zu particles", size, n);
+  /* Counts bounded by the buffer before they are multiplied (no overflow). */
+  if (n > size || hd > size || size != sizeof v + 2 * sizeof(size_t) + n * (hd * sizeof(double) + 1 + sizeof(TlVec3)))
+    TL_ERROR(TL_ERR_FORMAT, "plane checkpoint of %zu bytes does not hold %zu particles of %zu history doubles", size, n,
+             hd);
+  for (int k = 0; k < 6; ++k)
+    if (!isfinite(v[k]))
+      TL_ERROR(TL_ERR_FORMAT, "plane checkpoint: %s component %d is %g, not a finite number", k < 3 ? "point" : "velocity",
+               k % 3, v[k]);
+  for (size_t k = 0; k < n * hd; ++k) {
+    double h;
+    memcpy(&h, b + k * sizeof h, sizeof h);
+    if (!isfinite(h)) TL_ERROR(TL_ERR_FORMAT, "plane checkpoint: history value %zu is %g, not a finite number", k, h);
+  }
   p->point = tl_v3(v[0], v[1], v[2]);
   p->velocity = tl_v3(v[3], v[4], v[5]);
   p->hd = SIZE_MAX; /* force a reset in plane_fit */

@@ -1,5 +1,7 @@
 /* Checkpoint of a triangulated surface wall: the vertex state and the kept
  * contacts with their history, for a bit-exact restart. */
+#include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 #include "tl_memory.h"
@@ -37,6 +39,42 @@ TlStatus tl_wall_trisurface_checkpoint_save(const TlWall *w, void *buffer, size_
   return TL_OK;
 }
 
+/* Vertex state finite; each kept contact names a particle (>= 0), a
+ * triangle of the surface, a feature of a triangle, with finite values. */
+static TlStatus check_state(const TlWall *w, const char *b, const TlTriCheckpointHeader *h, size_t n_triangles)
+{
+  size_t nx = 6 * h->n_vertices;
+  for (size_t k = 0; k < nx; ++k) {
+    double v;
+    memcpy(&v, b + k * sizeof v, sizeof v);
+    if (!isfinite(v))
+      TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint: vertex %s %zu component %zu is %g, not a finite number", w->name,
+               k < nx / 2 ? "position" : "velocity", (k % (nx / 2)) / 3, k % 3, v);
+  }
+  b += nx * sizeof(double);
+  for (size_t k = 0; k < h->n_contacts; ++k) {
+    TlTriContactRecord rec;
+    memcpy(&rec, b + k * sizeof rec, sizeof rec);
+    if (rec.particle < 0 || rec.triangle < 0 || (size_t)rec.triangle >= n_triangles || rec.feature < 0 ||
+        rec.feature > 6)
+      TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint: contact %zu joins particle %d and triangle %d (feature %d); "
+               "the surface has %zu triangles", w->name, k, (int)rec.particle, (int)rec.triangle, (int)rec.feature,
+               n_triangles);
+    const double *d = &rec.point.x;
+    for (size_t q = 0; q < (sizeof rec - offsetof(TlTriContactRecord, point)) / sizeof(double); ++q)
+      if (!isfinite(d[q]))
+        TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint: contact %zu value %zu is %g, not a finite number", w->name, k, q,
+                 d[q]);
+  }
+  b += h->n_contacts * sizeof(TlTriContactRecord);
+  for (size_t k = 0; k < h->n_contacts * h->history_doubles; ++k) {
+    double v;
+    memcpy(&v, b + k * sizeof v, sizeof v);
+    if (!isfinite(v)) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint: history value %zu is %g, not a finite number", w->name, k, v);
+  }
+  return TL_OK;
+}
+
 TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer, size_t size)
 {
   TlWallTriSurface *t = (TlWallTriSurface *)w;
@@ -49,9 +87,17 @@ TlStatus tl_wall_trisurface_checkpoint_load(TlWall *w, const void *buffer, size_
   if (h.n_vertices != t->surface->n_vertices)
     TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %llu vertices, the surface %zu", w->name,
              (unsigned long long)h.n_vertices, t->surface->n_vertices);
+  if (h.history_doubles != c->history_doubles)
+    TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint keeps %llu history doubles per contact; its law keeps %zu", w->name,
+             (unsigned long long)h.history_doubles, c->history_doubles);
+  /* The count bounded by the buffer before it is multiplied (no overflow). */
+  if (h.n_contacts > size / sizeof(TlTriContactRecord))
+    TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint of %zu bytes cannot hold %llu contacts", w->name, size,
+             (unsigned long long)h.n_contacts);
   size_t need = sizeof h + 2 * h.n_vertices * sizeof(TlVec3) + h.n_contacts * sizeof(TlTriContactRecord) +
                 h.n_contacts * h.history_doubles * sizeof(double);
   if (size != need) TL_ERROR(TL_ERR_FORMAT, "wall '%s' checkpoint has %zu bytes, expected %zu", w->name, size, need);
+  TL_CHECK(check_state(w, b, &h, t->surface->n_triangles));
   memcpy(t->surface->x, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
   memcpy(t->surface->v, b, h.n_vertices * sizeof(TlVec3)), b += h.n_vertices * sizeof(TlVec3);
   TL_CHECK(tl_trisurface_update(t->surface));
