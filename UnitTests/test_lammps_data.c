@@ -231,6 +231,10 @@ static void test_malformed(void)
   expect_error(HEAD "Atoms\n\n1 1 1 1 0.5 0.5 0.5\n2 1 1 1 0.5 0.5 0.5\n3 1 1 1 0.5 0.5 0.5\n", TL_ERR_FORMAT,
                "bad.data:13: 7 values where a section name");
   expect_error(HEAD, TL_ERR_FORMAT, "no Atoms section");
+  /* a count the file cannot hold is refused before it sizes an allocation
+   * (found by fuzzing: 77777777 atoms asked for 6 GB) */
+  expect_error("title\n77777777 atoms\n2 atom types\nAtoms\n\n7 1 1 1 0 0 0\n", TL_ERR_FORMAT,
+               "declares 77777777 atoms, but the rest of the file");
   /* header errors */
   expect_error("title\n1 atom types\nAtoms\n\n1 1 1 1 0 0 0\n", TL_ERR_FORMAT, "no \"N atoms\"");
   expect_error("title\n1 atoms\nAtoms\n\n1 1 1 1 0 0 0\n", TL_ERR_FORMAT, "0 atom types");

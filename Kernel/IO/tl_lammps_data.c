@@ -368,6 +368,20 @@ static TlStatus read_file(Reader *r, TlLammpsData *d)
              r->path, (long long)hc.atom_types);
   if ((uint64_t)hc.atoms > SIZE_MAX / (3 * sizeof(double)))
     TL_ERROR(TL_ERR_FORMAT, "%s: %lld atoms is too many to hold in memory", r->path, (long long)hc.atoms);
+  /* every atom is a line of the Atoms section, of 7 fields at least
+   * ("1 1 1 1 0 0 0"): a large count the rest of the file cannot hold is
+   * refused before it sizes an allocation (small ones are read and meet the
+   * section's own, more telling, diagnosis) */
+  long here = ftell(r->file);
+  if (here >= 0 && fseek(r->file, 0, SEEK_END) == 0) {
+    long end = ftell(r->file);
+    if (fseek(r->file, here, SEEK_SET) != 0)
+      TL_ERROR(TL_ERR_IO, "%s: cannot return to line %ld after measuring the file", r->path, r->line_no);
+    const long long room = (end - here + (long)strlen(r->line) + 1) / 14;
+    if (hc.atoms > 4096 && hc.atoms > room)
+      TL_ERROR(TL_ERR_FORMAT, "%s: the header declares %lld atoms, but the rest of the file (%ld bytes) holds at "
+               "most %lld atom lines", r->path, (long long)hc.atoms, end - here, room);
+  }
   d->n = (size_t)hc.atoms;
   d->n_types = (int)hc.atom_types;
   TL_CHECK(allocate_atoms(d));
