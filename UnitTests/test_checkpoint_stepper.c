@@ -54,14 +54,7 @@ static TlStatus load(const char *file)
 
 static void refused(const char *dataset, size_t k, double value, int is_int, const char *fragment)
 {
-  tl_test_copy_file("good.h5", "changed.h5");
-  int set = tl_test_h5_set("changed.h5", dataset, k, value, is_int);
-  TL_TEST_ASSERT(set, "cannot change %s[%zu] in the test file", dataset, k);
-  if (!set) return;
-  TlStatus s = load("changed.h5");
-  TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), fragment),
-                 "%s[%zu] = %g: status %d, message '%s' (expected it to name '%s')", dataset, k, value, (int)s,
-                 tl_error_message(), fragment);
+  tl_test_h5_refused(load, dataset, k, value, is_int, fragment);
 }
 
 int main(void)

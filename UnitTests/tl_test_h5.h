@@ -8,6 +8,8 @@
 #include <hdf5.h>
 
 #include "tl_hdf5_util.h"
+#include "tl_test.h"
+#include <string.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -81,6 +83,21 @@ static inline int tl_test_flip_stored_byte(const char *file, const char *dataset
   fputc(c ^ 0x20, g);
   fclose(g);
   return 1;
+}
+
+/* A copy of good.h5 with element k of `dataset` set to `value` must be
+ * refused by `load` with a message containing `fragment`. */
+static inline void tl_test_h5_refused(TlStatus (*load)(const char *file), const char *dataset, size_t k, double value,
+                                      int is_int, const char *fragment)
+{
+  tl_test_copy_file("good.h5", "changed.h5");
+  int set = tl_test_h5_set("changed.h5", dataset, k, value, is_int);
+  TL_TEST_ASSERT(set, "cannot change %s[%zu] in the test file", dataset, k);
+  if (!set) return;
+  TlStatus s = load("changed.h5");
+  TL_TEST_ASSERT(s != TL_OK && strstr(tl_error_message(), fragment),
+                 "%s[%zu] = %g: status %d, message '%s' (expected it to name '%s')", dataset, k, value, (int)s,
+                 tl_error_message(), fragment);
 }
 
 #endif
