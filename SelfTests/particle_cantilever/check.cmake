@@ -72,7 +72,7 @@ endif()
 set(failed 0)
 # awk reads "nan", "inf" or an empty field as 0: every value a check uses
 # must be a finite number, or the test fails.
-set(number_re "^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$")
+include(${CMAKE_CURRENT_LIST_DIR}/../check_values.cmake) # number_re, talus_check_value
 foreach(line IN LISTS lines)
   string(REGEX REPLACE " +" ";" f "${line}")
   list(GET f 0 k)
@@ -84,21 +84,7 @@ foreach(line IN LISTS lines)
     set(failed 1)
     continue()
   endif()
-  set(x "${val_${k}}")
-  if(NOT x MATCHES "${number_re}")
-    message(SEND_ERROR "  ${k} = '${x}' is not a finite number")
-    set(failed 1)
-    continue()
-  endif()
-  # CMake has no floating point: awk evaluates |x - ref| <= at + rt |ref|.
-  execute_process(COMMAND ${AWK} "BEGIN { d = ${x} - (${ref}); if (d < 0) d = -d; r = (${ref}); if (r < 0) r = -r; exit !(d <= ${at} + ${rt} * r) }"
-                  RESULT_VARIABLE ok)
-  if(ok EQUAL 0)
-    message("  ${k}: ${x} (baseline ${ref}, tolerance ${at} + ${rt} |ref|) ok")
-  else()
-    message(SEND_ERROR "  ${k}: ${x} differs from the baseline ${ref} beyond ${at} + ${rt} |ref|")
-    set(failed 1)
-  endif()
+  talus_check_value(${k} "${val_${k}}" ${ref} ${rt} ${at} ${AWK})
 endforeach()
 # The whole trajectory (every row and column of trajectory.csv) against
 # TRAJ_BASELINE: the same number of rows, every field a number, and each
