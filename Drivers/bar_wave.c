@@ -197,7 +197,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "dt", dt);
   tl_summary_int(&sum, "steps", steps);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (check && !(fabs(err) <= tol)) {
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
                      "measured speed %.6g differs from sqrt(E/rho) = %.6g by %.3g (tolerance %g)",

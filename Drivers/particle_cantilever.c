@@ -433,10 +433,14 @@ static TlStatus run(int argc, char **argv)
   const double err_avg = err_time > 0.0 ? err_int / err_time : NAN;
   const double wall = tl_wtime() - wall0;
   const double cpu = (double)(clock() - cpu0) / CLOCKS_PER_SEC;
-  printf("%ld coupled steps to t = %.4g s; particles leave the beam at t = %.4g s; err_avg = %.4g m, "
+  char off[64];
+  if (isnan(t_off))
+    snprintf(off, sizeof off, "particles stay on the beam");
+  else
+    snprintf(off, sizeof off, "particles leave the beam at t = %.4g s", t_off);
+  printf("%ld coupled steps to t = %.4g s; %s; err_avg = %.4g m, "
          "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
-         step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
-         d.e0[5]);
+         step, tl_coupled_loop_time(loop), off, err_avg, sym_dev, E_max, d.e0[5]);
   TlStepperStats fs;
   tl_stepper_get_stats(st, &fs);
   printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
@@ -450,10 +454,13 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "err_avg", err_avg);
   tl_summary_real(&sum, "sym_dev", sym_dev);
   tl_summary_real(&sum, "E_max", E_max);
-  tl_summary_real(&sum, "t_off", t_off);
+  if (isnan(t_off))
+    tl_summary_string(&sum, "t_off", "none"); /* the particles stay on the beam to the end */
+  else
+    tl_summary_real(&sum, "t_off", t_off);
   tl_summary_real(&sum, "cpu", cpu);
   tl_summary_real(&sum, "wall", wall);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 done:
   if (traj) {
     TlStatus s2 = tl_timeseries_close(&traj);

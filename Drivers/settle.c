@@ -269,10 +269,10 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "packing_fraction", vol / (s.box * s.box * top));
   tl_summary_real(&sum, "energy_balance_error", energy_error);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)
