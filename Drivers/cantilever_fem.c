@@ -125,6 +125,23 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->beam.ny = (size_t)ny;
   c->beam.nz = (size_t)nz;
   c->solver = solvers[solver];
+  if ((mode == MODE_ALL || mode == MODE_SMALL || mode == MODE_VIBRATION) && !(c->beam.load > 0.0)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-tip_load %g N: the small mode compares the deflection under it with Timoshenko's and the "
+                     "vibration mode releases the beam from it; it must be > 0", c->beam.load);
+    goto done;
+  }
+  if (mode == MODE_ALL || mode == MODE_VIBRATION) {
+    /* Newmark is stable at any step, but a step that does not resolve the
+     * first period measures nothing: at least 20 steps per period. */
+    double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c->beam);
+    if (!(c->dt <= T1 / 20.0)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "-dt %g s does not resolve the first bending period T1 = %.4g s: at most T1 / 20 = %.4g s",
+                       c->dt, T1, T1 / 20.0);
+      goto done;
+    }
+  }
   c->options = o;
   return TL_OK;
 done:

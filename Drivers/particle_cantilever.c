@@ -149,6 +149,18 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                       &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  /* The particles must start on the beam, or the run measures nothing. */
+  if (!(c->x0 + fabs(c->perturb) <= 0.5 * c->beam.b)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-x0 %g m (with -perturb %g m) puts a particle beside the beam: |x| must be at most half the "
+                     "width, %g m", c->x0, c->perturb, 0.5 * c->beam.b);
+    goto done;
+  }
+  if (!(c->y0 < c->beam.L)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-y0 %g m puts the particles beyond the beam's free end at y = L = %g m", c->y0, c->beam.L);
+    goto done;
+  }
   c->kernel = kernels[kernel];
   c->beam.nx = (size_t)nx;
   c->beam.ny = (size_t)ny;
