@@ -40,6 +40,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
@@ -142,6 +143,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
       goto done;
     }
   }
+  /* -periods is the vibration's end time */
+  TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-periods"), done);
   c->options = o;
   return TL_OK;
 done:
@@ -445,6 +448,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
                            {"total", "J"}};
   TL_CHECK_GOTO(s, open_table(c, "vibration", 5, cols, &ts), done);
   TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c->options), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "newmark", &tl_stepper_checkpoint_ops, nm), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "vibration_table", &tl_timeseries_checkpoint_ops, ts), done);
   if (sn.out) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "snapshots", &tl_solid_output_checkpoint_ops, sn.out), done);

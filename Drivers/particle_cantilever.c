@@ -27,6 +27,7 @@
 #include <string.h>
 #include <time.h>
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
 #include "tl_io.h"
@@ -351,6 +352,7 @@ static TlStatus run(int argc, char **argv)
   /* Checkpoint: the beam's stepper, the world, the loop, the tables, the
    * snapshot series and the running diagnostics. */
   TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c.options), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, st), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "coupling", &tl_coupled_loop_checkpoint_ops, loop), done);

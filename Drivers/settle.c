@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_particle_snapshot.h"
@@ -208,6 +209,7 @@ static TlStatus run(int argc, char **argv)
   char cp_path[4200];
   snprintf(cp_path, sizeof cp_path, "%s/checkpoint.h5", s.out);
   TL_CHECK(tl_checkpoint_create(&cp));
+  TL_CHECK(tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o));
   TL_CHECK(tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem));
   TL_CHECK(tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts));
   TL_CHECK(tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer));
