@@ -192,6 +192,8 @@ typedef struct {
   TlTimeSeries *ts;
   double vol_grains, rate, c_visc; /* c_visc: the viscous coefficient in force, N s/m */
   long steps;                      /* steps done by every world of the run */
+  /* the first halt of a compression: the pressure there and at the check before */
+  double halt_pressure, halt_pressure_before;
 } Run;
 
 static TlStatus viscous_hook(void *ctx, TlDem *dem)
@@ -263,9 +265,11 @@ static TlStatus compress(Run *r, int *reached)
     if (b > s->compress_steps - k) b = s->compress_steps - k;
     TL_CHECK(tl_dem_step(r->dem, b));
     k += b, r->steps += b, since_row += b;
+    const double before = pr;
     pr = pressure_of(r->dem);
     if (pr >= s->pressure) {
       *reached = 1;
+      if (isnan(r->halt_pressure)) r->halt_pressure = pr, r->halt_pressure_before = before;
       break;
     }
   }
@@ -394,7 +398,7 @@ static TlStatus run_scripts(Settings *s, double wall0)
   printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
          "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
          n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
-  Run r = {s, dem, NULL, grain_volume(P), 0.0, 0.0, 0};
+  Run r = {s, dem, NULL, grain_volume(P), 0.0, 0.0, 0, NAN, NAN};
   TL_CHECK(open_table(s, &r.ts));
   set_viscous(&r, s->viscous);
   TL_CHECK(advance(&r, s->push_steps, STAGE_PUSH));
@@ -468,6 +472,10 @@ static TlStatus run_scripts(Settings *s, double wall0)
   tl_summary_int(&sum, "n_large", n_large);
   tl_summary_int(&sum, "steps", r.steps);
   tl_summary_int(&sum, "cycles_reaching", cycles_reaching);
+  if (!isnan(r.halt_pressure)) {
+    tl_summary_real(&sum, "halt_pressure", r.halt_pressure);
+    tl_summary_real(&sum, "halt_pressure_before", r.halt_pressure_before);
+  }
   tl_summary_int(&sum, "at_rest", rest);
   tl_summary_real(&sum, "pressure_frictionless", p_frictionless);
   tl_summary_real(&sum, "packing_fraction_frictionless", phi_frictionless);
