@@ -375,9 +375,9 @@ static TlStatus run_scripts(Settings *s, double wall0)
   double kn, gn;
   TlStatus st = tl_contact_law_get(s->law, "k_n", &kn);
   if (st == TL_OK) st = tl_contact_law_get(s->law, "gamma_n", &gn);
-  if (st != TL_OK)
-    TL_ERROR(TL_ERR_ARG, "-protocol scripts compacts with the normal part lammps_hertz and needs k_n and gamma_n from "
-             "the chosen law (use -contact lammps_hertz)");
+  if (st != TL_OK || !(kn > 0.0))
+    TL_ERROR(TL_ERR_ARG, "-protocol scripts compacts with the normal part lammps_hertz and takes its k_n (here %g Pa) "
+             "and gamma_n from the chosen law: use -contact lammps_hertz with -contact_k_n > 0", st == TL_OK ? kn : 0.0);
   TlContactLaw *law_c;
   {
     double kt = 0.0, gt = -1.0;
