@@ -216,7 +216,7 @@ static void cell_against_3d(void)
   TL_TEST_STATUS(make_world(3, P2->x, P2->radius, P2->n, &d3), TL_OK);
   if (!d3) return;
   /* compress to an area fraction of about 0.84, shear, relax */
-  const double eps = 0.5 * log(0.84 / phi0) / (3000 * DT);
+  const double eps = (1.0 - sqrt(phi0 / 0.84)) / (3000 * DT); /* constant ḣ: h shrinks linearly */
   TlMat3 compress = tl_m3_zero(), shear = tl_m3_zero();
   compress.m[0][0] = compress.m[1][1] = -eps;
   shear.m[0][1] = 0.5;
