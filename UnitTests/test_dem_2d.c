@@ -15,7 +15,10 @@
  *     is the particles' total torque over the area, small once relaxed; the
  *     z row and column are zero.
  *  4. z stays exactly 0 and v_z, ω_x, ω_y exactly 0 throughout.
- *  5. Checkpoints carry the dimension (a 2-D checkpoint restarts bit for bit
+ *  5. A 2-D gas compressed to a pressure (tl_dem_compress): the packing
+ *     reaches the target pressure per unit thickness -tr(σ)/2 within the
+ *     tolerance and every disk its static balance (Eq. 19).
+ *  6. Checkpoints carry the dimension (a 2-D checkpoint restarts bit for bit
  *     in a 2-D world and is refused by a 3-D one); bad input is refused
  *     (dimension 4, a planar h with a z entry, a z rate, a particle off the
  *     plane, a 3-D cell in a 2-D world, a gas too dense to insert). */
@@ -254,6 +257,32 @@ static void cell_against_3d(void)
   tl_dem_destroy(&d2);
 }
 
+static void compress_2d(void)
+{
+  TlDem *d = NULL;
+  TL_TEST_STATUS(make_world(2, NULL, NULL, 0, &d), TL_OK);
+  if (!d) return;
+  const TlDemCompress c = {100.0, 0.05, 1.0, 1e-3, 1e-2, 50, 200000};
+  TlDemCompressResult r;
+  double t0 = tl_wtime();
+  TL_TEST_STATUS(tl_dem_compress(d, &c, &r), TL_OK);
+  TlMat3 sc, sk;
+  TL_TEST_STATUS(tl_dem_stress(d, &sc, &sk), TL_OK);
+  const double p = -0.5 * (sc.m[0][0] + sc.m[1][1] + sk.m[0][0] + sk.m[1][1]);
+  double delta;
+  TL_TEST_STATUS(tl_dem_max_force_imbalance(d, &delta), TL_OK);
+  printf("compress: %s after %ld steps (%.2f s): pressure %.6g N/m (target %g), area fraction %.4f, coordination "
+         "%.2f, largest imbalance %.2e\n", r.converged ? "converged" : "not converged", r.steps, tl_wtime() - t0,
+         r.pressure, c.pressure, r.solid_fraction, r.coordination, r.max_imbalance);
+  TL_TEST_ASSERT(r.converged, "not converged after %ld steps", r.steps);
+  TL_TEST_REL(p, c.pressure, c.pressure_tolerance);
+  TL_TEST_ASSERT(delta < c.tolerance, "largest imbalance %g", delta);
+  TL_TEST_ASSERT(r.solid_fraction > 0.75 && r.solid_fraction < 0.9, "area fraction %g of a jammed disk packing",
+                 r.solid_fraction);
+  TL_TEST_ASSERT(max_off_plane(d) == 0.0, "off-plane motion %g", max_off_plane(d));
+  tl_dem_destroy(&d);
+}
+
 /* ---- checkpoints and refusals ---- */
 
 static void checkpoint_and_refusals(void)
@@ -338,6 +367,7 @@ int main(void)
   impact();
   spin_down();
   cell_against_3d();
+  compress_2d();
   checkpoint_and_refusals();
   return tl_test_report();
 }
