@@ -11,16 +11,24 @@
 #include "tl_mesh_locator.h"
 #include "tl_timer.h"
 
-static double alpha_at(const TlBdm *b, const double x[3])
+/* alpha of the masses (clamped inside a zone: the correction divides by
+ * the weighted masses) and of the forces (the continuous profile: a clamp
+ * would make a contact's weight jump by alpha_min where its contact point
+ * crosses a zone's end, a kick the light particles there cannot take). */
+static double alpha_mass(const TlBdm *b, const double x[3])
 {
   return tl_bdm_alpha(b->zones, b->n_zones, b->opt.profile, b->opt.alpha_min, x);
+}
+static double alpha_force(const TlBdm *b, const double x[3])
+{
+  return tl_bdm_alpha(b->zones, b->n_zones, b->opt.profile, 0.0, x);
 }
 
 /* The DEM's weight field: at the particle centres (the world passes
  * P->x) the reference weight 1 - alpha(X_i) of each particle, by id, so a
- * particle's weighted mass is constant; at contact points (and for
- * particles inserted after the coupling was built) 1 - alpha at the
- * current point. */
+ * particle's weighted mass is constant (particles inserted after the
+ * coupling was built: at the current centre); at contact points 1 - alpha
+ * of the continuous profile at the current point. */
 static TlStatus dem_weight(void *ctx, size_t n, const TlVec3 *x, double *w)
 {
   TlBdm *b = ctx;
@@ -36,7 +44,7 @@ static TlStatus dem_weight(void *ctx, size_t n, const TlVec3 *x, double *w)
       }
     }
     const double p[3] = {x[i].x, x[i].y, x[i].z};
-    w[i] = 1.0 - alpha_at(b, p);
+    w[i] = 1.0 - (centres ? alpha_mass(b, p) : alpha_force(b, p));
   }
   return TL_OK;
 }
@@ -82,7 +90,7 @@ static TlStatus set_fe_weights(TlBdm *b)
   const TlMesh *mesh = tl_solid_mesh(b->solid);
   const TlElementBlock *blk = &mesh->blocks[b->block];
   const TlElementType *t = blk->type;
-  for (size_t I = 0; I < mesh->n_nodes; ++I) b->alpha_nodes[I] = alpha_at(b, mesh->x + 3 * I);
+  for (size_t I = 0; I < mesh->n_nodes; ++I) b->alpha_nodes[I] = alpha_mass(b, mesh->x + 3 * I);
   TlQuadrature q, qm;
   TL_CHECK(tl_element_quadrature(t, t->order_stiffness, &q));
   TL_CHECK(tl_element_quadrature(t, t->order_mass, &qm));
@@ -96,12 +104,12 @@ static TlStatus set_fe_weights(TlBdm *b)
     for (int p = 0; p < q.n; ++p) {
       double xp[3];
       tl_element_interpolate(t, xe, q.xi[p], xp);
-      w[e * q.n + p] = alpha_at(b, xp);
+      w[e * q.n + p] = alpha_force(b, xp);
     }
     for (int p = 0; p < qm.n; ++p) {
       double xp[3];
       tl_element_interpolate(t, xe, qm.xi[p], xp);
-      wm[e * qm.n + p] = b->opt.mass_weight == TL_BDM_MASS_QUADRATURE ? alpha_at(b, xp) : 1.0;
+      wm[e * qm.n + p] = b->opt.mass_weight == TL_BDM_MASS_QUADRATURE ? alpha_mass(b, xp) : 1.0;
     }
   }
   if (s == TL_OK) s = tl_solid_set_point_weights(b->solid, b->block, w, wm);
@@ -169,7 +177,7 @@ TlStatus tl_bdm_create(TlSolid *solid, int block, TlDem *dem, const TlBdmZone *z
     b->ref_x[i] = wrap_to_section(dom, lo, P->x[i]);
     b->slot_of_id[P->id[i]] = i;
     const double X[3] = {b->ref_x[i].x, b->ref_x[i].y, b->ref_x[i].z};
-    b->ref_w[i] = 1.0 - alpha_at(b, X);
+    b->ref_w[i] = 1.0 - alpha_mass(b, X);
   }
   TL_CHECK_GOTO(s, set_fe_weights(b), fail);
   tl_dem_set_weight_field(dem, dem_weight, b);

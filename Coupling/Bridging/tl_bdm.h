@@ -6,9 +6,13 @@
  * ../shared/specs/bridging-domain.md §3 E4-E9 for the notation).
  *
  * Weighting (Eq. 1).  alpha(X) = 1 on the FE side of a zone, 0 on its DEM
- * side, a linear or half-cosine ramp across it, clamped inside the closed
- * zone to [alpha_min, 1 - alpha_min] because the correction divides by the
- * weighted masses.  The coupling sets, at creation (before tl_solid_setup):
+ * side, a linear or half-cosine ramp across it.  The weighted masses take
+ * alpha clamped inside the closed zone to [alpha_min, 1 - alpha_min]
+ * because the correction divides by them; the forces take the continuous
+ * profile (a clamped contact weight would jump by alpha_min where a
+ * contact point crosses a zone's end: a kick to the light particles
+ * there, measured to ruin the weak coupling at rest).  The coupling sets,
+ * at creation (before tl_solid_setup):
  *   - the FE internal forces weighted by alpha at the block's stiffness
  *     points (tl_solid_set_point_weights);
  *   - the FE masses: nodal, Mbar_I = alpha(X_I) M_I as the paper prints
@@ -106,7 +110,8 @@ const char *tl_bdm_constraint_name(TlBdmConstraint c);
 const char *tl_bdm_lumping_name(TlBdmLumping l);
 const char *tl_bdm_ghost_name(TlBdmGhost g);
 
-/* alpha at point x for the zones (the clamp applies inside a closed zone). */
+/* alpha at point x for the zones: the clamp to [alpha_min, 1 - alpha_min]
+ * applies inside a closed zone (alpha_min = 0: the continuous profile). */
 double tl_bdm_alpha(const TlBdmZone *zones, int n_zones, TlBdmProfile profile, double alpha_min, const double x[3]);
 
 /* Per-step report of tl_bdm_correct. */
