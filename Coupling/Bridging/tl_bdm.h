@@ -145,8 +145,11 @@ TlStatus tl_bdm_create(TlSolid *solid, int block, TlDem *dem, const TlBdmZone *z
  * centre lies in a zone; one that lies outside the mesh is refused with its
  * id and position), the weighted masses from the stepper's lumped mass,
  * the factorisations, records and installs the ghost-force correction
- * (then recomputes the DEM forces and the stepper's accelerations with
- * it).  st is borrowed (an explicit stepper: its lumped mass is used). */
+ * (then sets the coupled particles' current forces and the stepper's
+ * accelerations as they are with it; the DEM forces are evaluated once
+ * more only when they were not evaluated with the coupling's weights,
+ * i.e. when tl_dem_setup came before tl_bdm_create).  st is borrowed (an
+ * explicit stepper: its lumped mass is used). */
 TlStatus tl_bdm_setup(TlBdm *bdm, TlStepper *st);
 /* The velocity correction after both models stepped; rep may be NULL. */
 TlStatus tl_bdm_correct(TlBdm *bdm, TlBdmReport *rep);
