@@ -51,9 +51,20 @@ static TlStatus record_fe(TlBdm *b)
       if (J < 0 || b->fixed[J]) b->ghost_fe[3 * I + (size_t)c] = 0.0;
     }
   TL_CHECK(tl_solid_add_wrapper(b->solid, b->block, &ghost_ops, b, &b->wrapper));
-  /* the accelerations of the set-up state with the correction in place */
-  TL_CHECK(tl_stepper_set_state(b->st, b->st->t, b->st->u, b->st->v));
-  return TL_OK;
+  /* the accelerations of the set-up state with the correction in place
+   * (copies: set_state copies its arguments into the stepper's arrays) */
+  const size_t n = (size_t)b->st->n;
+  double *u0 = NULL, *v0 = NULL;
+  s = tl_calloc(&u0, n + 1, sizeof *u0);
+  if (s == TL_OK) s = tl_calloc(&v0, n + 1, sizeof *v0);
+  if (s == TL_OK) {
+    memcpy(u0, b->st->u, n * sizeof *u0);
+    memcpy(v0, b->st->v, n * sizeof *v0);
+    s = tl_stepper_set_state(b->st, b->st->t, u0, v0);
+  }
+  tl_free(&u0);
+  tl_free(&v0);
+  return s;
 }
 
 /* Whether the DEM's last forces were evaluated with the coupling's
