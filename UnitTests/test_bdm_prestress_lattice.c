@@ -379,12 +379,54 @@ static void check_refusals(void)
   scene_free(&S);
 }
 
+/* The options database and the registry entry. */
+static void check_options(void)
+{
+  const TlTypeEntry *e = NULL;
+  TL_TEST_STATUS(tl_registry_lookup("coupling", "bdm", &e), TL_OK);
+  TlBdmOptions o;
+  tl_bdm_options_default(&o);
+  if (e) {
+    const TlParam *p = tl_param_find(e->params, e->n_params, "alpha_min");
+    TL_TEST_ASSERT(p && p->def == o.alpha_min, "registry alpha_min default differs from the options' %g", o.alpha_min);
+  }
+  char *good[] = {"prog", "-bdm", "weak", "-bdm_alpha", "cosine", "-ghost_force", "both", "-bdm_alpha_min", "0.01", NULL};
+  TlOptions *db = NULL;
+  TL_TEST_STATUS(tl_options_create(9, good, "test", &db), TL_OK);
+  if (db) {
+    TL_TEST_STATUS(tl_bdm_options_from_db(db, &o), TL_OK);
+    TL_TEST_ASSERT(o.constraint == TL_BDM_WEAK && o.profile == TL_BDM_ALPHA_COSINE && o.ghost == TL_BDM_GHOST_BOTH &&
+                       o.alpha_min == 0.01 && o.lumping == TL_BDM_LUMP_ROWSUM,
+                   "options read: %d %d %d %g %d", (int)o.constraint, (int)o.profile, (int)o.ghost, o.alpha_min,
+                   (int)o.lumping);
+    TL_TEST_STATUS(tl_options_finish(db, stdout), TL_OK);
+  }
+  tl_options_destroy(&db);
+  char *bad[] = {"prog", "-bdm", "medium", NULL};
+  TL_TEST_STATUS(tl_options_create(3, bad, "test", &db), TL_OK);
+  if (db) {
+    tl_bdm_options_default(&o);
+    TL_TEST_STATUS(tl_bdm_options_from_db(db, &o), TL_ERR_ARG);
+    TL_TEST_ASSERT(strstr(tl_error_message(), "medium") != NULL, "message: %s", tl_error_message());
+  }
+  tl_options_destroy(&db);
+  char *sweeps[] = {"prog", "-bdm_lumped", "none", "-bdm_jacobi", "4", NULL};
+  TL_TEST_STATUS(tl_options_create(5, sweeps, "test", &db), TL_OK);
+  if (db) {
+    tl_bdm_options_default(&o);
+    TL_TEST_STATUS(tl_bdm_options_from_db(db, &o), TL_ERR_ARG);
+    TL_TEST_ASSERT(strstr(tl_error_message(), "Jacobi") != NULL, "message: %s", tl_error_message());
+  }
+  tl_options_destroy(&db);
+}
+
 int main(void)
 {
   if (tl_initialize() != TL_OK) {
     fprintf(stderr, "%s\n", tl_error_message());
     return 1;
   }
+  check_options();
   check_refusals();
   check_ghost_balance();
   check_rest();
