@@ -371,6 +371,11 @@ static void check_refusals(void)
     const TlBdmZone inside = {1, (NY - 1) * A_CELL, NY * A_CELL};
     TL_TEST_STATUS(tl_bdm_create(S.solid, 0, S.dem, &inside, 1, &o, &S.bdm), TL_ERR_ARG);
     TL_TEST_ASSERT(strstr(tl_error_message(), "DEM side") != NULL, "message: %s", tl_error_message());
+    /* a zone whose FE side ends inside the lattice: particles beyond it
+     * would weigh nothing */
+    const TlBdmZone short_zone = {1, (NY - 2) * A_CELL, (NY - 1) * A_CELL};
+    TL_TEST_STATUS(tl_bdm_create(S.solid, 0, S.dem, &short_zone, 1, &o, &S.bdm), TL_ERR_ARG);
+    TL_TEST_ASSERT(strstr(tl_error_message(), "FE side") != NULL, "message: %s", tl_error_message());
     o.jacobi = 3;
     o.lumping = TL_BDM_LUMP_NONE;
     TL_TEST_STATUS(tl_bdm_create(S.solid, 0, S.dem, &zone, 1, &o, &S.bdm), TL_ERR_ARG);

@@ -178,6 +178,13 @@ TlStatus tl_bdm_create(TlSolid *solid, int block, TlDem *dem, const TlBdmZone *z
     b->slot_of_id[P->id[i]] = i;
     const double X[3] = {b->ref_x[i].x, b->ref_x[i].y, b->ref_x[i].z};
     b->ref_w[i] = 1.0 - alpha_mass(b, X);
+    if (!(b->ref_w[i] > 0.0)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "bdm: particle id %lld at (%g, %g, %g) lies on the FE side of a zone (alpha = 1), so its "
+                       "weighted mass (1 - alpha) m would vanish: the DEM must end at a zone's s_fe",
+                       (long long)P->id[i], X[0], X[1], X[2]);
+      goto fail;
+    }
   }
   TL_CHECK_GOTO(s, set_fe_weights(b), fail);
   tl_dem_set_weight_field(dem, dem_weight, b);
