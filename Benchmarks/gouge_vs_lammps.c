@@ -326,10 +326,10 @@ static TlStatus run(int argc, char **argv)
   if (isfinite(load0)) tl_summary_real(&sum, "load_before", load0);
   if (isfinite(load1)) tl_summary_real(&sum, "load_after", load1);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   bar_free(&b);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

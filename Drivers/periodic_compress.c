@@ -486,9 +486,9 @@ static TlStatus run_scripts(Settings *s, double wall0)
   tl_summary_real(&sum, "kinetic", ke);
   tl_summary_real(&sum, "cell_d0", side / d0);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
-  return TL_OK;
+  return s_sum;
 }
 
 /* --------------------------------------------------------- -protocol servo */
@@ -592,9 +592,9 @@ static TlStatus run_servo(Settings *s, double wall0)
   tl_summary_real(&sum, "max_imbalance", imbalance);
   tl_summary_real(&sum, "cell_d0", side / d0);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
-  return TL_OK;
+  return s_sum;
 }
 
 static TlStatus run(int argc, char **argv)
