@@ -23,10 +23,17 @@ static int tl_test_passed, tl_test_failed;
     }                                                                                  \
   } while (0)
 
-/* |a - b| <= tol * max(1, |b|) */
+/* |a - b| <= tol * max(1, |b|).  Below |b| = 1 the tolerance is absolute:
+ * with TL_TEST_AUDIT set in the environment, every comparison against a
+ * non-zero reference below 1 whose tolerance exceeds 5 % of it is printed
+ * ("AUDIT file:line a b tol"), the way a loose check is found. */
 #define TL_TEST_CLOSE(a, b, tol)                                                       \
   do {                                                                                 \
     double tl_a_ = (a), tl_b_ = (b);                                                   \
+    if (tl_b_ != 0.0 && fabs(tl_b_) < 1.0 && (double)(tol) > 0.05 * fabs(tl_b_) &&     \
+        getenv("TL_TEST_AUDIT"))                                                       \
+      fprintf(stderr, "AUDIT %s:%d %s: a = %.6g, b = %.6g, absolute tol %g\n", __FILE__, \
+              __LINE__, #a, tl_a_, tl_b_, (double)(tol));                              \
     TL_TEST_ASSERT(fabs(tl_a_ - tl_b_) <= (tol) * fmax(1.0, fabs(tl_b_)),            \
                    "%s = %.17g, expected %.17g (tol %g)", #a, tl_a_, tl_b_, (double)(tol)); \
   } while (0)
