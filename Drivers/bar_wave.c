@@ -188,7 +188,7 @@ static TlStatus run(int argc, char **argv)
     for (int j = 0; j < 2; ++j) {
       m0[j] += fabs(v[j]) * dt;
       m1[j] += st->t * fabs(v[j]) * dt;
-      peak[j] = fmax(peak[j], fabs(v[j]));
+      peak[j] = tl_track_max(peak[j], fabs(v[j]));
     }
     double row[3] = {st->t, v[0], v[1]};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), out);

@@ -490,7 +490,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
     if ((vs.prev_w < 0.0) != (w < 0.0) && vs.n_cross < 64) /* zero crossing, either way */
       vs.t_cross[vs.n_cross++] = nm->t - c->dt * w / (w - vs.prev_w);
     vs.prev_w = w;
-    vs.drift = fmax(vs.drift, fabs(e.total - vs.e0[3]) / fabs(vs.e0[3]));
+    vs.drift = tl_track_max(vs.drift, fabs(e.total - vs.e0[3]) / fabs(vs.e0[3]));
     double row[5] = {nm->t, w, e.kinetic, e.strain, e.total};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     if (c->snapshot_every > 0 && k % c->snapshot_every == 0)

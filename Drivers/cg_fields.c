@@ -437,7 +437,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   }
   double stress_diff = 0, stress_scale = fabs(tl_m3_trace(cp_sum)) / 3.0;
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) stress_diff = fmax(stress_diff, fabs(sc_int.m[a][b] - cp_sum.m[a][b]));
+    for (int b = 0; b < 3; ++b) stress_diff = tl_track_max(stress_diff, fabs(sc_int.m[a][b] - cp_sum.m[a][b]));
   stress_diff = stress_scale > 0 ? stress_diff / stress_scale : 0.0;
 
   /* ---- profile against z: layer averages, and the weight of what lies above ---- */

@@ -406,7 +406,7 @@ static TlStatus run(int argc, char **argv)
     const int on_beam = !(xp[0].y > c.beam.L && xp[1].y > c.beam.L);
     if (!on_beam && isnan(d.t_off)) d.t_off = t;
     if (on_beam) {
-      d.sym_dev = fmax(d.sym_dev, fabs(xp[0].x + xp[1].x));
+      d.sym_dev = tl_track_max(d.sym_dev, fabs(xp[0].x + xp[1].x));
       if (step > 0) d.err_int += err * Dt, d.err_time += Dt;
     }
     const int last = step >= n_macro || (c.t_end <= 0.0 && !on_beam);
@@ -414,7 +414,7 @@ static TlStatus run(int argc, char **argv)
       TL_CHECK_GOTO(s, tl_coupled_loop_energy(loop, &e), done);
       const double grav = e.dem_gravitational - d.e0[2];
       const double total = e.dem_kinetic + e.dem_elastic + grav + e.fem_kinetic + e.fem_strain;
-      if (on_beam) d.E_max = fmax(d.E_max, total);
+      if (on_beam) d.E_max = tl_track_max(d.E_max, total);
       /* The undamped coupled system conserves energy: growth far beyond
        * the start is the coupling going unstable; stop before it runs away. */
       if (c.energy_limit > 0.0 && !(total <= c.energy_limit * fmax(d.e0[5], 1e-300))) {

@@ -100,7 +100,7 @@ static TlStatus run(int argc, char **argv)
   for (size_t k = 0; k < r.n; ++k) {
     if (r.state[k].t < t0 + r.dt) continue;
     if (isnan(e_ref)) e_ref = r.state[k].total;
-    e_dev = fmax(e_dev, fabs(r.state[k].total - e_ref) / e_ref);
+    e_dev = tl_track_max(e_dev, fabs(r.state[k].total - e_ref) / e_ref);
   }
   printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
          "after the excitation); output in %s\n",

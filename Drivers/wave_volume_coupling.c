@@ -316,14 +316,14 @@ static TlStatus run(int argc, char **argv)
   double t_refl = 0.9 * p.length / sqrt(p.E / p.rho) /* before the front meets the fixed end */, pmax = 0.0, drift = 0.0;
   for (size_t k = 0; k < rc.n; ++k) {
     const TlWaveState *st = &rc.state[k];
-    mass_err = fmax(mass_err, fabs(st->mass_dem + st->mass_fem - Mexact) / Mexact);
+    mass_err = tl_track_max(mass_err, fabs(st->mass_dem + st->mass_fem - Mexact) / Mexact);
     eq41 = fmax(eq41, st->eq41);
-    resid = fmax(resid, st->residual);
+    resid = tl_track_max(resid, st->residual);
   }
   double mass_err0 = fabs(rc.state[0].mass_dem + rc.state[0].mass_fem - Mexact) / Mexact;
   double E_ref = NAN, dissipated = NAN, perr = NAN, perr_w = NAN;
   if (reference) {
-    for (size_t k = 0; k < rr.n; ++k) pmax = fmax(pmax, fabs(rr.state[k].mom_dem));
+    for (size_t k = 0; k < rr.n; ++k) pmax = tl_track_max(pmax, fabs(rr.state[k].mom_dem));
     /* The window ends where the reference's own momentum starts to change:
      * the precursor of the dispersive pulse (a lattice spreads a one-layer
      * impulse ahead of c t) reaches the clamped end at about 0.75 L / c,
@@ -338,7 +338,7 @@ static TlStatus run(int argc, char **argv)
       }
     for (size_t k = 0; k < rc.n && k < rr.n; ++k)
       if (rc.state[k].t < t_refl)
-        drift = fmax(drift, fabs(rc.state[k].mom_dem + rc.state[k].mom_fem - rr.state[k].mom_dem) / pmax);
+        drift = tl_track_max(drift, fabs(rc.state[k].mom_dem + rc.state[k].mom_fem - rr.state[k].mom_dem) / pmax);
     E_ref = rr.state[rr.n - 1].total;
     dissipated = 1.0 - rc.state[rc.n - 1].total / E_ref;
     double num = 0.0, num_w = 0.0, den = 0.0;

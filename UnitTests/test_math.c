@@ -4,6 +4,11 @@
 
 int main(void)
 {
+  /* trackers keep a NaN (fmax would drop it) */
+  TL_TEST_ASSERT(tl_track_max(1.0, 2.0) == 2.0 && tl_track_min(1.0, 2.0) == 1.0, "track max/min");
+  TL_TEST_ASSERT(isnan(tl_track_max(1.0, NAN)) && isnan(tl_track_max(NAN, 1.0)) && isnan(tl_track_min(1.0, NAN)),
+                 "a NaN is kept by the trackers");
+  TL_TEST_ASSERT(tl_track_max(-INFINITY, 3.0) == 3.0, "start from -inf");
   TlVec3 a = tl_v3(1, 2, 3), b = tl_v3(-4, 0.5, 2);
   TL_TEST_CLOSE(tl_v3_dot(a, b), -4 + 1 + 6, 0);
   TlVec3 c = tl_v3_cross(a, b);

@@ -25,6 +25,11 @@ typedef struct { double w, x, y, z; } TlQuat;         /* w + xi + yj + zk */
  * a NaN in b is ignored, as fmax does, a NaN in a is not. */
 static inline double tl_max(double a, double b) { return b > a ? b : a; }
 static inline double tl_min(double a, double b) { return b < a ? b : a; }
+/* The running largest (smallest) of a figure that is reported or checked: a
+ * NaN anywhere makes the result NaN, so that a tracker never drops the
+ * evidence of a blown-up value (fmax and fmin return the other argument). */
+static inline double tl_track_max(double acc, double x) { return (isnan(acc) || isnan(x)) ? NAN : fmax(acc, x); }
+static inline double tl_track_min(double acc, double x) { return (isnan(acc) || isnan(x)) ? NAN : fmin(acc, x); }
 
 static inline TlVec3 tl_v3(double x, double y, double z) { return (TlVec3){x, y, z}; }
 static inline TlVec3 tl_v3_add(TlVec3 a, TlVec3 b) { return (TlVec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
