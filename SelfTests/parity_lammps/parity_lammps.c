@@ -21,7 +21,9 @@
  * once compressed, overlapping from the start; and (given a packing file as
  * the argument) the gouge of seeds/000: a Talus-made 5 MPa packing of
  * bidisperse grains, periodic in x, y and z, with the gouge law of Table 1
- * (explicit Kt), stirred by random velocities and spins, 2000 steps.
+ * (explicit Kt), stirred by random velocities and spins, 2000 steps, and
+ * the same with the scripts' frictionless compaction law and global viscous
+ * damping (fix viscous 0.5 against a coupling force -0.5 v).
  *
  * Norm: for each of velocity, spin, force and torque, the largest over the
  * particles of |Talus - LAMMPS| (Euclidean), over the largest |LAMMPS| of
@@ -59,6 +61,7 @@ typedef struct {
   double lo[3], hi[3];
   int periodic[3]; /* x, y, z */
   double gravity;  /* along -z, m/s^2 */
+  double viscous;  /* global damping -c v, N s/m (LAMMPS fix viscous); 0: none */
   double dt;
   long steps;
   size_t n;
@@ -150,6 +153,7 @@ static TlStatus run_lammps(const Scene *s, double *out /* 12 per particle: v w f
           s->skin > 0.0 ? s->skin : 0.1);
   fprintf(f, "fix integrate all nve/sphere\n");
   if (s->gravity > 0.0) fprintf(f, "fix gravity all gravity %.17g vector 0 0 -1\n", s->gravity);
+  if (s->viscous > 0.0) fprintf(f, "fix viscous all viscous %.17g\n", s->viscous);
   for (int k = 0; k < s->n_walls; ++k) {
     const Wall *w = &s->walls[k];
     fprintf(f, "fix wall%d all wall/gran %s zplane ", k, args);
@@ -196,6 +200,16 @@ static TlStatus run_lammps(const Scene *s, double *out /* 12 per particle: v w f
 
 /* ----------------------------------------------------------------- Talus */
 
+/* fix viscous: -c v with the half-step velocity, beside the contact forces
+ * (the coupling force of a Talus world, set before its force evaluation) */
+static TlStatus viscous_force(void *ctx, TlDem *dem)
+{
+  const double c = *(const double *)ctx;
+  TlParticles *P = tl_dem_particles(dem);
+  for (size_t i = 0; i < P->n; ++i) P->f_coupling[i] = tl_v3_scale(P->v[i], -c);
+  return TL_OK;
+}
+
 static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
 {
   static const char *const normal[] = {"lammps_hooke", "lammps_hooke", "lammps_hertz"};
@@ -219,10 +233,17 @@ static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
   for (size_t i = 0; i < s->n; ++i)
     TL_CHECK(tl_dem_add_particle(dem, tl_v3(s->x[3 * i], s->x[3 * i + 1], s->x[3 * i + 2]),
                                  tl_v3(s->v[3 * i], s->v[3 * i + 1], s->v[3 * i + 2]), s->r[i], sp, NULL));
-  TL_CHECK(tl_particles_enable_rotation(P));
-  for (size_t i = 0; i < s->n; ++i) P->w[i] = tl_v3(s->w[3 * i], s->w[3 * i + 1], s->w[3 * i + 2]);
+  /* frictionless: a world without rotational state, as the compaction runs
+   * (LAMMPS's spins then stay as they are, without torque) */
+  if (s->mu > 0.0) {
+    TL_CHECK(tl_particles_enable_rotation(P));
+    for (size_t i = 0; i < s->n; ++i) P->w[i] = tl_v3(s->w[3 * i], s->w[3 * i + 1], s->w[3 * i + 2]);
+  }
   const TlContactValue values[] = {{"k_n", s->kn}, {"gamma_n", s->gamma_n}, {"mu", s->mu}, {"k_t", s->kt}};
-  const TlContactSpec spec = {normal[s->style], friction[s->style], NULL, NULL, values, s->kt > 0.0 ? 4 : 3};
+  /* xmu 0: no tangential force in LAMMPS; no friction part in Talus (the
+   * frictionless law of the scripts' compaction) */
+  const TlContactSpec spec = {normal[s->style], s->mu > 0.0 ? friction[s->style] : NULL, NULL, NULL, values,
+                              s->mu > 0.0 ? (s->kt > 0.0 ? 4 : 3) : 2};
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
@@ -234,6 +255,12 @@ static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
     TL_CHECK(tl_dem_add_wall(dem, wall, 0));
   }
   tl_dem_set_gravity(dem, tl_v3(0, 0, -s->gravity));
+  if (s->viscous > 0.0) {
+    /* LAMMPS's set-up applies the fix to the initial velocities too */
+    TL_CHECK(tl_particles_enable_coupling_force(P));
+    viscous_force((void *)&s->viscous, dem);
+    tl_dem_set_step_hook(dem, viscous_force, (void *)&s->viscous);
+  }
   tl_dem_set_threads(dem, 1);
   tl_dem_set_sort_interval(dem, 0);
   tl_dem_track_orientation(dem, 0);
@@ -242,7 +269,9 @@ static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
   TL_CHECK(tl_dem_step(dem, s->steps));
   for (size_t k = 0; k < P->n; ++k) {
     double *o = out + 12 * (size_t)P->id[k];
-    const TlVec3 q[4] = {P->v[k], P->w[k], P->f[k], P->torque[k]};
+    const size_t id = (size_t)P->id[k];
+    const TlVec3 w0 = tl_v3(s->w[3 * id], s->w[3 * id + 1], s->w[3 * id + 2]);
+    const TlVec3 q[4] = {P->v[k], P->w ? P->w[k] : w0, P->f[k], P->torque ? P->torque[k] : tl_v3(0, 0, 0)};
     for (int a = 0; a < 4; ++a) o[3 * a] = q[a].x, o[3 * a + 1] = q[a].y, o[3 * a + 2] = q[a].z;
   }
   TlDemStats st;
@@ -403,8 +432,10 @@ static void packing(const char *name, double a, double r0)
  * the gouge law of Table 1 (gran/hertz/history 3.663e10 4.5249e10 0.2 NULL
  * 0.5 1 = lammps_hertz + lammps_history, dt = 1e-8 s), stirred by random
  * velocities (±0.2 m/s) and spins (±100 rad/s) so that contacts load, slide
- * and open: 2000 steps from the packing's overlaps. */
-static void gouge(const char *path)
+ * and open: 2000 steps from the packing's overlaps.  Then the same with the
+ * scripts' compaction law (frictionless) and global viscous damping -0.5 v
+ * (fix viscous 0.5). */
+static void gouge(const char *path, int compaction)
 {
   TlParticleSnapshot snap;
   TlVec3 o;
@@ -413,13 +444,20 @@ static void gouge(const char *path)
   if (snap.n == 0) return;
   Scene s;
   memset(&s, 0, sizeof s);
-  s.name = "gouge_packing";
+  s.name = compaction ? "gouge_compaction" : "gouge_packing";
   s.style = HERTZ_HISTORY;
   s.density = 2500.0;
   s.kn = tl_gouge_law_spec.values[0].value;
   s.gamma_n = tl_gouge_law_spec.values[1].value;
   s.kt = tl_gouge_law_spec.values[2].value;
   s.mu = tl_gouge_law_spec.values[3].value;
+  if (compaction) {
+    /* the scripts' compaction: frictionless (Kt NULL with xmu 0 gives no
+     * tangential force, as their Kt 0), fix viscous 0.5 */
+    s.mu = 0.0;
+    s.kt = 0.0;
+    s.viscous = 0.5;
+  }
   s.skin = 3e-4;
   s.lo[0] = o.x, s.lo[1] = o.y, s.lo[2] = o.z;
   for (int k = 0; k < 3; ++k) s.hi[k] = s.lo[k] + h.m[k][k], s.periodic[k] = 1;
@@ -451,7 +489,8 @@ int main(int argc, char **argv)
   if (!have_lammps()) return 77;
   if (argc > 1) {
     /* the gouge packing alone (its own ctest) */
-    gouge(argv[1]);
+    gouge(argv[1], 0);
+    gouge(argv[1], 1);
     return tl_test_report();
   }
   impact(HOOKE, "impact_hooke");
