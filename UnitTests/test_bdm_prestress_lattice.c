@@ -236,6 +236,17 @@ static void check_rest(void)
   }
   TL_TEST_ASSERT(sec[0][0] < sec[1][0], "without correction strong (%.3e a) should drift less than weak (%.3e a)",
                  sec[0][0], sec[1][0]);
+  /* one model's initial forces alone: the other's unbalance is then
+   * nobody's (the overlap as a whole was balanced, see the ghost balance) */
+  double one[2], pp, rr;
+  const TlBdmGhost scope[2] = {TL_BDM_GHOST_FE, TL_BDM_GHOST_DEM};
+  for (int k = 0; k < 2; ++k) {
+    run_rest(TL_BDM_STRONG, scope[k], steps, &one[k], &pp, &rr);
+    printf("strong, ghost-force correction %s only: max section displacement %.3e a, max particle displacement %.3e "
+           "a\n", tl_bdm_ghost_name(scope[k]), one[k], pp);
+    TL_TEST_ASSERT(one[k] > 1e6 * sec[0][1], "%s alone: %.3e a, not far above both's %.3e a",
+                   tl_bdm_ghost_name(scope[k]), one[k], sec[0][1]);
+  }
 }
 
 /* The recorded ghost forces: the FE's and the particles' balance (the
