@@ -266,12 +266,12 @@ static void check_ghost_balance(void)
       fe += gf[3 * I + 1];
       fe_abs += fabs(gf[3 * I + 1]);
     }
-    for (size_t k = 0; gd && k < info.n_particles; ++k) dem += gd[3 * k + 1];
+    for (size_t k = 0; gd && k < info.n_ghost_particles; ++k) dem += gd[3 * k + 1];
     /* ghost_fe is the internal force subtracted: the initial net force on
      * the FE is -ghost_fe; on the particles +ghost_dem */
     double p = 4.0 * K_BOND * EPS / A_CELL, area = NX * A_CELL * NX * A_CELL;
-    printf("coupled particles %zu, constraints %zu, FE dofs %zu; initial y forces: FE %.6e N, particles %.6e N "
-           "(p A = %.6e N)\n", info.n_particles, info.n_constraints, info.n_dofs, -fe, dem, p * area);
+    printf("coupled particles %zu, ghost-force particles %zu, constraints %zu, FE dofs %zu; initial y forces: FE %.6e N, particles %.6e N "
+           "(p A = %.6e N)\n", info.n_particles, info.n_ghost_particles, info.n_constraints, info.n_dofs, -fe, dem, p * area);
     TL_TEST_ASSERT(fe_abs > 1e-3 * p * area, "the FE's ghost forces %.3e N are negligible", fe_abs);
     TL_TEST_ASSERT(fabs(-fe + dem) < 0.05 * p * area, "initial forces FE %.6e and particles %.6e N do not balance",
                    -fe, dem);

@@ -202,31 +202,42 @@ void tl_bdm_destroy(TlBdm **pb)
   if (b->wrapper) tl_solid_remove_wrapper(b->solid, &b->wrapper);
   tl_bdm_system_destroy(&b->sys);
   void *arr[] = {&b->ref_id, &b->ref_x, &b->ref_w, &b->slot_of_id, &b->index_of_id, &b->alpha_nodes, &b->c_slot,
-                 &b->c_idx, &b->ptr, &b->dof, &b->phi, &b->m_q, &b->fixed, &b->comp, &b->v_q, &b->v_q0, &b->gdot,
+                 &b->c_idx, &b->g_slot, &b->g_idx, &b->ptr, &b->dof, &b->phi, &b->m_q, &b->fixed, &b->comp, &b->v_q, &b->v_q0, &b->gdot,
                  &b->mu, &b->g_w, &b->v_dof0, &b->ghost_fe, &b->ghost_dem};
   for (size_t k = 0; k < sizeof arr / sizeof arr[0]; ++k) tl_free(arr[k]);
   tl_free(pb);
 }
 
-/* Current indices of the coupled particles: checked cheaply each step,
- * rebuilt through an id table when the world renumbered them. */
-TlStatus tl_bdm_remap(TlBdm *b)
+/* Current indices of a list of particles (reference slots): checked
+ * cheaply each step, rebuilt through an id table when the world renumbered
+ * them. */
+static TlStatus remap_list(TlBdm *b, size_t n, const size_t *slot, size_t *idx, int *table_built)
 {
   const TlParticles *P = tl_dem_particles(b->dem);
   int ok = 1;
-  for (size_t k = 0; k < b->n_c && ok; ++k)
-    ok = b->c_idx[k] < P->n && P->id[b->c_idx[k]] == b->ref_id[b->c_slot[k]];
+  for (size_t k = 0; k < n && ok; ++k) ok = idx[k] < P->n && P->id[idx[k]] == b->ref_id[slot[k]];
   if (ok) return TL_OK;
-  for (int64_t id = 0; id < b->id_cap; ++id) b->index_of_id[id] = SIZE_MAX;
-  for (size_t i = 0; i < P->n; ++i)
-    if (P->id[i] >= 0 && P->id[i] < b->id_cap) b->index_of_id[P->id[i]] = i;
-  for (size_t k = 0; k < b->n_c; ++k) {
-    int64_t id = b->ref_id[b->c_slot[k]];
+  if (!*table_built) {
+    for (int64_t id = 0; id < b->id_cap; ++id) b->index_of_id[id] = SIZE_MAX;
+    for (size_t i = 0; i < P->n; ++i)
+      if (P->id[i] >= 0 && P->id[i] < b->id_cap) b->index_of_id[P->id[i]] = i;
+    *table_built = 1;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    int64_t id = b->ref_id[slot[k]];
     size_t i = b->index_of_id[id];
     if (i == SIZE_MAX)
       TL_ERROR(TL_ERR_STATE, "bdm: coupled particle id %lld is no longer in the DEM world", (long long)id);
-    b->c_idx[k] = i;
+    idx[k] = i;
   }
+  return TL_OK;
+}
+
+TlStatus tl_bdm_remap(TlBdm *b)
+{
+  int built = 0;
+  TL_CHECK(remap_list(b, b->n_c, b->c_slot, b->c_idx, &built));
+  if (b->n_g) TL_CHECK(remap_list(b, b->n_g, b->g_slot, b->g_idx, &built));
   return TL_OK;
 }
 
@@ -446,6 +457,7 @@ void tl_bdm_info(const TlBdm *b, TlBdmInfo *info)
   info->n_particles = b->n_c;
   info->n_constraints = 3 * b->n_c;
   info->n_excluded = b->n_excluded;
+  info->n_ghost_particles = b->n_g;
   if (b->sys) {
     tl_bdm_system_free_dofs(b->sys, &info->n_dofs);
     tl_bdm_system_rows(b->sys, &info->n_rows_weak);

@@ -49,7 +49,9 @@
  *
  * Ghost forces (§4.2).  At setup the initial internal nodal forces of the
  * FE (tl_solid_block_forces at the current displacements) and/or the
- * initial weighted forces of the coupled particles are recorded and
+ * initial weighted forces of the particles the weighting reaches (centre
+ * within the largest radius of a zone: a particle just outside a zone has
+ * weighted contacts inside it) are recorded and
  * subtracted for the whole run: the FE through a solid wrapper adding the
  * recorded force as an external load (the stepper counts its work), the
  * particles through P->f_coupling.
@@ -162,6 +164,7 @@ void tl_bdm_destroy(TlBdm **bdm);
  * zones left out (not free). */
 typedef struct {
   size_t n_particles, n_constraints, n_dofs, n_rows_weak, n_excluded;
+  size_t n_ghost_particles; /* particles whose initial forces are subtracted (dem|both) */
   size_t n_nonzeros; /* entries of N */
   double t_setup;    /* seconds spent in tl_bdm_setup (factorisation included) */
   double t_correct;  /* cumulative seconds in tl_bdm_correct */
@@ -171,7 +174,9 @@ void tl_bdm_info(const TlBdm *bdm, TlBdmInfo *info);
 /* alpha at every mesh node (n_nodes), at setup. */
 const double *tl_bdm_node_alpha(const TlBdm *bdm);
 /* The recorded ghost forces: FE node-space (3 per mesh node, NULL unless
- * fe/both) and per coupled particle (3 each, NULL unless dem/both). */
+ * fe/both) and per ghost-force particle (3 each, NULL unless dem/both; the
+ * free particles a weighted contact reaches: reference centre within the
+ * largest radius of a zone, n_ghost_particles of tl_bdm_info). */
 const double *tl_bdm_ghost_fe(const TlBdm *bdm);
 const double *tl_bdm_ghost_dem(const TlBdm *bdm);
 
