@@ -53,6 +53,7 @@ struct TlBdm {
   TlSolidWrapper *wrapper;
   /* report */
   TlBdmReport last;
+  int state_diagnosed; /* last's rates, residual and momentum are of the current state */
   long steps;
   double removed_total;
   double t_setup, t_correct;
