@@ -136,6 +136,12 @@ TlStatus tl_nhl_cell_create(TlNhlBuildFn build, void *ctx, const TlNhlCellSettin
  * committed state (each Gauss point's cell starts as the prepared one). */
 TlStatus tl_nhl_cell_create_copy(const TlNhlCell *model, TlNhlCell **cell);
 void tl_nhl_cell_destroy(TlNhlCell **cell);
+/* Makes the world as it stands the reference (h_R = h, F = 1) and the
+ * committed state, dropping any trial: the end of a preparation. */
+TlStatus tl_nhl_cell_rebase(TlNhlCell *cell);
+/* Called with the builder's ctx when the last cell built by it goes (for a
+ * ctx the cells own). */
+void tl_nhl_cell_set_free_ctx(TlNhlCell *cell, void (*free_ctx)(void *ctx));
 
 TlStatus tl_nhl_cell_set_settings(TlNhlCell *cell, const TlNhlCellSettings *s);
 const TlNhlCellSettings *tl_nhl_cell_settings(const TlNhlCell *cell);
@@ -198,7 +204,7 @@ TlStatus tl_nhl_cell_restore_committed(TlNhlCell *cell);
 /* The committed state of the cell in a checkpoint file under `group` (the
  * world's state by tl_dem_checkpoint_ops plus F and σ); load restores it
  * into a cell built the same way and drops any trial. */
-TlStatus tl_nhl_cell_save(const TlNhlCell *cell, TlCheckpointWriter *w, const char *group);
+TlStatus tl_nhl_cell_save(TlNhlCell *cell, TlCheckpointWriter *w, const char *group);
 TlStatus tl_nhl_cell_load(TlNhlCell *cell, TlCheckpointReader *r, const char *group);
 
 /* ---- conversions used by the material (spec §6) ---- */
