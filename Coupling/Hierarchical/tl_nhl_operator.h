@@ -192,4 +192,8 @@ void tl_nhl_operator_objective(double c[81], TlMat3 sigma);
 TlStatus tl_nhl_operator_perturb(const TlNhlOperator *op, const TlNhlOperatorInput *in, TlNhlEvalMode mode,
                                  double c[81], TlNhlOperatorStats *stats);
 
+/* Eigenvalues w (and eigenvectors V, columns, when not NULL) of the
+ * symmetric n x n matrix A (n <= 6; Jacobi): rank checks and bounds. */
+void tl_nhl_sym_eigen(int n, const double *A, double *w, double *V);
+
 #endif
