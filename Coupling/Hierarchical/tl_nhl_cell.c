@@ -5,6 +5,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -358,13 +359,24 @@ static TlStatus drive(TlNhlCell *c, TlMat3 F_from, TlMat3 sigma_from, TlMat3 F_f
     TL_CHECK(tl_dem_step(dem, n));
   }
   TL_CHECK(tl_domain_set_h_rate(D, tl_m3_zero()));
-  /* h = F^f h_R exactly (the n increments leave round-off) */
+  /* h = F^f h_R exactly (the n increments leave round-off; how much is
+   * reported) */
+  double herr = 0.0, hbig = 0.0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) herr = fmax(herr, fabs(D->h.m[i][j] - h_f.m[i][j])), hbig = fmax(hbig, fabs(h_f.m[i][j]));
   TL_CHECK(tl_domain_set_h(D, h_f));
+  /* one step at the held F, so that the forces the stress and the balance
+   * read are those of ḣ = 0 (the drive's last forces carry the damping of
+   * the affine velocity L b) */
+  if (n > 0) TL_CHECK(tl_dem_step(dem, 1));
   if (st) {
+    st->relax_steps += n > 0;
+    st->dem_steps += n > 0;
     st->drive_steps += n;
     st->dem_steps += n;
     st->tau = (double)n * dt;
     st->gamma = gamma;
+    st->h_error = herr / hbig;
   }
   return TL_OK;
 }

@@ -68,6 +68,8 @@ typedef struct {
   long drive_steps, relax_steps;
   double tau;           /* s, drive duration (Eq. 18, after the floor) */
   double gamma;         /* γ_eff of the increment (Eq. 17, spec §12.12) */
+  double h_error;       /* max |h - F^f h_R| / max |F^f h_R| at the end of the constant-ḣ
+                           drive, before h is set to F^f h_R exactly */
   double imbalance;     /* final max_n Δ_n (Eq. 19) */
   double kinetic_ratio; /* |σ_kinetic| / |σ_contact| (Frobenius) at the end */
   double pressure;      /* -tr σ / dim at the end, Pa */

@@ -3,6 +3,7 @@
  * §2.4; F1: k_t/k_n = 1, κ = 500, μ = 0.5).  Linear normal springs with
  * restitution damping and Coulomb friction (the paper's law, Eqs. 4, 22-26). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "tl_memory.h"
@@ -126,46 +127,32 @@ static TlStatus build_fcc(const TlNhlPacking *p, TlNhlWorld *w)
   return finish_world(p, kn, w);
 }
 
-/* A gas at packing fraction φ0 in a cube (square), radii uniform. */
+/* A gas at packing fraction φ0 in a cube (a square of unit thickness for
+ * disks), radii uniform in diameter (tl_dem_insert_gas). */
 static TlStatus build_random(const TlNhlPacking *p, TlNhlWorld *w)
 {
-  if (p->dim == 2)
-    TL_ERROR(TL_ERR_UNSUPPORTED, "NHL packing: a random cell of disks needs the DEM's two-dimensional mode, which "
-             "this build does not have yet (use dim 3)");
-  const double d_mean = p->radius_min + p->radius_max, kn = normal_stiffness(p, d_mean);
-  const double phi0 = 0.3;
-  double vol = 0.0;
-  uint64_t rng = (uint64_t)p->seed * 0x9e3779b97f4a7c15ULL + 12345;
-  double *radii = NULL;
-  TL_CHECK(tl_calloc(&radii, (size_t)p->n, sizeof *radii));
-  for (long k = 0; k < p->n; ++k) {
-    radii[k] = p->radius_min + (p->radius_max - p->radius_min) * tl_random_uniform(&rng);
-    vol += 4.0 / 3.0 * TL_PI * radii[k] * radii[k] * radii[k];
-  }
-  const double L = cbrt(vol / phi0);
-  TlStatus s = tl_dem_create(&w->dem);
-  TlParticles *P = w->dem ? tl_dem_particles(w->dem) : NULL;
+  const double a = p->radius_min, b = p->radius_max, d_mean = a + b, kn = normal_stiffness(p, d_mean);
+  const double phi0 = p->dim == 2 ? 0.4 : 0.3;
+  /* mean particle volume (area) with r uniform in [a, b] */
+  const double mean = p->dim == 2 ? TL_PI * (a * a + a * b + b * b) / 3.0 : TL_PI / 3.0 * (a + b) * (a * a + b * b);
+  const double L = p->dim == 2 ? sqrt((double)p->n * mean / phi0) : cbrt((double)p->n * mean / phi0);
+  TL_CHECK(tl_dem_create(&w->dem));
+  TlParticles *P = tl_dem_particles(w->dem);
   TlDomain dom;
-  int sp = 0;
-  if (s == TL_OK) s = tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), L));
-  if (s == TL_OK) s = tl_dem_set_domain(w->dem, &dom);
-  if (s == TL_OK) s = tl_particles_add_species(P, "grain", p->density, p->radius_min, p->radius_max, &sp);
-  if (s == TL_OK) s = tl_particles_reserve(P, (size_t)p->n);
-  for (long k = 0; k < p->n && s == TL_OK; ++k) {
-    int placed = 0;
-    for (int attempt = 0; attempt < 100000 && !placed; ++attempt) {
-      TlVec3 x = {L * tl_random_uniform(&rng), L * tl_random_uniform(&rng), L * tl_random_uniform(&rng)};
-      placed = 1;
-      for (size_t i = 0; i < P->n && placed; ++i)
-        placed = tl_v3_norm(tl_domain_branch(&dom, P->x[i], x)) > P->radius[i] + radii[k];
-      if (placed) s = tl_dem_add_particle(w->dem, x, tl_v3(0, 0, 0), radii[k], sp, NULL);
-    }
-    if (!placed && s == TL_OK)
-      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "NHL packing: no room for particle %ld in the gas (phi0 %g)", k, phi0);
+  TlMat3 h = tl_m3_scale(tl_m3_identity(), L);
+  if (p->dim == 2) {
+    h.m[2][2] = 1.0;
+    TL_CHECK(tl_dem_set_dimension(w->dem, 2));
+    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), h));
+  } else {
+    TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), h));
   }
-  tl_free(&radii);
-  TL_CHECK(s);
-  w->dim = 3;
+  TL_CHECK(tl_dem_set_domain(w->dem, &dom));
+  int sp = 0;
+  TL_CHECK(tl_particles_add_species(P, "grain", p->density, a, b, &sp));
+  TL_CHECK(tl_particles_reserve(P, (size_t)p->n));
+  TL_CHECK(tl_dem_insert_gas(w->dem, sp, (size_t)p->n, (uint64_t)p->seed, 100000, NULL));
+  w->dim = p->dim;
   return finish_world(p, kn, w);
 }
 
