@@ -391,7 +391,7 @@ TlStatus tl_nhl_material_set_operator(TlMaterial *m, const char *name)
   return TL_OK;
 }
 
-struct TlNhlOperator *tl_nhl_material_operator(TlMaterial *m)
+TlNhlOperator *tl_nhl_material_operator(TlMaterial *m)
 {
   return tl_nhl_material_is(m) ? ((DemCell *)m)->op : NULL;
 }
@@ -411,6 +411,37 @@ TlStatus tl_nhl_material_set_analytic(TlMaterial *m, TlNhlAnalyticFn fn, void *c
   d->analytic = fn;
   d->analytic_ctx = ctx;
   m->ready = 0;
+  return TL_OK;
+}
+
+TlStatus tl_nhl_material_compare(TlMaterial *m, size_t k, const TlNhlOperator *op, double c[81], TlNhlOperatorStats *stats)
+{
+  TL_CHECK(check_is(m, "tl_nhl_material_compare"));
+  DemCell *d = (DemCell *)m;
+  if (k >= d->n_cells) TL_ERROR(TL_ERR_ARG, "dem_cell: cell %zu asked for; there are %zu", k, d->n_cells);
+  TlNhlCell *cell = d->cells[k];
+  if (!tl_nhl_cell_has_trial(cell))
+    TL_ERROR(TL_ERR_STATE, "dem_cell: cell %zu has no evaluation to compare operators on (evaluate, then compare, "
+             "then commit)", k);
+  TlMat3 sigma;
+  TL_CHECK(tl_nhl_cell_stress(cell, &sigma, NULL));
+  EvalCtx ectx = {d, cell};
+  TlNhlOperatorInput in = {tl_nhl_cell_dem(cell), tl_nhl_cell_dim(cell), tl_nhl_cell_current_F(cell), sigma,
+                           reevaluate, &ectx, 1, 1};
+  const size_t ns = tl_nhl_operator_state_size(op);
+  double *so = NULL, *sn = NULL;
+  if (ns) {
+    TL_CHECK(tl_calloc(&so, ns, sizeof *so));
+    TlStatus s = tl_calloc(&sn, ns, sizeof *sn);
+    if (s != TL_OK) {
+      tl_free(&so);
+      return tl_error_trace(s, __FILE__, __LINE__);
+    }
+  }
+  TlStatus s = tl_nhl_operator_compute(op, &in, so, sn, c, stats);
+  tl_free(&so);
+  tl_free(&sn);
+  TL_CHECK(s);
   return TL_OK;
 }
 

@@ -46,6 +46,7 @@
 #include <stddef.h>
 #include "tl_material.h"
 #include "tl_nhl_cell.h"
+#include "tl_nhl_operator.h"
 
 /* Per-point state (doubles), the material's part; the operator's own state
  * (tl_nhl_operator_state_size) follows at TL_NHL_STATE_OPERATOR. */
@@ -78,7 +79,7 @@ TlStatus tl_nhl_material_set_packing(TlMaterial *m, const TlNhlPacking *packing)
 /* The tangent operator by registered name ("cto", "aeo", "uko", "demqo",
  * ...; default "cto"); its parameters through tl_nhl_material_operator. */
 TlStatus tl_nhl_material_set_operator(TlMaterial *m, const char *name);
-struct TlNhlOperator *tl_nhl_material_operator(TlMaterial *m);
+TlNhlOperator *tl_nhl_material_operator(TlMaterial *m);
 /* Marks every point pre- or post-peak from outside (e.g. the macro
  * load-displacement curve): -1 (default) each point decides from its own
  * stress (peak_drop), 0 all post-peak, 1 all pre-peak. */
@@ -101,6 +102,13 @@ typedef struct {
   double seconds, max_imbalance;
 } TlNhlMaterialTotals;
 void tl_nhl_material_totals(TlMaterial *m, TlNhlMaterialTotals *t, int reset);
+
+/* Another operator on cell k as its last evaluation left it (the trial
+ * state at that F): c (dσ = c : dF F⁻¹, tl_nhl_operator.h) with the
+ * material's re-evaluations (path, probe), for printing operators side by
+ * side.  An operator with per-point state starts from zeros, calibrating. */
+TlStatus tl_nhl_material_compare(TlMaterial *m, size_t k, const TlNhlOperator *op, double c[81],
+                                 TlNhlOperatorStats *stats);
 
 /* Whether m is a dem_cell material. */
 int tl_nhl_material_is(const TlMaterial *m);
