@@ -190,17 +190,28 @@ static TlStatus prepare_random(TlNhlCell *cell, const TlNhlPacking *p)
     TL_CHECK(tl_dem_max_force_imbalance(dem, &imb));
     const double err = (pr - p->pressure) / p->pressure;
     if (!reached && pr >= p->pressure) reached = 1;
-    if (reached && fabs(err) < 1e-2 && imb < tol) break;
-    double rate;
-    if (!reached) {
-      const double frac = fmax(pr, 0.0) / p->pressure;
-      rate = -(rate_gas * (1.0 - frac) + rate_target * frac);
-    } else {
-      rate = fmax(-rate_target, fmin(rate_target, rate_target * 2.0 * err));
+    /* once the mean pressure is reached each axis is servoed on its own
+     * normal stress, so the prepared cell is isotropic */
+    double err_axis[3], worst = 0.0;
+    for (int a = 0; a < dim; ++a) {
+      err_axis[a] = (-sc.m[a][a] - p->pressure) / p->pressure;
+      worst = fmax(worst, fabs(err_axis[a]));
     }
+    if (reached && worst < 1e-2 && imb < tol) break;
     TlDomain *D = tl_dem_domain(dem);
-    TlMat3 hdot = tl_m3_scale(D->h, rate);
-    if (dim == 2) hdot.m[2][0] = hdot.m[2][1] = hdot.m[2][2] = hdot.m[0][2] = hdot.m[1][2] = 0.0;
+    TlMat3 hdot = tl_m3_zero();
+    for (int a = 0; a < dim; ++a) {
+      double rate;
+      if (!reached) {
+        const double frac = fmax(pr, 0.0) / p->pressure;
+        rate = -(rate_gas * (1.0 - frac) + rate_target * frac);
+      } else {
+        rate = fmax(-rate_target, fmin(rate_target, rate_target * 2.0 * err_axis[a]));
+      }
+      /* row a of ḣ: the cell's extent along axis a changes at `rate` */
+      for (int b = 0; b < dim; ++b) hdot.m[a][b] = rate * D->h.m[a][b];
+    }
+    (void)err;
     TL_CHECK(tl_domain_set_h_rate(D, hdot));
     TL_CHECK(tl_dem_step(dem, every));
   }
