@@ -17,6 +17,9 @@
 
 #include "talus.h"
 #include "tl_nhl_cell.h"
+#include "tl_nhl_material.h"
+#include "tl_solid.h"
+#include "tl_stepper.h"
 #include "tl_test.h"
 
 static double asym(TlMat3 s)
@@ -232,6 +235,133 @@ static void test_states(TlNhlCell *c, const char *label)
   free(c0), free(c1), free(t2), free(x);
 }
 
+/* The material in a solid: one hex8 element, an FCC cell (32 spheres,
+ * central springs) at each of its 8 Gauss points, under its confining
+ * pressure plus an axial load, Newton with the cto; a restart
+ * from the stepper's checkpoint (which holds the solid's, which holds the
+ * cells) continues bit for bit. */
+typedef struct {
+  TlMesh *mesh;
+  TlMaterial *m;
+  TlSolid *solid;
+  TlStepper *st;
+} Block;
+
+static double ramp(double t, void *ctx)
+{
+  (void)ctx;
+  return t;
+}
+
+static TlStatus block_create(const TlNhlPacking *p, Block *b)
+{
+  memset(b, 0, sizeof *b);
+  if (p->dim == 3) {
+    size_t n[3] = {1, 1, 1};
+    double lo[3] = {0, 0, 0}, hi[3] = {0.1, 0.1, 0.1};
+    TL_CHECK(tl_mesh_create_box(&tl_element_hex8, n, lo, hi, &b->mesh));
+  } else {
+    size_t n[2] = {1, 1};
+    double lo[2] = {0, 0}, hi[2] = {0.1, 0.1};
+    TL_CHECK(tl_mesh_create_rectangle(&tl_element_quad4, n, lo, hi, &b->mesh));
+  }
+  TL_CHECK(tl_material_create("dem_cell", &b->m));
+  TL_CHECK(tl_material_set(b->m, "inertial", 1e-2));
+  TL_CHECK(tl_nhl_material_set_packing(b->m, p));
+  TL_CHECK(tl_nhl_material_set_operator(b->m, "cto"));
+  TL_CHECK(tl_solid_create(b->mesh, &b->solid));
+  TL_CHECK(tl_solid_set_material(b->solid, NULL, b->m));
+  TL_CHECK(tl_solid_fix(b->solid, "xmin", 1));
+  TL_CHECK(tl_solid_fix(b->solid, "ymin", 2));
+  if (p->dim == 3) TL_CHECK(tl_solid_fix(b->solid, "zmin", 4));
+  /* the cells' confinement, balanced at u = 0, and 20 % more axially */
+  const double s0 = p->pressure;
+  TL_CHECK(tl_solid_add_traction(b->solid, "xmax", tl_v3(-s0, 0, 0), NULL, NULL));
+  TL_CHECK(tl_solid_add_traction(b->solid, "ymax", tl_v3(0, -s0, 0), NULL, NULL));
+  if (p->dim == 3) TL_CHECK(tl_solid_add_traction(b->solid, "zmax", tl_v3(0, 0, -s0), NULL, NULL));
+  TL_CHECK(tl_solid_add_traction(b->solid, "xmax", tl_v3(-0.2 * s0, 0, 0), ramp, NULL));
+  TL_CHECK(tl_solid_setup(b->solid));
+  TlStepperOptions o;
+  tl_stepper_options_default(&o);
+  o.rtol = 1e-8; /* a lattice of central springs: no relaxation noise */
+  o.solver = "klu";
+  o.max_iterations = 20;
+  TL_CHECK(tl_stepper_create("quasi_static", tl_solid_system(b->solid), &o, &b->st));
+  TL_CHECK(tl_stepper_set_state(b->st, 0.0, NULL, NULL));
+  return TL_OK;
+}
+
+static void block_destroy(Block *b)
+{
+  tl_stepper_destroy(&b->st);
+  tl_solid_destroy(&b->solid);
+  tl_material_destroy(&b->m);
+  tl_mesh_destroy(&b->mesh);
+}
+
+static void test_solid_restart(void)
+{
+  TlNhlPacking p;
+  tl_nhl_packing_default(&p);
+  p.kind = "fcc", p.dim = 3, p.n_side = 2, p.mu = 0.0;
+  Block a, b;
+  double t0 = tl_wtime();
+  TL_TEST_STATUS(block_create(&p, &a), TL_OK);
+  if (!a.st) {
+    block_destroy(&a);
+    return;
+  }
+  TL_TEST_ASSERT(tl_nhl_material_n_cells(a.m) == 8, "hex8: %zu cells (8 Gauss points)", tl_nhl_material_n_cells(a.m));
+  TL_TEST_STATUS(tl_stepper_step(a.st, 0.5), TL_OK);
+  {
+    const double *h = NULL;
+    int nh = tl_newton_history(a.st->newton, &h);
+    printf("solid: step 1 residuals");
+    for (int k = 0; k < nh; ++k) printf(" %.2e", h[k]);
+    printf("\n");
+    TL_TEST_ASSERT(nh >= 3 && h[nh - 1] < 1e-6 * h[0], "step 1: %d residuals, the last %g of %g", nh, h[nh - 1], h[0]);
+  }
+  char path[256];
+  snprintf(path, sizeof path, "test_nhl_path_solid_%d.h5", (int)getpid());
+  TlCheckpoint *cp = NULL;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, a.st), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_save(cp, path, a.st->t, 1), TL_OK);
+  tl_checkpoint_destroy(&cp);
+  TL_TEST_STATUS(tl_stepper_step(a.st, 0.5), TL_OK);
+  TlStepperStats sa;
+  tl_stepper_get_stats(a.st, &sa);
+  TlNhlMaterialTotals tot;
+  tl_nhl_material_totals(a.m, &tot, 0);
+  const double ux = a.st->u[0];
+  printf("solid: 8 fcc cells of %ld spheres, 2 load steps, %ld Newton iterations, %ld cell evaluations, %ld DEM steps, "
+         "%.2f s\n", 4 * p.n_side * p.n_side * p.n_side, sa.newton_iterations, tot.evaluations, tot.dem_steps, tl_wtime() - t0);
+  TL_TEST_STATUS(block_create(&p, &b), TL_OK);
+  if (b.st) {
+    TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+    TL_TEST_STATUS(tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, b.st), TL_OK);
+    TL_TEST_STATUS(tl_checkpoint_load(cp, path, NULL, NULL), TL_OK);
+    tl_checkpoint_destroy(&cp);
+    /* the cells were loaded: the committed F of a point is the one of step 1 */
+    TlMat3 Fa = tl_nhl_cell_committed_F(tl_nhl_material_cell(b.m, 0));
+    TL_TEST_ASSERT(Fa.m[0][0] < 1.0, "the restarted cell 0 is not compressed (F_11 = %.17g)", Fa.m[0][0]);
+    TL_TEST_STATUS(tl_stepper_step(b.st, 0.5), TL_OK);
+    TL_TEST_ASSERT(a.st->n == b.st->n && !memcmp(a.st->u, b.st->u, (size_t)a.st->n * sizeof *a.st->u),
+                   "the restarted run differs (u_0 %.17g vs %.17g)", b.st->u[0], a.st->u[0]);
+    int same = 1;
+    for (size_t k = 0; k < 8; ++k) {
+      TlMat3 x = tl_nhl_cell_committed_stress(tl_nhl_material_cell(a.m, k));
+      TlMat3 y = tl_nhl_cell_committed_stress(tl_nhl_material_cell(b.m, k));
+      same &= same_bits(x, y);
+    }
+    TL_TEST_ASSERT(same, "the restarted cells' stresses differ");
+  }
+  TL_TEST_ASSERT(ux != 0.0 && isfinite(ux), "no displacement (u_0 = %g)", ux);
+  unlink(path);
+  block_destroy(&a);
+  block_destroy(&b);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -256,5 +386,6 @@ int main(void)
   printf("random 2-D: %zu disks prepared in %.2f s\n", c ? tl_nhl_cell_n_particles(c) : 0, tl_wtime() - t0);
   if (c) test_states(c, "disks");
   tl_nhl_cell_destroy(&c);
+  test_solid_restart();
   return tl_test_report();
 }
