@@ -14,6 +14,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "talus.h"
 #include "tl_nhl_cell.h"
@@ -362,6 +365,54 @@ static void test_solid_restart(void)
   block_destroy(&b);
 }
 
+/* evaluate() from two threads on distinct points gives the bits of a
+ * serial run (each cell is single-threaded and owns its world). */
+static void test_threads(void)
+{
+  TlNhlPacking p;
+  tl_nhl_packing_default(&p);
+  p.kind = "random", p.dim = 3, p.n = 40, p.seed = 7;
+  TlMaterial *m = NULL;
+  TL_TEST_STATUS(tl_material_create("dem_cell", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_STATUS(tl_material_set(m, "inertial", 1e-3), TL_OK);
+  TL_TEST_STATUS(tl_nhl_material_set_packing(m, &p), TL_OK);
+  TL_TEST_STATUS(tl_nhl_material_set_operator(m, "uko"), TL_OK);
+  TL_TEST_STATUS(tl_material_setup(m), TL_OK);
+  enum { NP = 4 };
+  const size_t ss = m->state_size;
+  double *so = calloc(NP * ss, sizeof *so), *sn = calloc(NP * ss, sizeof *sn);
+  TL_TEST_STATUS(m->ops->init_state(m, NP, so), TL_OK);
+  TlMat3 F[NP], S1[NP], S2[NP];
+  double D1[36 * NP], D2[36 * NP];
+  for (int q = 0; q < NP; ++q) {
+    F[q] = tl_m3_identity();
+    F[q].m[0][0] = 1.0 - 5e-4 * (q + 1), F[q].m[0][1] = 2e-4 * q;
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    TlMat3 *S = pass ? S2 : S1;
+    double *D = pass ? D2 : D1;
+    int bad = 0, used = 0;
+#pragma omp parallel for num_threads(pass ? 2 : 1) schedule(static, 1) reduction(+ : bad) reduction(| : used)
+    for (int q = 0; q < NP; ++q) {
+      bad += tl_material_evaluate(m, 1, &F[q], so + q * ss, sn + q * ss, &S[q], D + 36 * q, NULL) != TL_OK;
+#ifdef _OPENMP
+      used |= 1 << omp_get_thread_num();
+#else
+      used |= 1;
+#endif
+    }
+    if (pass) TL_TEST_ASSERT(used == 3, "the parallel pass ran on threads mask %d (two expected)", used);
+    TL_TEST_ASSERT(bad == 0, "pass %d: %d evaluations failed: %s", pass, bad, tl_error_message());
+    TL_TEST_STATUS(m->ops->rollback(m, NP, so), TL_OK);
+  }
+  TL_TEST_ASSERT(!memcmp(S1, S2, sizeof S1) && !memcmp(D1, D2, sizeof D1),
+                 "two threads gave other bits than one (S_11 of point 0: %.17g vs %.17g)", S2[0].m[0][0], S1[0].m[0][0]);
+  TL_TEST_ASSERT(S1[0].m[0][0] != S1[3].m[0][0], "the points' stresses do not depend on their F");
+  free(so), free(sn);
+  tl_material_destroy(&m);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -387,5 +438,6 @@ int main(void)
   if (c) test_states(c, "disks");
   tl_nhl_cell_destroy(&c);
   test_solid_restart();
+  test_threads();
   return tl_test_report();
 }
