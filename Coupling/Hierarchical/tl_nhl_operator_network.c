@@ -67,7 +67,7 @@ static TlStatus law_stiffness(const TlContactLaw *law, double overlap, double me
   g.meff = meff;
   g.reff = reff;
   g.history = hist;
-  double h = 1e-4 * overlap;
+  double h = 1e-3 * overlap;
   if (!(h > 1e-12 * reff)) h = 1e-12 * reff;
   TlContactResult r;
   double F[2];
@@ -417,6 +417,18 @@ static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput 
       tl_nhl_sym_eigen(3, S, w, NULL);
       for (int r = 0; r < 3; ++r) ref[blk] = fmax(ref[blk], fabs(w[r]));
     }
+  {
+    /* frictionless grains: no rotational stiffness anywhere; the penalty's
+     * scale from the translations and the lever arms */
+    double a2 = 0.0;
+    for (size_t q = 0; q < N.n; ++q) a2 += N.c[q].ai * N.c[q].ai;
+    a2 /= (double)N.n;
+    /* the rotational scale is at least the translational one times a²: round-off in a
+     * frictionless network's rotation block must not pass for stiffness */
+    ref[1] = fmax(ref[1], ref[0] * a2);
+    if (!(ref[0] > 0.0) || !(ref[1] > 0.0))
+      TRY(tl_error_set(TL_ERR_STATE, __FILE__, __LINE__, "pstlo: the network has no stiffness (scale %g)", ref[0]));
+  }
   for (size_t p = 0; p < np; ++p)
     for (int blk = 0; blk < 2; ++blk) {
       if (count[p] < 2) continue;
