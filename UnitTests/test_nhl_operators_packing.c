@@ -117,7 +117,7 @@ static TlStatus make_packing(Packing *K, double p_target, long *steps_used)
   while (s == TL_OK && n < 1500000) {
     double p = pressure(dem);
     if (p < p_target) {
-      double r = (p < 0.05 * p_target ? 1e-4 : 5e-6) / dt;
+      double r = (p < 0.05 * p_target ? 1e-4 : 2e-5) / dt;
       s = tl_domain_set_h_rate(D, tl_m3_scale(D->h, -r));
       if (s == TL_OK) s = tl_dem_step(dem, 100);
       n += 100;
