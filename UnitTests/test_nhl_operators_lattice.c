@@ -1,5 +1,7 @@
 /* F-U3: the NHL tangent operators on a 4 × 4 × 4 FCC lattice of touching
- * spheres, pre-compressed isotropically, in a periodic cell.
+ * spheres, pre-compressed isotropically, in a periodic cell, and the same in
+ * two dimensions on an 8 × 8 triangular lattice of disks in the planar cell
+ * (the 2-D operators are the 3-D ones restricted to the plane: same code).
  *
  * FCC is a Bravais lattice: by inversion symmetry every particle is in
  * balance under any affine deformation, so the fluctuations vanish and the
@@ -14,7 +16,7 @@
  * (to 1e-4), uko = Eq. 33's closed moduli C11 = 2 k_n/a, C12 = C44 = k_n/a,
  * and uko + the pre-stress terms = pstlo.  With tangential springs the grain
  * rotations lower the simple-shear stiffness c_1212 below uko's by
- * exactly 2 k_t / a (uko's grains do not turn), which pstlo and demqo
+ * exactly 2 k_t / a (√3/2 k_t for the disks; uko's grains do not turn), which pstlo and demqo
  * reproduce and uko does not; under a symmetric shear the FCC grains do not
  * turn (by symmetry), so the Voigt C44 of uko and of the spring part of
  * pstlo agree — the lowering is in the response to the rotational part of
@@ -31,8 +33,11 @@
 enum { M = 4 };
 
 typedef struct {
-  double a, d, kn, kt, rho;
+  double a, d, kn, kt, rho; /* 3-D: a the cube edge; 2-D: a the spacing of the triangular lattice */
+  int dim;
 } Lattice;
+
+enum { M2 = 8 }; /* the 2-D lattice: M2 x M2 disks, rows offset by half a spacing */
 
 static TlStatus build_lattice(void *ctx, TlDem **out)
 {
@@ -42,22 +47,33 @@ static TlStatus build_lattice(void *ctx, TlDem **out)
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
-  TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), M * L->a)));
+  if (L->dim == 2) {
+    TlMat3 h = tl_m3_identity();
+    h.m[0][0] = M2 * L->a, h.m[1][1] = M2 * 0.5 * sqrt(3.0) * L->a;
+    TL_CHECK(tl_dem_set_dimension(dem, 2));
+    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), h));
+  } else TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), M * L->a)));
   TL_CHECK(tl_dem_set_domain(dem, &dom));
   int sp;
   TL_CHECK(tl_particles_add_species(P, "g", L->rho, 0.5 * L->d, 0.5 * L->d, &sp));
-  for (int i = 0; i < M; ++i)
-    for (int j = 0; j < M; ++j)
-      for (int k = 0; k < M; ++k)
-        for (int q = 0; q < 4; ++q)
-          TL_CHECK(tl_dem_add_particle(dem,
-                                       tl_v3((i + 0.25 + basis[q][0]) * L->a, (j + 0.25 + basis[q][1]) * L->a,
-                                             (k + 0.25 + basis[q][2]) * L->a),
-                                       tl_v3(0, 0, 0), 0.5 * L->d, sp, NULL));
+  if (L->dim == 2)
+    for (int i = 0; i < M2; ++i)
+      for (int j = 0; j < M2; ++j)
+        TL_CHECK(tl_dem_add_particle(dem, tl_v3((i + 0.25 + 0.5 * (j % 2)) * L->a, (j + 0.5) * 0.5 * sqrt(3.0) * L->a, 0),
+                                     tl_v3(0, 0, 0), 0.5 * L->d, sp, NULL));
+  else
+    for (int i = 0; i < M; ++i)
+      for (int j = 0; j < M; ++j)
+        for (int k = 0; k < M; ++k)
+          for (int q = 0; q < 4; ++q)
+            TL_CHECK(tl_dem_add_particle(dem,
+                                         tl_v3((i + 0.25 + basis[q][0]) * L->a, (j + 0.25 + basis[q][1]) * L->a,
+                                               (k + 0.25 + basis[q][2]) * L->a),
+                                         tl_v3(0, 0, 0), 0.5 * L->d, sp, NULL));
   TlContactLaw *law;
   if (L->kt > 0.0)
     TL_CHECK(tl_test_law(&law, "linear", "k_n", L->kn, "restitution", 0.3, "mu", 0.5, "k_t", L->kt, "gamma_t",
-                         0.1 * sqrt(L->kt / (L->rho * M_PI * L->d * L->d * L->d / 6.0)), NULL));
+                         0.1 * sqrt(L->kt / (L->dim == 2 ? L->rho * M_PI * 0.25 * L->d * L->d : L->rho * M_PI * L->d * L->d * L->d / 6.0)), NULL));
   else TL_CHECK(tl_test_law(&law, "linear", "k_n", L->kn, "restitution", 0.3, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
   double dtc;
@@ -70,21 +86,32 @@ static TlStatus build_lattice(void *ctx, TlDem **out)
 }
 
 /* The closed form of the header: rot = grains turn with the spin, geo = the
- * pre-stress terms. */
+ * pre-stress terms.  3-D: the twelve FCC directions, l = a/√2, 2/a³ = 1/(2
+ * V0) per particle; 2-D: the six triangular ones, l = a, 1/(2 A0) with
+ * A0 = (√3/2) a², every index restricted to the plane. */
 static void closed_form(const Lattice *L, int rot, int geo, double c[81])
 {
-  static const double dir[6][3] = {{1, 1, 0}, {1, -1, 0}, {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
-  const double a = L->a, l = a / sqrt(2.0), FN = L->kn * (L->d - l), s0 = -4.0 * FN * l / (a * a * a) * 2.0;
-  /* σ = (2/a³) Σ_12 (−F_N e) ⊗ l e = −(2 F_N l/a³) 4 I */
-  for (int k = 0; k < 3; ++k)
-    for (int m = 0; m < 3; ++m) {
+  static const double dir3[6][3] = {{1, 1, 0}, {1, -1, 0}, {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}};
+  TlVec3 e_all[12];
+  int ne = L->dim == 2 ? 6 : 12;
+  for (int q = 0; q < ne; ++q)
+    e_all[q] = L->dim == 2 ? tl_v3(cos(q * M_PI / 3.0), sin(q * M_PI / 3.0), 0)
+                           : tl_v3_scale(tl_v3_normalize(tl_v3(dir3[q % 6][0], dir3[q % 6][1], dir3[q % 6][2])),
+                                         q < 6 ? 1.0 : -1.0);
+  const double l = L->dim == 2 ? L->a : L->a / sqrt(2.0), FN = L->kn * (L->d - l);
+  const double factor = L->dim == 2 ? 1.0 / (sqrt(3.0) * L->a * L->a) : 2.0 / (L->a * L->a * L->a);
+  TlMat3 s0 = tl_m3_zero();
+  for (int q = 0; q < ne; ++q) s0 = tl_m3_add(s0, tl_m3_outer(tl_v3_scale(e_all[q], -FN), tl_v3_scale(e_all[q], l)));
+  s0 = tl_m3_scale(s0, factor);
+  memset(c, 0, 81 * sizeof *c);
+  for (int k = 0; k < L->dim; ++k)
+    for (int m = 0; m < L->dim; ++m) {
       TlMat3 G = tl_m3_zero();
       G.m[k][m] = 1.0;
       TlVec3 w = tl_v3(0.5 * (G.m[2][1] - G.m[1][2]), 0.5 * (G.m[0][2] - G.m[2][0]), 0.5 * (G.m[1][0] - G.m[0][1]));
       TlMat3 ds = tl_m3_zero();
-      for (int q = 0; q < 12; ++q) {
-        double sg = q < 6 ? 1.0 : -1.0;
-        TlVec3 e = tl_v3_scale(tl_v3_normalize(tl_v3(dir[q % 6][0], dir[q % 6][1], dir[q % 6][2])), sg);
+      for (int q = 0; q < ne; ++q) {
+        TlVec3 e = e_all[q];
         TlVec3 Ge = tl_m3_mulv(G, e);
         TlVec3 del = tl_v3_scale(rot ? tl_v3_sub(Ge, tl_v3_cross(w, e)) : Ge, l);
         double dn = tl_v3_dot(e, del);
@@ -93,10 +120,10 @@ static void closed_form(const Lattice *L, int rot, int geo, double c[81])
         ds = tl_m3_add(ds, tl_m3_outer(df, tl_v3_scale(e, l)));
         if (geo) ds = tl_m3_add(ds, tl_m3_outer(tl_v3_scale(e, -FN), tl_v3_scale(Ge, l)));
       }
-      ds = tl_m3_scale(ds, 2.0 / (a * a * a));
-      if (geo) ds = tl_m3_add(ds, tl_m3_scale(tl_m3_identity(), -s0 * tl_m3_trace(G)));
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) c[TL_NHL_C(i, j, k, m)] = ds.m[i][j];
+      ds = tl_m3_scale(ds, factor);
+      if (geo) ds = tl_m3_add(ds, tl_m3_scale(s0, -tl_m3_trace(G)));
+      for (int i = 0; i < L->dim; ++i)
+        for (int j = 0; j < L->dim; ++j) c[TL_NHL_C(i, j, k, m)] = ds.m[i][j];
     }
 }
 
@@ -133,29 +160,32 @@ int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   double t_start = tl_wtime();
-  /* spheres of 1 mm, 0.1 % overlap (κ = k_n/(p d) of order 10³) */
-  Lattice L = {0, 1e-3, 1e5, 0.0, 2500};
-  double l = L.d * (1.0 - 1e-3);
-  L.a = l * sqrt(2.0);
-  for (int pass = 0; pass < 2; ++pass) {
-    L.kt = pass ? 0.5 * L.kn : 0.0;
-    printf("%s\n", pass ? "normal and tangential springs (k_t = k_n / 2)" : "normal springs only");
+  /* grains of 1 mm, 0.1 % overlap (κ = k_n/(p d) of order 10³) */
+  for (int pass = 0; pass < 4; ++pass) {
+    Lattice L = {0, 1e-3, 1e5, 0.0, 2500, pass < 2 ? 3 : 2};
+    double l = L.d * (1.0 - 1e-3);
+    L.a = L.dim == 2 ? l : l * sqrt(2.0);
+    L.kt = pass % 2 ? 0.5 * L.kn : 0.0;
+    const int dim = L.dim, nG = dim * dim;
+    printf("%s, %s\n", dim == 2 ? "2-D triangular lattice of 64 disks" : "3-D FCC lattice of 256 spheres",
+           pass % 2 ? "normal and tangential springs (k_t = k_n / 2)" : "normal springs only");
     TlDem *dem;
     TL_TEST_STATUS(build_lattice(&L, &dem), TL_OK);
     TestCell cell = {build_lattice, &L, tl_dem_timestep(dem), 1e-4, L.rho, L.d, 1e-10, 200000, 0};
-    TlNhlOperatorInput in = {dem, 3, tl_m3_identity(), tl_m3_zero(), test_cell_evaluate, &cell, 0, 1};
+    TlNhlOperatorInput in = {dem, dim, tl_m3_identity(), tl_m3_zero(), test_cell_evaluate, &cell, 0, 1};
     TlMat3 sk;
     TL_TEST_STATUS(tl_dem_stress(dem, &in.sigma, &sk), TL_OK);
     double cu[81], ck[81], cp[81], cd[81], ex[81], exu[81];
     TlNhlOperatorStats st;
     TL_TEST_STATUS(run("uko", &in, cu, &st), TL_OK);
-    TL_TEST_ASSERT(st.contacts == 6 * 4 * M * M * M, "uko saw %zu contacts, the lattice has %d", st.contacts, 6 * 4 * M * M * M);
+    const int n_contacts = dim == 2 ? 3 * M2 * M2 : 6 * 4 * M * M * M;
+    TL_TEST_ASSERT(st.contacts == (size_t)n_contacts, "uko saw %zu contacts, the lattice has %d", st.contacts, n_contacts);
     TL_TEST_STATUS(run("kao", &in, ck, &st), TL_OK);
     TL_TEST_STATUS(run("pstlo", &in, cp, &st), TL_OK);
     TL_TEST_ASSERT(st.rattlers == 0, "pstlo found %zu rattlers in a lattice", st.rattlers);
     TL_TEST_ASSERT(st.residual <= 1e-10, "pstlo solve residual %g", st.residual);
     TL_TEST_STATUS(run("demqo", &in, cd, &st), TL_OK);
-    TL_TEST_ASSERT(st.evaluations == 9, "demqo made %d probes, expected 9", st.evaluations);
+    TL_TEST_ASSERT(st.evaluations == nG, "demqo made %d probes, expected %d", st.evaluations, nG);
     closed_form(&L, 1, 1, ex);
     closed_form(&L, 0, 0, exu);
     double e_p = cdiff(cp, ex), e_d = cdiff(cd, ex), e_k = cdiff(ck, ex), e_u = cdiff(cu, exu);
@@ -169,11 +199,14 @@ int main(void)
     /* Eq. 33's moduli: C11 = 2 (k_n + ...) / a; with k_t the Voigt sums of
      * the tangential part add (k_t/a)(0, 1, 1/2)-type terms, checked through
      * the closed form above; the textbook values hold for k_t = 0 */
-    if (!pass) {
-      /* (the stiffness is the law's differentiated: round-off ~1e-12) */
-      TL_TEST_REL(cu[TL_NHL_C(0, 0, 0, 0)], 2.0 * L.kn / L.a, 1e-9);
-      TL_TEST_REL(cu[TL_NHL_C(0, 0, 1, 1)], L.kn / L.a, 1e-9);
-      TL_TEST_REL(cu[TL_NHL_C(0, 1, 0, 1)], L.kn / L.a, 1e-9);
+    if (pass % 2 == 0) {
+      /* (the stiffness is the law's differentiated: round-off ~1e-12);
+       * FCC: C11 = 2 k_n/a, C12 = C44 = k_n/a; triangular: C11 = 3√3/4 k_n,
+       * C12 = C44 = √3/4 k_n (per unit thickness) */
+      double c11 = dim == 2 ? 0.75 * sqrt(3.0) * L.kn : 2.0 * L.kn / L.a, c12 = dim == 2 ? 0.25 * sqrt(3.0) * L.kn : L.kn / L.a;
+      TL_TEST_REL(cu[TL_NHL_C(0, 0, 0, 0)], c11, 1e-9);
+      TL_TEST_REL(cu[TL_NHL_C(0, 0, 1, 1)], c12, 1e-9);
+      TL_TEST_REL(cu[TL_NHL_C(0, 1, 0, 1)], c12, 1e-9);
       /* uko + the pre-stress terms = pstlo (nothing else is missing in a
        * Bravais lattice without tangential springs) */
       double cg[81], cs[81];
@@ -195,9 +228,10 @@ int main(void)
       closed_form(&L, 1, 0, cs);
       double drop_p = cu[TL_NHL_C(0, 1, 0, 1)] - (cp[TL_NHL_C(0, 1, 0, 1)] - (cg[TL_NHL_C(0, 1, 0, 1)] - cs[TL_NHL_C(0, 1, 0, 1)]));
       double drop_d = cu[TL_NHL_C(0, 1, 0, 1)] - (cd[TL_NHL_C(0, 1, 0, 1)] - (cg[TL_NHL_C(0, 1, 0, 1)] - cs[TL_NHL_C(0, 1, 0, 1)]));
-      double want = 2.0 * L.kt / L.a;
-      printf("  c_1212 lowered by the grain rotations: pstlo %.6g, demqo %.6g, closed form 2 k_t/a = %.6g (uko: 0 by "
-             "construction)\n", drop_p, drop_d, want);
+      /* (k_t l² / (4 V0)) Σ e_2²: FCC 2 k_t / a, triangular √3/2 k_t */
+      double want = dim == 2 ? 0.5 * sqrt(3.0) * L.kt : 2.0 * L.kt / L.a;
+      printf("  c_1212 lowered by the grain rotations: pstlo %.6g, demqo %.6g, closed form %s = %.6g (uko: 0 by "
+             "construction)\n", drop_p, drop_d, dim == 2 ? "sqrt(3)/2 k_t" : "2 k_t/a", drop_d * 0 + want);
       TL_TEST_REL(drop_p, want, 1e-4);
       TL_TEST_REL(drop_d, want, 1e-4);
       TL_TEST_ASSERT(want > 1e-3 * cu[TL_NHL_C(0, 1, 0, 1)], "the rotation effect %g is too small to see", want);
@@ -209,17 +243,33 @@ int main(void)
       for (int q = 0; q < 81; ++q) cps[q] = cp[q] - (cg[q] - cs[q]);
       tl_nhl_operator_voigt(cps, Cs);
       TL_TEST_REL(Cs[3 * 6 + 3], Cu[3 * 6 + 3], 1e-6);
+      if (dim == 2) {
+        /* the 2-D operator is the 3-D one restricted: nothing along z */
+        double z = 0.0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k)
+              for (int m = 0; m < 3; ++m)
+                if (i == 2 || j == 2 || k == 2 || m == 2) z = fmax(z, fabs(cp[TL_NHL_C(i, j, k, m)]) + fabs(cd[TL_NHL_C(i, j, k, m)]));
+        TL_TEST_ASSERT(z == 0.0, "a 2-D operator has a z component %g", z);
+      }
     }
     /* objectivity of pstlo: c : W = W σ − σ W */
     double cobj[81];
     memcpy(cobj, cp, sizeof cobj);
     tl_nhl_operator_objective(cobj, in.sigma);
+    if (dim == 2) /* in-plane rotations only */
+      for (int q = 0; q < 81; ++q) {
+        int i = q / 27, j = (q / 9) % 3, k = (q / 3) % 3, m = q % 3;
+        if (i == 2 || j == 2 || k == 2 || m == 2) cobj[q] = 0.0;
+      }
     double e_obj = cdiff(cp, cobj);
     printf("  pstlo objectivity defect %.2e\n", e_obj);
     TL_TEST_ASSERT(e_obj <= 1e-8, "pstlo is not objective: %g", e_obj);
     /* c -> D -> c on symmetric increments */
     double D[36], cb[81], C1[36], C2[36];
     TlMat3 F = {{{1.01, 0.02, 0.0}, {0.0, 0.99, 0.01}, {0.005, 0.0, 1.0}}};
+    if (dim == 2) F.m[1][2] = F.m[2][0] = 0.0;
     tl_nhl_operator_to_D(cp, F, in.sigma, D);
     tl_nhl_operator_from_D(D, F, in.sigma, cb);
     tl_nhl_operator_voigt(cp, C1);

@@ -139,11 +139,8 @@ static TlStatus gather(const TlNhlOperatorInput *in, Net *N)
   N->dem = in->dem;
   N->dim = in->dim;
   N->V = tl_domain_volume(tl_dem_domain(in->dem));
-  if (in->dim == 2) {
-    /* per unit thickness: the cell's area */
-    const TlDomain *d = tl_dem_domain(in->dem);
-    N->V = fabs(d->h.m[0][0] * d->h.m[1][1] - d->h.m[0][1] * d->h.m[1][0]);
-  }
+  /* disks: per unit thickness, the cell's area (what tl_dem_stress divides by) */
+  if (in->dim == 2) N->V = tl_domain_area(tl_dem_domain(in->dem));
   TL_CHECK(tl_dem_visit_contacts(in->dem, visit, N));
   if (N->status != TL_OK) {
     tl_free(&N->c);
