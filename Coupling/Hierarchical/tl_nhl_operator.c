@@ -20,7 +20,7 @@ static const TlParam base_params[] = {
      "objectivity", offsetof(TlNhlOperator, directions)},
     {"sliding_kt", 1, 0, 1, "", "1: sliding contacts keep k_t in uko/ucko/kao (the upper bound as printed); 0: k_t = 0",
      offsetof(TlNhlOperator, sliding_kt)},
-    {"symmetrise", 0, 0, 1, "", "1: pstlo symmetrises its stiffness (CHOLMOD, KLU if indefinite); 0: full (KLU)",
+    {"symmetrise", 0, 0, 1, "", "1: pstlo symmetrises its stiffness (CHOLMOD); 0: the full matrix (CHOLMOD if symmetric, else KLU)",
      offsetof(TlNhlOperator, symmetrise)},
 };
 enum { N_BASE = (int)(sizeof base_params / sizeof base_params[0]) };
@@ -112,6 +112,9 @@ TlStatus tl_nhl_operator_compute(const TlNhlOperator *op, const TlNhlOperatorInp
   if (!op->ready) TL_ERROR(TL_ERR_STATE, "nhl operator '%s' is not set up (tl_nhl_operator_setup)", op->ops->header.name);
   if (!in || !in->dem) TL_ERROR(TL_ERR_ARG, "nhl operator '%s': no cell given", op->ops->header.name);
   if (in->dim != 2 && in->dim != 3) TL_ERROR(TL_ERR_ARG, "nhl operator '%s': dim = %d must be 2 or 3", op->ops->header.name, in->dim);
+  if (tl_dem_dimension(in->dem) != in->dim)
+    TL_ERROR(TL_ERR_ARG, "nhl operator '%s': dim = %d but the cell's world has dimension %d", op->ops->header.name,
+             in->dim, tl_dem_dimension(in->dem));
   TlNhlOperatorStats local;
   TlNhlOperatorStats *st = stats ? stats : &local;
   memset(st, 0, sizeof *st);
@@ -122,6 +125,14 @@ TlStatus tl_nhl_operator_compute(const TlNhlOperator *op, const TlNhlOperatorInp
   double t0 = tl_wtime();
   TL_CHECK(op->ops->compute(op, in, state_old, state_new, c, st));
   st->seconds = tl_wtime() - t0;
+  /* disks: the 3-D operator restricted to the plane (a spring's k_t along z,
+   * for one, acts on nothing a disk can do) */
+  if (in->dim == 2)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k)
+          for (int l = 0; l < 3; ++l)
+            if (i == 2 || j == 2 || k == 2 || l == 2) c[TL_NHL_C(i, j, k, l)] = 0.0;
   for (int q = 0; q < 81; ++q)
     if (!isfinite(c[q]))
       TL_ERROR(TL_ERR_NUMERIC, "nhl operator '%s': component %d of c is %g", op->ops->header.name, q, c[q]);

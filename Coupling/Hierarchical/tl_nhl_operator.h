@@ -144,8 +144,11 @@ typedef struct {
  *               2-D, the rotational part from objectivity)
  *   sliding_kt  1: sliding contacts keep k_t in uko/ucko/kao (the upper
  *               bound as printed, default); 0: they get k_t = 0
- *   symmetrise  1: pstlo drops the non-symmetric part of its geometric
- *               stiffness (CHOLMOD); 0 (default): full matrix (KLU) */
+ *   symmetrise  1: pstlo drops the non-symmetric part of its stiffness
+ *               (the tangential forces' transport) and factors with CHOLMOD;
+ *               0 (default): the full matrix, CHOLMOD when it is symmetric to
+ *               round-off (no tangential force yet), KLU otherwise.  Either
+ *               way an indefinite matrix goes to KLU. */
 struct TlNhlOperator {
   const TlNhlOperatorOps *ops;
   double eps, directions, sliding_kt, symmetrise;

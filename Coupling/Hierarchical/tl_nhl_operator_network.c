@@ -67,7 +67,7 @@ static TlStatus law_stiffness(const TlContactLaw *law, double overlap, double me
   g.meff = meff;
   g.reff = reff;
   g.history = hist;
-  double h = 1e-4 * overlap;
+  double h = 1e-3 * overlap;
   if (!(h > 1e-12 * reff)) h = 1e-12 * reff;
   TlContactResult r;
   double F[2];
@@ -139,11 +139,8 @@ static TlStatus gather(const TlNhlOperatorInput *in, Net *N)
   N->dem = in->dem;
   N->dim = in->dim;
   N->V = tl_domain_volume(tl_dem_domain(in->dem));
-  if (in->dim == 2) {
-    /* per unit thickness: the cell's area */
-    const TlDomain *d = tl_dem_domain(in->dem);
-    N->V = fabs(d->h.m[0][0] * d->h.m[1][1] - d->h.m[0][1] * d->h.m[1][0]);
-  }
+  /* disks: per unit thickness, the cell's area (what tl_dem_stress divides by) */
+  if (in->dim == 2) N->V = tl_domain_area(tl_dem_domain(in->dem));
   TL_CHECK(tl_dem_visit_contacts(in->dem, visit, N));
   if (N->status != TL_OK) {
     tl_free(&N->c);
@@ -279,6 +276,23 @@ static TlStatus kao_compute(const TlNhlOperator *op, const TlNhlOperatorInput *i
 
 /* ---------------------------------------------------------------- pstlo */
 
+/* The contact's stiffness K_e = −∂(forces, moments)/∂z over its dofs
+ * z = [u_i, θ_i, u_j, θ_j] (12 x 12, row-major). */
+static void element_matrix(const NetContact *cc, double *Ke)
+{
+  for (int a = 0; a < 12; ++a) {
+    double y[9] = {0}, out[9];
+    /* z_a: δb = u_j − u_i, θ_i, θ_j */
+    if (a < 3) y[a] = -1.0;
+    else if (a < 6) y[a] = 1.0;
+    else if (a < 9) y[a - 6] = 1.0;
+    else y[a - 3] = 1.0;
+    contact_linear(cc, y, 1, 1, out);
+    double g[12] = {out[0], out[1], out[2], out[3], out[4], out[5], -out[0], -out[1], -out[2], out[6], out[7], out[8]};
+    for (int r = 0; r < 12; ++r) Ke[r * 12 + a] = -g[r];
+  }
+}
+
 static size_t find_root(size_t *parent, size_t a)
 {
   while (parent[a] != a) {
@@ -297,10 +311,11 @@ static size_t find_root(size_t *parent, size_t a)
  * stiffness (a frictionless grain's rotation, the spin about a lone
  * contact's normal) gets a penalty so the factorisation exists — such a
  * direction carries no force. */
-static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
-                              double c[81], TlNhlOperatorStats *st)
+static TlStatus pstlo_run(const TlNhlOperator *op, const TlNhlOperatorInput *in, int symm, double c[81],
+                          TlNhlOperatorStats *st, int *not_definite)
 {
-  (void)so, (void)sn;
+  *not_definite = 0;
+  (void)op;
   Net N;
   TL_CHECK(gather(in, &N));
   TlParticles *P = tl_dem_particles(in->dem);
@@ -375,26 +390,35 @@ static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput 
     eptr[e + 1] = (TlSparseIndex)(12 * (e + 1));
     e++;
   }
-  int symm = op->symmetrise > 0.5;
-  TRY(tl_sparse_create_from_elements(nd, 0, (TlSparseIndex)n_live, eptr, edofs, 0, &A));
   TRY(tl_calloc(&Ke, 144, sizeof *Ke));
+  if (symm < 0) {
+    /* symmetric to round-off (no tangential force yet: fresh springs, or a
+     * frictionless network): CHOLMOD, exactly what the full matrix gives */
+    symm = 1;
+    for (size_t q = 0; q < N.n && symm; ++q) {
+      if (!alive[q]) continue;
+      element_matrix(&N.c[q], Ke);
+      double big = 0.0;
+      for (int r = 0; r < 144; ++r) big = fmax(big, fabs(Ke[r]));
+      for (int r = 0; r < 12 && symm; ++r)
+        for (int a = 0; a < r; ++a)
+          if (fabs(Ke[r * 12 + a] - Ke[a * 12 + r]) > 1e-13 * big) {
+            symm = 0;
+            break;
+          }
+    }
+  }
+  /* symm: 1 symmetrised values in CHOLMOD's upper storage, 2 symmetrised
+   * values in full storage (KLU), 0 the full matrix (KLU) */
+  const int upper = symm == 1, sym_values = symm == 1 || symm == 2;
+  TRY(tl_sparse_create_from_elements(nd, upper, (TlSparseIndex)n_live, eptr, edofs, 0, &A));
   TRY(tl_calloc(&blocks, 18 * np + 1, sizeof *blocks)); /* per particle: u-block and θ-block, 3x3 each */
   e = 0;
   for (size_t q = 0; q < N.n; ++q) {
     if (!alive[q]) continue;
     const NetContact *cc = &N.c[q];
-    for (int a = 0; a < 12; ++a) {
-      double y[9] = {0}, out[9];
-      /* z_a: δb = u_j − u_i, θ_i, θ_j */
-      if (a < 3) y[a] = -1.0;
-      else if (a < 6) y[a] = 1.0;
-      else if (a < 9) y[a - 6] = 1.0;
-      else y[a - 3] = 1.0;
-      contact_linear(cc, y, 1, 1, out);
-      double g[12] = {out[0], out[1], out[2], out[3], out[4], out[5], -out[0], -out[1], -out[2], out[6], out[7], out[8]};
-      for (int r = 0; r < 12; ++r) Ke[r * 12 + a] = -g[r];
-    }
-    if (symm)
+    element_matrix(cc, Ke);
+    if (sym_values)
       for (int r = 0; r < 12; ++r)
         for (int a = 0; a < r; ++a) Ke[r * 12 + a] = Ke[a * 12 + r] = 0.5 * (Ke[r * 12 + a] + Ke[a * 12 + r]);
     TRY(tl_sparse_add_element(A, 12, edofs + 12 * e, 1.0, Ke));
@@ -417,6 +441,18 @@ static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput 
       tl_nhl_sym_eigen(3, S, w, NULL);
       for (int r = 0; r < 3; ++r) ref[blk] = fmax(ref[blk], fabs(w[r]));
     }
+  {
+    /* frictionless grains: no rotational stiffness anywhere; the penalty's
+     * scale from the translations and the lever arms */
+    double a2 = 0.0;
+    for (size_t q = 0; q < N.n; ++q) a2 += N.c[q].ai * N.c[q].ai;
+    a2 /= (double)N.n;
+    /* the rotational scale is at least the translational one times a²: round-off in a
+     * frictionless network's rotation block must not pass for stiffness */
+    ref[1] = fmax(ref[1], ref[0] * a2);
+    if (!(ref[0] > 0.0) || !(ref[1] > 0.0))
+      TRY(tl_error_set(TL_ERR_STATE, __FILE__, __LINE__, "pstlo: the network has no stiffness (scale %g)", ref[0]));
+  }
   for (size_t p = 0; p < np; ++p)
     for (int blk = 0; blk < 2; ++blk) {
       if (count[p] < 2) continue;
@@ -445,13 +481,16 @@ static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput 
         for (int r = 0; r < 3; ++r)
           for (int a = 0; a < 3; ++a) {
             TlSparseIndex dr = dof[6 * p + 3 * blk + r], da = dof[6 * p + 3 * blk + a];
-            if (dr >= 0 && da >= 0 && vv[r] * vv[a] != 0.0) TRY(tl_sparse_add(A, dr, da, ref[blk] * vv[r] * vv[a]));
+            if (dr >= 0 && da >= 0 && vv[r] * vv[a] != 0.0 && (!upper || dr <= da))
+              TRY(tl_sparse_add(A, dr, da, ref[blk] * vv[r] * vv[a]));
           }
         st->rigid_modes++;
       }
     }
-  TRY(tl_linear_solver_create("klu", A, &ls));
-  TRY(tl_linear_solver_factor(ls, A));
+  TRY(tl_linear_solver_create(upper ? "cholmod" : "klu", A, &ls));
+  s = tl_linear_solver_factor(ls, A);
+  if (s != TL_OK && upper) *not_definite = 1;
+  if (s != TL_OK) goto done;
   TRY(tl_calloc(&rhs, (size_t)nd, sizeof *rhs));
   TRY(tl_calloc(&z, (size_t)nd, sizeof *z));
   TRY(tl_calloc(&r2, (size_t)nd, sizeof *r2));
@@ -506,6 +545,24 @@ done:
   tl_free(&dof), tl_free(&eptr), tl_free(&edofs);
   tl_free(&Ke), tl_free(&rhs), tl_free(&z), tl_free(&blocks), tl_free(&r2);
   tl_free(&N.c);
+  return s;
+}
+
+static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
+                              double c[81], TlNhlOperatorStats *st)
+{
+  (void)so, (void)sn;
+  /* full: a symmetric network goes to CHOLMOD by itself (symm = -1);
+   * symmetrised: CHOLMOD's supernodal factorisation (BLAS on the dense fronts
+   * a 3-D network fills in).  A matrix CHOLMOD finds indefinite (a
+   * pre-stress beyond what the springs hold) goes to KLU, full. */
+  int not_definite = 0, symmetrise = op->symmetrise > 0.5;
+  TlStatus s = pstlo_run(op, in, symmetrise ? 1 : -1, c, st, &not_definite);
+  if (s != TL_OK && not_definite) {
+    tl_error_clear();
+    memset(st, 0, sizeof *st);
+    s = pstlo_run(op, in, symmetrise ? 2 : 0, c, st, &not_definite);
+  }
   return s;
 }
 

@@ -8,7 +8,9 @@
  * `transport` chooses the time integration of the tangential force
  * (TlFrictionTransport, tl_contact_kernels.h): 0 project (Eq. 11, the
  * default), 1 rotate (Eq. 24; the history also keeps the last normal),
- * 2 implicit (Eq. 12). */
+ * 2 implicit (Eq. 12).  Each scheme is its own chunk loop and ops table,
+ * which setup puts in the part, so that the default's loop is compiled
+ * exactly as it always was (its results stay bit for bit). */
 #include <math.h>
 #include <stddef.h>
 #include "tl_contact_kernels.h"
@@ -34,6 +36,8 @@ static const TlParam params[] = {
      "to second order in the tilt), 2 implicit (Eq. 12)", offsetof(Coulomb, transport_given)},
 };
 
+static const TlContactPartOps coulomb_ops, coulomb_rotate_ops, coulomb_implicit_ops;
+
 static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
 {
   Coulomb *f = (Coulomb *)part;
@@ -42,6 +46,9 @@ static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
     TL_ERROR(TL_ERR_ARG, "coulomb friction part: transport %g must be 0 (project), 1 (rotate) or 2 (implicit)",
              f->transport_given);
   f->transport = (int)f->transport_given;
+  part->ops = f->transport == TL_FRICTION_ROTATE     ? &coulomb_rotate_ops
+              : f->transport == TL_FRICTION_IMPLICIT ? &coulomb_implicit_ops
+                                                     : &coulomb_ops;
   part->history_doubles = f->transport == TL_FRICTION_ROTATE ? TL_FRICTION_HISTORY_ROTATE : TL_FRICTION_HISTORY;
   part->needs_rotation = 1;
   if (!part->active) return TL_OK;
@@ -55,32 +62,31 @@ static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
   return TL_OK;
 }
 
-/* One loop per scheme, the scheme chosen once per chunk. */
-#define COULOMB_LOOP(KERNEL)                                                                                 \
-  for (size_t q = 0; q < c->n; ++q) {                                                                        \
-    if (!c->on[q]) continue;                                                                                 \
-    const double fn = c->fn[q], s = c->scale[q];                                                             \
-    const double fn_plus = fn > 0.0 ? fn : 0.0;                                                              \
-    double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;                                    \
-    if (c_t > 0.0) ct += c_t * s;                                                                            \
-    c->force[q] = tl_v3_add(c->force[q], KERNEL(c->history[q] + off, c->normal[q], c->vrel[q], c->spin_mean[q], \
-                                                kt * s, ct, mu, fn_plus, dt, want ? &et : NULL));            \
-    if (want) c->energy[q] += et;                                                                            \
-  }
-
-static inline void coulomb_loop(const TlContactPart *part, TlContactChunk *c)
-{
-  const Coulomb *cf = (const Coulomb *)part;
-  const double kt = cf->k_t, gamma_t = cf->gamma_t, c_t = cf->c_t, mu = cf->mu, dt = c->dt;
-  const size_t off = part->history_offset;
-  const int want = c->want_energy;
-  switch (cf->transport) {
-  case TL_FRICTION_ROTATE: COULOMB_LOOP(tl_friction_force_rotate) break;
-  case TL_FRICTION_IMPLICIT: COULOMB_LOOP(tl_friction_force_implicit) break;
-  default: COULOMB_LOOP(tl_friction_force) break;
-  }
-}
-TL_CONTACT_PART_LOOPS(coulomb, coulomb_loop)
+/* The chunk loop of one scheme: KERNEL is tl_friction_force or one of its
+ * variants (same arguments). */
+#define COULOMB_LOOP(name, KERNEL)                                                                              \
+  static inline void name##_loop(const TlContactPart *part, TlContactChunk *c)                                 \
+  {                                                                                                            \
+    const Coulomb *cf = (const Coulomb *)part;                                                                 \
+    const double kt = cf->k_t, gamma_t = cf->gamma_t, c_t = cf->c_t, mu = cf->mu, dt = c->dt;                  \
+    const size_t off = part->history_offset;                                                                   \
+    const int want = c->want_energy;                                                                           \
+    for (size_t q = 0; q < c->n; ++q) {                                                                        \
+      if (!c->on[q]) continue;                                                                                 \
+      const double fn = c->fn[q], s = c->scale[q];                                                             \
+      const double fn_plus = fn > 0.0 ? fn : 0.0;                                                              \
+      double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;                                    \
+      if (c_t > 0.0) ct += c_t * s;                                                                            \
+      c->force[q] = tl_v3_add(c->force[q], KERNEL(c->history[q] + off, c->normal[q], c->vrel[q],               \
+                                                  c->spin_mean[q], kt * s, ct, mu, fn_plus, dt,                \
+                                                  want ? &et : NULL));                                         \
+      if (want) c->energy[q] += et;                                                                            \
+    }                                                                                                          \
+  }                                                                                                            \
+  TL_CONTACT_PART_LOOPS(name, name##_loop)
+COULOMB_LOOP(coulomb, tl_friction_force)
+COULOMB_LOOP(coulomb_rotate, tl_friction_force_rotate)
+COULOMB_LOOP(coulomb_implicit, tl_friction_force_implicit)
 
 static double coulomb_max_stiffness(const TlContactPart *part, double reff, double overlap)
 {
@@ -88,10 +94,14 @@ static double coulomb_max_stiffness(const TlContactPart *part, double reff, doub
   return ((const Coulomb *)part)->k_t * n->ops->tangential_scale(n, reff, overlap);
 }
 
-static const TlContactPartOps coulomb_ops = {
-    {"contact_friction", "coulomb", "Coulomb friction with the objective tangential history of seeds/004"},
-    sizeof(Coulomb), (int)(sizeof params / sizeof params[0]), params, coulomb_setup, coulomb_evaluate,
-    coulomb_evaluate_hot, NULL, NULL, NULL, NULL, coulomb_max_stiffness, NULL};
+#define COULOMB_OPS(name, evaluate, evaluate_hot)                                                                 \
+  static const TlContactPartOps name = {                                                                        \
+      {"contact_friction", "coulomb", "Coulomb friction with the objective tangential history of seeds/004"},   \
+      sizeof(Coulomb), (int)(sizeof params / sizeof params[0]), params, coulomb_setup, evaluate, evaluate_hot,  \
+      NULL, NULL, NULL, NULL, coulomb_max_stiffness, NULL}
+COULOMB_OPS(coulomb_ops, coulomb_evaluate, coulomb_evaluate_hot);
+COULOMB_OPS(coulomb_rotate_ops, coulomb_rotate_evaluate, coulomb_rotate_evaluate_hot);
+COULOMB_OPS(coulomb_implicit_ops, coulomb_implicit_evaluate, coulomb_implicit_evaluate_hot);
 
 TlStatus tl_contact_register_coulomb(void);
 TlStatus tl_contact_register_coulomb(void) { return tl_contact_part_register(&coulomb_ops); }
