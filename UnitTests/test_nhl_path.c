@@ -217,6 +217,7 @@ static void test_states(TlNhlCell *c, const char *label)
                    "(sigma_xx %.17g vs %.17g)", label, s2c.m[0][0], s2.m[0][0]);
   }
   tl_checkpoint_reader_close(&r);
+  tl_nhl_cell_destroy(&copy);
   unlink(path);
   /* and the original, from its committed F1, gives the same bits again */
   TL_TEST_STATUS(tl_nhl_cell_evaluate(c, F2, &s2b, NULL), TL_OK);
