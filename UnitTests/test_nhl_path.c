@@ -175,6 +175,26 @@ static void test_states(TlNhlCell *c, const char *label)
   if (dim == 2)
     TL_TEST_ASSERT(s1.m[2][2] == 0.0 && s1.m[0][2] == 0.0 && s1.m[1][2] == 0.0, "%s: out-of-plane stress %g %g %g",
                    label, s1.m[2][2], s1.m[0][2], s1.m[1][2]);
+  /* a DEMQO probe from the trial state: another stress, the world and the
+   * friction back as they were */
+  {
+    Snapshot *tr = calloc(1, sizeof *tr);
+    snap(c, tr);
+    TlMat3 Fp = F1, sp;
+    Fp.m[0][0] -= 1e-5;
+    TlNhlCellStats pst;
+    TL_TEST_STATUS(tl_nhl_cell_probe(c, Fp, &sp, &pst), TL_OK);
+    snap(c, x);
+    double mu = 0.0;
+    TL_TEST_STATUS(tl_contact_law_get(tl_nhl_cell_law(c), "mu", &mu), TL_OK);
+    printf("%s: probe of 1e-5: %ld steps, d sigma_11 / d eps = %.4g Pa\n", label, pst.dem_steps,
+           (sp.m[0][0] - s1.m[0][0]) / -1e-5);
+    TL_TEST_ASSERT(same_snap(tr, x), "%s: the probe left the world changed", label);
+    TL_TEST_ASSERT(mu == 0.5, "%s: friction %g after the probe (0.5)", label, mu);
+    TL_TEST_ASSERT((sp.m[0][0] - s1.m[0][0]) / -1e-5 > 0.0, "%s: a probe in compression did not compress (%g)", label,
+                   sp.m[0][0] - s1.m[0][0]);
+    free(tr);
+  }
   /* the same path again: the same bits (it starts from the committed state) */
   TL_TEST_STATUS(tl_nhl_cell_evaluate(c, F1, &s1b, NULL), TL_OK);
   TL_TEST_ASSERT(same_bits(s1, s1b), "%s: two evaluations at the same F differ", label);
