@@ -14,11 +14,11 @@
  * admissible: an upper bound, up to the pre-stress terms of order p that
  * uko leaves out); Hill–Mandel: σ : G = (1/V) Σ_c f · δb for δb = G b +
  * w_j − w_i with a random periodic fluctuation w, to 1 %.
- * Part 2 (disks, the material's cell of tl_nhl_cell.h built from the
- * fixture, after one load step along the NHL path): cto (full paths from
+ * Part 2 (disks and spheres, the material's cell of tl_nhl_cell.h built
+ * from the fixtures, after one load step along the NHL path): cto (full paths from
  * the committed state, Eq. 31) ≈ demqo (probes, Eq. 32) ≈ pstlo within 5 %,
  * uko − pstlo ⪰ 0.
- * By hand: --fixture3d repeats part 2 on the spheres; --2d / --3d [step]
+ * By hand: --2d / --3d [step]
  * run it on the library's own packings (prepared with friction: contacts
  * at the Coulomb limit, where the cto slides and demqo, pstlo by definition
  * do not; printed, the cto not asserted). */
@@ -438,7 +438,7 @@ int main(int argc, char **argv)
     TlStatus s2 = make_packing(&K2, K2.kn / 1000.0, &n2);
     TL_TEST_STATUS(s2, TL_OK);
     if (s2 == TL_OK) fixture_cell_part(&K2, 1e-5);
-    if (argc > 1 && strcmp(argv[1], "--fixture3d") == 0) fixture_cell_part(&K, 1e-5);
+    fixture_cell_part(&K, 1e-5);
   }
   printf("seconds %.2f\n", tl_wtime() - t0);
   return tl_test_report();
