@@ -408,6 +408,16 @@ int main(int argc, char **argv)
          pmag);
   TL_TEST_ASSERT(wmin >= -2.0 * pmag, "uko - pstlo has eigenvalue %g below -2p = %g: not an upper bound", wmin, -2.0 * pmag);
   TL_TEST_ASSERT(wmax > 10.0 * pmag, "uko - pstlo (largest eigenvalue %g) should show the fluctuations' softening", wmax);
+  /* kao keeps the translations affine, its rotations are admissible: also
+   * above pstlo (up to the pre-stress scale), and below uko's tangential
+   * part (its grains turn where uko's do not) */
+  for (int I = 0; I < 6; ++I)
+    for (int J = 0; J < 6; ++J) S[I * 6 + J] = 0.5 * ((Ck[I * 6 + J] - Cp[I * 6 + J]) + (Ck[J * 6 + I] - Cp[J * 6 + I]));
+  tl_nhl_sym_eigen(6, S, w, NULL);
+  double kmin = w[0];
+  for (int q = 1; q < 6; ++q) kmin = fmin(kmin, w[q]);
+  printf("  smallest eigenvalue of kao - pstlo: %.4g Pa\n", kmin);
+  TL_TEST_ASSERT(kmin >= -2.0 * pmag, "kao - pstlo has eigenvalue %g below -2p = %g", kmin, -2.0 * pmag);
   /* Hill–Mandel */
   {
     TlParticles *P = tl_dem_particles(dem);

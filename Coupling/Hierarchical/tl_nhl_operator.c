@@ -264,6 +264,7 @@ TlStatus tl_nhl_operator_perturb(const TlNhlOperator *op, const TlNhlOperatorInp
       TL_CHECK(in->evaluate(in->ctx, mode, Ft, &s, &es));
       st->evaluations++;
       st->dem_steps += es.dem_steps;
+      st->tau += es.tau;
       st->imbalance = fmax(st->imbalance, es.imbalance);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {

@@ -9,8 +9,8 @@
  *   uko        upper-bound Kruyt (Voigt: every grain follows the macro field)
  *   ucko       uko scaled by one coefficient fitted against the CTO
  *   ucko_2dof  uko with its normal and tangential parts scaled separately
- *   kao        uko plus the pre-stress terms, grain rotations condensed
- *              contact by contact
+ *   kao        uko plus the pre-stress terms, grain rotations eliminated
+ *              grain by grain (no global solve)
  *   pstlo      the contact network as a pre-stressed truss with grain
  *              rotations: the fluctuations condensed by a sparse solve
  *   demqo      the DEM itself, sliding suppressed, probed by short steps
@@ -111,6 +111,7 @@ typedef struct {
                           free rotations (pstlo), 0 otherwise */
   int evaluations;     /* law evaluations asked of input->evaluate */
   long dem_steps;      /* their DEM steps */
+  double tau;          /* their summed drive durations (Eq. 18), s */
   double imbalance;    /* their largest final Δ_n */
   double residual;     /* pstlo: largest relative residual of the condensation solves */
   int symmetric;       /* the returned c has the major symmetry c_ijkl = c_klij */

@@ -248,35 +248,102 @@ static TlStatus uko_compute(const TlNhlOperator *op, const TlNhlOperatorInput *i
 }
 
 /* KAO (Talus's reading): uko plus the pre-stress terms of the existing forces
- * carried by the affine deformation, with every grain turning with the
- * macro spin (the rotation of the grains taken as the continuum's, which
- * makes the operator objective, costs one pass, and needs no solve). */
+ * carried by the affine deformation, and the grain rotations as extra
+ * unknowns eliminated grain by grain with no global solve: each grain's
+ * rotation balances its own moments with its neighbours turning with the
+ * macro spin ω = skew(G) (rotations = 1, the default; one block-Jacobi step
+ * of pstlo's moment equations from the spin, translations kept affine), or
+ * every grain turns with the spin (rotations = 0).  Both are objective.
+ * (The literal "contact by contact" elimination would relax every
+ * tangential spring entirely: k_t would drop out.) */
+typedef struct {
+  TlNhlOperator base;
+  double rotations;
+} Kao;
+
+static const TlParam kao_params[] = {
+    {"rotations", 1, 0, 1, "",
+     "1: each grain's rotation from its own moment balance, neighbours at the macro spin; 0: every grain at the spin",
+     offsetof(Kao, rotations)},
+};
+
+/* θ = ω − (T + ρ 1)⁻¹ M: the grain's moment balance, ρ a round-off
+ * regularisation for directions without rotational stiffness (a frictionless
+ * grain, the spin about a lone contact's normal: no moment there either). */
+static TlVec3 grain_rotation(const double T[9], TlVec3 M, TlVec3 w, int dim, double ref)
+{
+  /* ref: the network's k_n a², the scale below which T is round-off */
+  if (dim == 2) return fabs(T[8]) > 1e-9 * ref ? tl_v3(w.x, w.y, w.z - M.z / T[8]) : w;
+  if (!(fabs(T[0]) + fabs(T[4]) + fabs(T[8]) > 1e-9 * ref)) return w;
+  TlMat3 A = {{{T[0], T[1], T[2]}, {T[3], T[4], T[5]}, {T[6], T[7], T[8]}}}, Ai;
+  for (int i = 0; i < 3; ++i) A.m[i][i] += 1e-9 * ref;
+  if (!tl_m3_inverse(A, &Ai)) return w;
+  return tl_v3_sub(w, tl_m3_mulv(Ai, M));
+}
+
 static TlStatus kao_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
                             double c[81], TlNhlOperatorStats *st)
 {
-  (void)so, (void)sn, (void)op;
+  (void)so, (void)sn;
+  const int own = ((const Kao *)op)->rotations > 0.5, dim = in->dim;
   Net N;
   TL_CHECK(gather(in, &N));
+  for (size_t q = 0; q < N.n; ++q)
+    if (N.c[q].sliding && !(op->sliding_kt > 0.5)) N.c[q].kt = 0.0;
+  const size_t np = tl_dem_particles(in->dem)->n;
+  double *T = NULL, *M = NULL;
+  TlVec3 *th = NULL;
+  TlStatus s = TL_OK;
+  double ref = 0.0;
+  if (own) {
+    TL_CHECK_GOTO(s, tl_calloc(&T, 9 * np + 1, sizeof *T), done);
+    TL_CHECK_GOTO(s, tl_calloc(&M, 3 * np + 1, sizeof *M), done);
+    TL_CHECK_GOTO(s, tl_calloc(&th, np + 1, sizeof *th), done);
+    for (size_t q = 0; q < N.n; ++q) ref = fmax(ref, N.c[q].kn * N.c[q].ai * N.c[q].ai);
+    /* T_p = ∂M_p/∂θ_p, summed over the grain's contacts */
+    for (size_t q = 0; q < N.n; ++q)
+      for (int a = 0; a < 3; ++a) {
+        double yi[9] = {0}, yj[9] = {0}, oi[9], oj[9];
+        yi[3 + a] = 1.0, yj[6 + a] = 1.0;
+        contact_linear(&N.c[q], yi, 1, 1, oi);
+        contact_linear(&N.c[q], yj, 1, 1, oj);
+        for (int r = 0; r < 3; ++r) {
+          T[9 * N.c[q].i + 3 * r + a] += oi[3 + r];
+          T[9 * N.c[q].j + 3 * r + a] += oj[6 + r];
+        }
+      }
+  }
   memset(c, 0, 81 * sizeof *c);
   for (int k = 0; k < 3; ++k)
     for (int l = 0; l < 3; ++l) {
-      if (in->dim == 2 && (k == 2 || l == 2)) continue;
+      if (dim == 2 && (k == 2 || l == 2)) continue;
       TlMat3 G = unit_G(k, l), ds = tl_m3_zero();
       TlVec3 w = spin_of(G);
+      if (own) {
+        memset(M, 0, 3 * np * sizeof *M);
+        for (size_t q = 0; q < N.n; ++q) {
+          TlVec3 db = tl_m3_mulv(G, N.c[q].b);
+          double y[9] = {db.x, db.y, db.z, w.x, w.y, w.z, w.x, w.y, w.z}, out[9];
+          contact_linear(&N.c[q], y, 1, 1, out);
+          for (int r = 0; r < 3; ++r) M[3 * N.c[q].i + r] += out[3 + r], M[3 * N.c[q].j + r] += out[6 + r];
+        }
+        for (size_t p = 0; p < np; ++p)
+          th[p] = grain_rotation(T + 9 * p, tl_v3(M[3 * p], M[3 * p + 1], M[3 * p + 2]), w, dim, ref);
+      }
       for (size_t q = 0; q < N.n; ++q) {
         const NetContact *cc = &N.c[q];
-        TlVec3 db = tl_m3_mulv(G, cc->b);
-        double y[9] = {db.x, db.y, db.z, w.x, w.y, w.z, w.x, w.y, w.z}, out[9];
-        NetContact tmp = *cc;
-        if (tmp.sliding && !(op->sliding_kt > 0.5)) tmp.kt = 0.0;
-        contact_linear(&tmp, y, 1, 1, out);
+        TlVec3 db = tl_m3_mulv(G, cc->b), ti = own ? th[cc->i] : w, tj = own ? th[cc->j] : w;
+        double y[9] = {db.x, db.y, db.z, ti.x, ti.y, ti.z, tj.x, tj.y, tj.z}, out[9];
+        contact_linear(cc, y, 1, 1, out);
         add_stress(cc, y, out, &ds);
       }
       finish(c, k, l, ds, N.V, in->sigma, G);
     }
   st->contacts = N.n;
+done:
+  tl_free(&T), tl_free(&M), tl_free(&th);
   tl_free(&N.c);
-  return TL_OK;
+  return s;
 }
 
 /* ---------------------------------------------------------------- pstlo */
@@ -685,8 +752,8 @@ static const TlNhlOperatorOps uko_ops = {
     sizeof(TlNhlOperator), NULL, 0, 0, NULL, uko_compute, NULL};
 static const TlNhlOperatorOps kao_ops = {
     {"nhl_operator", "kao",
-     "augmented Kruyt (Talus's reading): uko + pre-stress terms, grains turning with the macro spin"},
-    sizeof(TlNhlOperator), NULL, 0, 0, NULL, kao_compute, NULL};
+     "augmented Kruyt (Talus's reading): uko + pre-stress terms, grain rotations eliminated grain by grain"},
+    sizeof(Kao), kao_params, 1, 0, NULL, kao_compute, NULL};
 static const TlNhlOperatorOps pstlo_ops = {
     {"nhl_operator", "pstlo",
      "pre-stressed truss-like (Talus's reading): network stiffness with rotations, fluctuations condensed (KLU)"},
