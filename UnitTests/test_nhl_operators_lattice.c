@@ -141,7 +141,8 @@ static double cdiff(const double *a, const double *b)
   return m / cmax(b);
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1). */
+/* Computes operator `name` (":sym" appended: with symmetrise = 1; ":6":
+ * with directions = 6). */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
   TlNhlOperator *op;
@@ -150,7 +151,9 @@ static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNh
   char *colon = strchr(base, ':');
   if (colon) *colon = '\0';
   TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = colon ? tl_nhl_operator_set(op, "symmetrise", 1) : TL_OK;
+  TlStatus s = TL_OK;
+  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
+  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
   if (s == TL_OK) s = tl_nhl_operator_setup(op);
   if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
   tl_nhl_operator_destroy(&op);
@@ -198,6 +201,15 @@ int main(void)
     TL_TEST_ASSERT(e_sym <= 1e-8, "the symmetrised pstlo differs by %g where the stiffness is symmetric", e_sym);
     TL_TEST_STATUS(run("demqo", &in, cd, &st), TL_OK);
     TL_TEST_ASSERT(st.evaluations == nG, "demqo made %d probes, expected %d", st.evaluations, nG);
+    {
+      /* the symmetric directions only, rotations by objectivity: the same */
+      double c6[81];
+      TL_TEST_STATUS(run("demqo:6", &in, c6, &st), TL_OK);
+      TL_TEST_ASSERT(st.evaluations == (dim == 2 ? 3 : 6), "demqo:6 made %d probes", st.evaluations);
+      double e6 = cdiff(c6, cd);
+      printf("  demqo with 6 (3) directions vs 9 (4): %.2e\n", e6);
+      TL_TEST_ASSERT(e6 <= 1e-4, "demqo on symmetric directions differs by %g", e6);
+    }
     closed_form(&L, 1, 1, ex);
     closed_form(&L, 0, 0, exu);
     double e_p = cdiff(cp, ex), e_d = cdiff(cd, ex), e_k = cdiff(ck, ex), e_u = cdiff(cu, exu);
