@@ -114,6 +114,7 @@ typedef struct {
   double tau;          /* their summed drive durations (Eq. 18), s */
   double imbalance;    /* their largest final Δ_n */
   double residual;     /* pstlo: largest relative residual of the condensation solves */
+  int refinements;     /* pstlo: refinement sweeps on the symmetric part's factor (0: a direct solve) */
   int symmetric;       /* the returned c has the major symmetry c_ijkl = c_klij */
 } TlNhlOperatorStats;
 
@@ -148,8 +149,10 @@ typedef struct {
  *   symmetrise  1: pstlo drops the non-symmetric part of its stiffness
  *               (the tangential forces' transport) and factors with CHOLMOD;
  *               0 (default): the full matrix, CHOLMOD when it is symmetric to
- *               round-off (no tangential force yet), KLU otherwise.  Either
- *               way an indefinite matrix goes to KLU. */
+ *               round-off (no tangential force yet), otherwise iterative
+ *               refinement on CHOLMOD's factor of its symmetric part.  An
+ *               indefinite matrix, or a refinement that stalls, goes to LU
+ *               (UMFPACK). */
 struct TlNhlOperator {
   const TlNhlOperatorOps *ops;
   double eps, directions, sliding_kt, symmetrise;
