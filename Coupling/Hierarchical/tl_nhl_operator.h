@@ -115,6 +115,7 @@ typedef struct {
   double imbalance;    /* their largest final Δ_n */
   double residual;     /* pstlo: largest relative residual of the condensation solves */
   int refinements;     /* pstlo: refinement sweeps on the symmetric part's factor (0: a direct solve) */
+  char solver[24];     /* pstlo: "cholmod", "cholmod+refinement" or "umfpack" */
   int symmetric;       /* the returned c has the major symmetry c_ijkl = c_klij */
 } TlNhlOperatorStats;
 

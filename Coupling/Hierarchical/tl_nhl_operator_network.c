@@ -28,6 +28,7 @@
 #include "tl_nhl_operator.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include "tl_contact_law.h"
 #include "tl_linear_solver.h"
@@ -570,6 +571,7 @@ static TlStatus pstlo_run(const TlNhlOperator *op, const TlNhlOperatorInput *in,
     /* LU: UMFPACK (BLAS on the dense fronts of a 3-D network: 3x faster than
      * KLU on 864 spheres) */
     TlSparse *M = refine ? Ps : A;
+    snprintf(st->solver, sizeof st->solver, "%s", refine ? "cholmod+refinement" : upper ? "cholmod" : "umfpack");
     TRY(tl_linear_solver_create(upper || refine ? "cholmod" : "umfpack", M, &ls));
     s = tl_linear_solver_factor(ls, M);
     if (s != TL_OK && (upper || refine)) *not_definite = 1;
