@@ -31,7 +31,9 @@
  * 33, 12, 23, 13, engineering shear); tl_nhl_operator_to_D converts (spec
  * §6): with G = d symmetric and dE = Fᵀ d F,
  *     dS = J F⁻¹ (c : d − d σ − σ d + tr(d) σ) F⁻ᵀ
- * (the Truesdell correction, O(σ / modulus), kept).  tl_nhl_operator_from_D
+ * (the Truesdell correction, O(σ / modulus), kept; of c : d its symmetric
+ * part, as the stress is: uko's grains, which do not turn, answer a
+ * symmetric d with a non-symmetric dσ).  tl_nhl_operator_from_D
  * is its inverse, for an operator computed directly as D (the CTO along six
  * Green-strain directions).
  *
