@@ -141,7 +141,8 @@ static double cdiff(const double *a, const double *b)
   return m / cmax(b);
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1). */
+/* Computes operator `name` (":sym" appended: with symmetrise = 1; ":6":
+ * with directions = 6). */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
   TlNhlOperator *op;
@@ -150,7 +151,9 @@ static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNh
   char *colon = strchr(base, ':');
   if (colon) *colon = '\0';
   TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = colon ? tl_nhl_operator_set(op, "symmetrise", 1) : TL_OK;
+  TlStatus s = TL_OK;
+  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
+  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
   if (s == TL_OK) s = tl_nhl_operator_setup(op);
   if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
   tl_nhl_operator_destroy(&op);
@@ -198,6 +201,15 @@ int main(void)
     TL_TEST_ASSERT(e_sym <= 1e-8, "the symmetrised pstlo differs by %g where the stiffness is symmetric", e_sym);
     TL_TEST_STATUS(run("demqo", &in, cd, &st), TL_OK);
     TL_TEST_ASSERT(st.evaluations == nG, "demqo made %d probes, expected %d", st.evaluations, nG);
+    {
+      /* the symmetric directions only, rotations by objectivity: the same */
+      double c6[81];
+      TL_TEST_STATUS(run("demqo:6", &in, c6, &st), TL_OK);
+      TL_TEST_ASSERT(st.evaluations == (dim == 2 ? 3 : 6), "demqo:6 made %d probes", st.evaluations);
+      double e6 = cdiff(c6, cd);
+      printf("  demqo with 6 (3) directions vs 9 (4): %.2e\n", e6);
+      TL_TEST_ASSERT(e6 <= 1e-4, "demqo on symmetric directions differs by %g", e6);
+    }
     closed_form(&L, 1, 1, ex);
     closed_form(&L, 0, 0, exu);
     double e_p = cdiff(cp, ex), e_d = cdiff(cd, ex), e_k = cdiff(ck, ex), e_u = cdiff(cu, exu);
@@ -265,6 +277,41 @@ int main(void)
                 if (i == 2 || j == 2 || k == 2 || m == 2) z = fmax(z, fabs(cp[TL_NHL_C(i, j, k, m)]) + fabs(cd[TL_NHL_C(i, j, k, m)]));
         TL_TEST_ASSERT(z == 0.0, "a 2-D operator has a z component %g", z);
       }
+    }
+    /* ucko and ucko_2dof, fitted to pstlo (reference 2) while calibrating,
+     * then their stored coefficients used; uncalibrated they are uko */
+    {
+      double c1[81], c2[81], s1o[2] = {0, 0}, s1n[2], s2o[3] = {0, 0, 0}, s2n[3], num = 0, den = 0;
+      TlNhlOperator *u1, *u2;
+      TL_TEST_STATUS(tl_nhl_operator_create("ucko", &u1), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_create("ucko_2dof", &u2), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_set(u1, "reference", 2), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_set(u2, "reference", 2), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_set(u1, "reference", 3), TL_ERR_ARG);
+      TL_TEST_STATUS(tl_nhl_operator_setup(u1), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_setup(u2), TL_OK);
+      TL_TEST_ASSERT(tl_nhl_operator_state_size(u1) == 2 && tl_nhl_operator_state_size(u2) == 3,
+                     "state sizes %zu, %zu", tl_nhl_operator_state_size(u1), tl_nhl_operator_state_size(u2));
+      TL_TEST_STATUS(tl_nhl_operator_compute(u1, &in, s1o, s1n, c1, &st), TL_OK);
+      TL_TEST_ASSERT(cdiff(c1, cu) == 0.0, "uncalibrated ucko differs from uko by %g", cdiff(c1, cu));
+      in.calibrate = 1;
+      TL_TEST_STATUS(tl_nhl_operator_compute(u1, &in, s1o, s1n, c1, &st), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_compute(u2, &in, s2o, s2n, c2, &st), TL_OK);
+      in.calibrate = 0;
+      for (int q = 0; q < 81; ++q) num += cp[q] * cu[q], den += cu[q] * cu[q];
+      TL_TEST_REL(s1n[0], num / den, 1e-12);
+      TL_TEST_ASSERT(s1n[1] == 1.0 && s2n[2] == 1.0, "calibration flags %g %g", s1n[1], s2n[2]);
+      double c1b[81], c2b[81], t1[2], t2[3];
+      TL_TEST_STATUS(tl_nhl_operator_compute(u1, &in, s1n, t1, c1b, &st), TL_OK);
+      TL_TEST_STATUS(tl_nhl_operator_compute(u2, &in, s2n, t2, c2b, &st), TL_OK);
+      TL_TEST_ASSERT(cdiff(c1b, c1) <= 1e-15 && cdiff(c2b, c2) <= 1e-15, "the stored coefficients give another operator");
+      double r1 = 0, r2 = 0;
+      for (int q = 0; q < 81; ++q) r1 += (c1[q] - cp[q]) * (c1[q] - cp[q]), r2 += (c2[q] - cp[q]) * (c2[q] - cp[q]);
+      printf("  ucko alpha %.6f (misfit %.2e), ucko_2dof alpha_n %.6f alpha_t %.6f (misfit %.2e)\n", s1n[0],
+             sqrt(r1) / cmax(cp), s2n[0], s2n[1], sqrt(r2) / cmax(cp));
+      TL_TEST_ASSERT(r2 <= r1 * (1.0 + 1e-12), "two coefficients fit worse (%g) than one (%g)", r2, r1);
+      tl_nhl_operator_destroy(&u1);
+      tl_nhl_operator_destroy(&u2);
     }
     /* objectivity of pstlo: c : W = W σ − σ W */
     double cobj[81];

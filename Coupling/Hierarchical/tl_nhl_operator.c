@@ -20,7 +20,7 @@ static const TlParam base_params[] = {
      "objectivity", offsetof(TlNhlOperator, directions)},
     {"sliding_kt", 1, 0, 1, "", "1: sliding contacts keep k_t in uko/ucko/kao (the upper bound as printed); 0: k_t = 0",
      offsetof(TlNhlOperator, sliding_kt)},
-    {"symmetrise", 0, 0, 1, "", "1: pstlo symmetrises its stiffness (CHOLMOD); 0: the full matrix (CHOLMOD if symmetric, else KLU)",
+    {"symmetrise", 0, 0, 1, "", "1: pstlo symmetrises its stiffness (CHOLMOD); 0: the full matrix (CHOLMOD, refined when not symmetric)",
      offsetof(TlNhlOperator, symmetrise)},
 };
 enum { N_BASE = (int)(sizeof base_params / sizeof base_params[0]) };
@@ -264,6 +264,7 @@ TlStatus tl_nhl_operator_perturb(const TlNhlOperator *op, const TlNhlOperatorInp
       TL_CHECK(in->evaluate(in->ctx, mode, Ft, &s, &es));
       st->evaluations++;
       st->dem_steps += es.dem_steps;
+      st->tau += es.tau;
       st->imbalance = fmax(st->imbalance, es.imbalance);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {

@@ -9,8 +9,8 @@
  *   uko        upper-bound Kruyt (Voigt: every grain follows the macro field)
  *   ucko       uko scaled by one coefficient fitted against the CTO
  *   ucko_2dof  uko with its normal and tangential parts scaled separately
- *   kao        uko plus the pre-stress terms, grain rotations condensed
- *              contact by contact
+ *   kao        uko plus the pre-stress terms, grain rotations eliminated
+ *              grain by grain (no global solve)
  *   pstlo      the contact network as a pre-stressed truss with grain
  *              rotations: the fluctuations condensed by a sparse solve
  *   demqo      the DEM itself, sliding suppressed, probed by short steps
@@ -31,7 +31,9 @@
  * 33, 12, 23, 13, engineering shear); tl_nhl_operator_to_D converts (spec
  * §6): with G = d symmetric and dE = Fᵀ d F,
  *     dS = J F⁻¹ (c : d − d σ − σ d + tr(d) σ) F⁻ᵀ
- * (the Truesdell correction, O(σ / modulus), kept).  tl_nhl_operator_from_D
+ * (the Truesdell correction, O(σ / modulus), kept; of c : d its symmetric
+ * part, as the stress is: uko's grains, which do not turn, answer a
+ * symmetric d with a non-symmetric dσ).  tl_nhl_operator_from_D
  * is its inverse, for an operator computed directly as D (the CTO along six
  * Green-strain directions).
  *
@@ -111,8 +113,11 @@ typedef struct {
                           free rotations (pstlo), 0 otherwise */
   int evaluations;     /* law evaluations asked of input->evaluate */
   long dem_steps;      /* their DEM steps */
+  double tau;          /* their summed drive durations (Eq. 18), s */
   double imbalance;    /* their largest final Δ_n */
   double residual;     /* pstlo: largest relative residual of the condensation solves */
+  int refinements;     /* pstlo: refinement sweeps on the symmetric part's factor (0: a direct solve) */
+  char solver[24];     /* pstlo: "cholmod", "cholmod+refinement" or "umfpack" */
   int symmetric;       /* the returned c has the major symmetry c_ijkl = c_klij */
 } TlNhlOperatorStats;
 
@@ -147,8 +152,10 @@ typedef struct {
  *   symmetrise  1: pstlo drops the non-symmetric part of its stiffness
  *               (the tangential forces' transport) and factors with CHOLMOD;
  *               0 (default): the full matrix, CHOLMOD when it is symmetric to
- *               round-off (no tangential force yet), KLU otherwise.  Either
- *               way an indefinite matrix goes to KLU. */
+ *               round-off (no tangential force yet), otherwise iterative
+ *               refinement on CHOLMOD's factor of its symmetric part.  An
+ *               indefinite matrix, or a refinement that stalls, goes to LU
+ *               (UMFPACK). */
 struct TlNhlOperator {
   const TlNhlOperatorOps *ops;
   double eps, directions, sliding_kt, symmetrise;
