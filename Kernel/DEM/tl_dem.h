@@ -143,7 +143,12 @@ TlStatus tl_dem_insert_gas(TlDem *dem, int species, size_t n, uint64_t seed, lon
  * particle's static balance Δ_n (seeds/004 Eq. 19) is below `tolerance`, or
  * max_steps.  The pressure is -tr(σ)/d with d the dimension, contact and
  * kinetic parts (N/m in 2-D, Pa in 3-D).  The cell's rate is zero on
- * return. */
+ * return.  The servo settles when one control interval strains the cell by
+ * much less than the packing's elastic strain at the target (about
+ * overlap / diameter): rate · control_every · dt ≪ P / k_n (2-D, linear
+ * springs); a faster rate makes it swing between compression and expansion
+ * (seeds/004 Eq. 18 with I ≈ 1e-5 near the target and 3e-3 for the gas
+ * suit 400 disks, Benchmarks/cell_vs_yade). */
 typedef struct {
   double pressure;           /* target (Pa; N/m in 2-D), > 0 */
   double rate, rate_fast;    /* strain rates near and far from the target (1/s), > 0 */
