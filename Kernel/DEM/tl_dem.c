@@ -167,6 +167,20 @@ TlStatus tl_dem_set_pair_law(TlDem *d, int a, int b, int law)
   return TL_OK;
 }
 
+int tl_dem_n_laws(const TlDem *d) { return d->n_laws; }
+
+TlContactLaw *tl_dem_law(TlDem *d, int k) { return k >= 0 && k < d->n_laws ? d->laws[k] : NULL; }
+
+int tl_dem_pair_law(const TlDem *d, int a, int b)
+{
+  int law = 0;
+  for (size_t k = 0; k < d->n_pair_laws; ++k) {
+    PairLaw p = d->pair_laws[k];
+    if ((p.a == a && p.b == b) || (p.a == b && p.b == a)) law = p.law;
+  }
+  return law;
+}
+
 TlStatus tl_dem_add_wall(TlDem *d, TlWall *w, int law)
 {
   if (!w) TL_ERROR(TL_ERR_ARG, "wall is NULL");

@@ -168,6 +168,13 @@ TlStatus tl_dem_compress(TlDem *dem, const TlDemCompress *c, TlDemCompressResult
 TlStatus tl_dem_add_law(TlDem *dem, TlContactLaw *law, int *index);
 /* Contacts between species a and b use law `law`. */
 TlStatus tl_dem_set_pair_law(TlDem *dem, int species_a, int species_b, int law);
+/* The laws as added (read and parameter access: a tangent operator reads
+ * their stiffness, a probe suppresses sliding through tl_contact_law_set),
+ * and the law of a pair of species (the last tl_dem_set_pair_law naming
+ * them, law 0 otherwise). */
+int tl_dem_n_laws(const TlDem *dem);
+TlContactLaw *tl_dem_law(TlDem *dem, int k);
+int tl_dem_pair_law(const TlDem *dem, int species_a, int species_b);
 /* Takes ownership of the wall; its contacts use law `law`. */
 TlStatus tl_dem_add_wall(TlDem *dem, TlWall *wall, int law);
 size_t tl_dem_n_walls(const TlDem *dem);
