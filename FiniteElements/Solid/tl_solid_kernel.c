@@ -254,6 +254,18 @@ static TlStatus points_allocate(TlSolid *s, SolidBlock *B, size_t np)
   return TL_OK;
 }
 
+/* Records the error of point p with its element and Gauss point. */
+static void point_error(const TlElementBlock *blk, int nq, size_t p, TlStatus st, ParallelError *pe)
+{
+  const size_t e = p / (size_t)nq;
+  tl_error_trace(st, __FILE__, __LINE__);
+  char msg[900];
+  snprintf(msg, sizeof msg, "%s", tl_error_message());
+  tl_error_set(st, __FILE__, __LINE__, "block %s element %zu (tag %ld) Gauss point %d: %s", blk->name, e,
+               blk->tags ? blk->tags[e] : (long)e, (int)(p % (size_t)nq), msg);
+  tl_solid_parallel_error_record(pe, st);
+}
+
 /* S and D at every point of block b for u_nodes, unless kept from the last
  * evaluation at the same displacements. */
 static TlStatus points_evaluate(TlSolid *s, int b, const double *u_nodes)
@@ -286,41 +298,57 @@ static TlStatus points_evaluate(TlSolid *s, int b, const double *u_nodes)
                  blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, q);
     }
   }
-  /* LPT order from the last measured costs. */
-  PointCost *pc = NULL;
-  TL_CHECK(tl_calloc(&pc, np ? np : 1, sizeof *pc));
-  for (size_t p = 0; p < np; ++p) pc[p] = (PointCost){B->pcost[p], p};
-  qsort(pc, np, sizeof *pc, by_cost);
-  for (size_t p = 0; p < np; ++p) B->porder[p] = pc[p].index;
-  tl_free(&pc);
   const int nt = s->eval_threads > 0 ? s->eval_threads : s->n_threads;
-  /* Threads only when the last evaluation showed work worth a fork (about
-   * 0.1 ms; the first evaluation of a block always forks). */
-  const int fork = nt > 1 && np > 1 && (B->p_total == 0.0 || B->p_total > 1e-4);
+  /* How the last evaluation says to schedule this one: points of 5 us or
+   * more on average (a DEM cell takes milliseconds to seconds) one by one,
+   * longest first, each timed; cheap points (Hooke's law, a fraction of a
+   * microsecond) in static blocks of consecutive points, untimed, in
+   * parallel when there is 1 ms of work in all, else on this thread.  The
+   * first evaluation of a block takes the first way to measure.  Every
+   * point is the same call on the same data whichever way: the same bits. */
+  const double mean = np ? B->p_total / (double)np : 0.0;
+  const int lpt = nt > 1 && np > 1 && (B->p_total == 0.0 || mean >= 5e-6);
+  const int blocks = !lpt && nt > 1 && B->p_total > 1e-3;
   ParallelError pe = {TL_OK, ""};
   double total = 0.0, worst = 0.0, t0 = omp_get_wtime();
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : total) reduction(max : worst) if (fork) num_threads(nt)
-  for (long k = 0; k < (long)np; ++k) {
-    TlStatus seen;
+  if (!lpt) {
+#pragma omp parallel for schedule(static) if (blocks) num_threads(nt)
+    for (long k = 0; k < (long)np; ++k) {
+      const size_t p = (size_t)k;
+      TlStatus st = tl_material_evaluate_gradient(mat, 1, B->pH + p, ss ? B->state_old + p * ss : NULL,
+                                                  ss ? B->state_new + p * ss : NULL, B->pS + p, B->pD + 36 * p, NULL);
+      if (st != TL_OK) {
 #pragma omp critical(tl_solid_error)
-    seen = pe.status;
-    if (seen != TL_OK) continue;
-    const size_t p = B->porder[k];
-    const double tp = omp_get_wtime();
-    TlStatus st = tl_material_evaluate_gradient(mat, 1, B->pH + p, ss ? B->state_old + p * ss : NULL,
-                                                ss ? B->state_new + p * ss : NULL, B->pS + p, B->pD + 36 * p, NULL);
-    const double c = omp_get_wtime() - tp;
-    B->pcost[p] = c;
-    total += c;
-    worst = c > worst ? c : worst;
-    if (st != TL_OK) {
-      const size_t e = p / (size_t)nq;
-      tl_error_trace(st, __FILE__, __LINE__);
-      char msg[900];
-      snprintf(msg, sizeof msg, "%s", tl_error_message());
-      tl_error_set(st, __FILE__, __LINE__, "block %s element %zu (tag %ld) Gauss point %d: %s", blk->name, e,
-                   blk->tags ? blk->tags[e] : (long)e, (int)(p % (size_t)nq), msg);
-      tl_solid_parallel_error_record(&pe, st);
+        point_error(blk, nq, p, st, &pe);
+      }
+    }
+    /* The mean cost (CPU time across the threads) stands for every point. */
+    total = (omp_get_wtime() - t0) * (blocks ? nt : 1);
+    for (size_t p = 0; p < np; ++p) B->pcost[p] = total / (double)np;
+    worst = np ? total / (double)np : 0.0;
+  } else {
+    /* LPT order from the last measured costs. */
+    PointCost *pc = NULL;
+    TL_CHECK(tl_calloc(&pc, np, sizeof *pc));
+    for (size_t p = 0; p < np; ++p) pc[p] = (PointCost){B->pcost[p], p};
+    qsort(pc, np, sizeof *pc, by_cost);
+    for (size_t p = 0; p < np; ++p) B->porder[p] = pc[p].index;
+    tl_free(&pc);
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : total) reduction(max : worst) num_threads(nt)
+    for (long k = 0; k < (long)np; ++k) {
+      TlStatus seen;
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
+      const size_t p = B->porder[k];
+      const double tp = omp_get_wtime();
+      TlStatus st = tl_material_evaluate_gradient(mat, 1, B->pH + p, ss ? B->state_old + p * ss : NULL,
+                                                  ss ? B->state_new + p * ss : NULL, B->pS + p, B->pD + 36 * p, NULL);
+      const double c = omp_get_wtime() - tp;
+      B->pcost[p] = c;
+      total += c;
+      worst = c > worst ? c : worst;
+      if (st != TL_OK) point_error(blk, nq, p, st, &pe);
     }
   }
   s->eval_stats.t_wall += omp_get_wtime() - t0;
