@@ -21,6 +21,7 @@
 #define TL_MATERIAL_H
 
 #include <stddef.h>
+#include "tl_checkpoint.h"
 #include "tl_error.h"
 #include "tl_math.h"
 #include "tl_object.h"
@@ -65,6 +66,11 @@ typedef struct {
   TlStatus (*rollback)(TlMaterial *m, size_t npts, const double *state);
   /* Optional: frees what the derived type owns. */
   void (*destroy)(TlMaterial *m);
+  /* Optional: state the law keeps outside the solid's arrays (the DEM cell
+   * of every point), written with the solid's checkpoint in a group of its
+   * own and restored on load; the object is the TlMaterial, its committed
+   * state is what is saved. */
+  const TlCheckpointOps *checkpoint;
 } TlMaterialOps;
 
 struct TlMaterial {

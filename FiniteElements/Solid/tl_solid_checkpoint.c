@@ -4,6 +4,24 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The state a law keeps outside the solid's arrays (TlMaterialOps.checkpoint),
+ * once per distinct material, under group/block<b>_material for the first
+ * block b that uses it. */
+static TlStatus materials_checkpoint(const TlSolid *s, TlCheckpointWriter *w, TlCheckpointReader *r, const char *group)
+{
+  for (int b = 0; b < s->mesh->n_blocks; ++b) {
+    TlMaterial *m = s->blocks[b].material;
+    int first = 1;
+    for (int a = 0; a < b; ++a) first &= s->blocks[a].material != m;
+    if (!first || !m->ops->checkpoint) continue;
+    char sub[512];
+    snprintf(sub, sizeof sub, "%s/block%d_material", group ? group : "", b);
+    if (w) TL_CHECK(m->ops->checkpoint->save(m, w, sub));
+    else TL_CHECK(m->ops->checkpoint->load(m, r, sub));
+  }
+  return TL_OK;
+}
+
 /* Checkpoint of the committed material state, block by block (the trial
  * state equals it between steps).  Loads and prescribed motions are
  * functions of t: the stepper's time restores them. */
@@ -18,6 +36,7 @@ static TlStatus solid_checkpoint_save(const void *object, TlCheckpointWriter *w,
     snprintf(name, sizeof name, "block%d_state", b);
     TL_CHECK(tl_checkpoint_write_doubles(w, group, name, n, B->state_old));
   }
+  TL_CHECK(materials_checkpoint(s, w, NULL, group));
   return TL_OK;
 }
 
@@ -38,6 +57,7 @@ static TlStatus solid_checkpoint_load(void *object, TlCheckpointReader *r, const
     TL_CHECK(tl_checkpoint_check_finite(r, group, name, n, B->state_old));
     if (n) memcpy(B->state_new, B->state_old, n * sizeof(double));
   }
+  TL_CHECK(materials_checkpoint(s, NULL, r, group));
   return TL_OK;
 }
 

@@ -4,7 +4,11 @@
  * (1 for a linear spring, sqrt(δ reff) for Hertz):
  *   k_T = k_t scale,  c_T = (gamma_t m_eff + c_t) scale,
  * with k_t = 0 meaning the normal part's default (2/7 k_n linear,
- * 2 E / ((1 + ν)(2 - ν)) Hertz).  mu = 0 switches the part off (no history). */
+ * 2 E / ((1 + ν)(2 - ν)) Hertz).  mu = 0 switches the part off (no history).
+ * `transport` chooses the time integration of the tangential force
+ * (TlFrictionTransport, tl_contact_kernels.h): 0 project (Eq. 11, the
+ * default), 1 rotate (Eq. 24; the history also keeps the last normal),
+ * 2 implicit (Eq. 12). */
 #include <math.h>
 #include <stddef.h>
 #include "tl_contact_kernels.h"
@@ -12,8 +16,9 @@
 
 typedef struct {
   TlContactPart base;
-  double mu, k_t_given, gamma_t, c_t;
-  double k_t; /* given or the normal part's default */
+  double mu, k_t_given, gamma_t, c_t, transport_given;
+  double k_t;    /* given or the normal part's default */
+  int transport; /* TlFrictionTransport */
 } Coulomb;
 
 static const TlParam params[] = {
@@ -24,13 +29,20 @@ static const TlParam params[] = {
     {"gamma_t", 0.0, 0.0, 1e300, "1/s/scale", "mass-proportional tangential damping, c_T = gamma_t m_eff scale",
      offsetof(Coulomb, gamma_t)},
     {"c_t", 0.0, 0.0, 1e300, "N s/m/scale", "tangential damping, c_T += c_t scale", offsetof(Coulomb, c_t)},
+    {"transport", 0.0, 0.0, 2.0, "",
+     "time integration of the tangential force (seeds/004): 0 project (Eq. 11), 1 rotate (Eq. 24, keeps |f_T| "
+     "to second order in the tilt), 2 implicit (Eq. 12)", offsetof(Coulomb, transport_given)},
 };
 
 static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
 {
   Coulomb *f = (Coulomb *)part;
   part->active = f->mu > 0.0;
-  part->history_doubles = TL_FRICTION_HISTORY;
+  if (f->transport_given != floor(f->transport_given))
+    TL_ERROR(TL_ERR_ARG, "coulomb friction part: transport %g must be 0 (project), 1 (rotate) or 2 (implicit)",
+             f->transport_given);
+  f->transport = (int)f->transport_given;
+  part->history_doubles = f->transport == TL_FRICTION_ROTATE ? TL_FRICTION_HISTORY_ROTATE : TL_FRICTION_HISTORY;
   part->needs_rotation = 1;
   if (!part->active) return TL_OK;
   f->k_t = f->k_t_given;
@@ -43,22 +55,29 @@ static TlStatus coulomb_setup(TlContactPart *part, const TlContactPart *normal)
   return TL_OK;
 }
 
+/* One loop per scheme, the scheme chosen once per chunk. */
+#define COULOMB_LOOP(KERNEL)                                                                                 \
+  for (size_t q = 0; q < c->n; ++q) {                                                                        \
+    if (!c->on[q]) continue;                                                                                 \
+    const double fn = c->fn[q], s = c->scale[q];                                                             \
+    const double fn_plus = fn > 0.0 ? fn : 0.0;                                                              \
+    double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;                                    \
+    if (c_t > 0.0) ct += c_t * s;                                                                            \
+    c->force[q] = tl_v3_add(c->force[q], KERNEL(c->history[q] + off, c->normal[q], c->vrel[q], c->spin_mean[q], \
+                                                kt * s, ct, mu, fn_plus, dt, want ? &et : NULL));            \
+    if (want) c->energy[q] += et;                                                                            \
+  }
+
 static inline void coulomb_loop(const TlContactPart *part, TlContactChunk *c)
 {
   const Coulomb *cf = (const Coulomb *)part;
   const double kt = cf->k_t, gamma_t = cf->gamma_t, c_t = cf->c_t, mu = cf->mu, dt = c->dt;
   const size_t off = part->history_offset;
   const int want = c->want_energy;
-  for (size_t q = 0; q < c->n; ++q) {
-    if (!c->on[q]) continue;
-    const double fn = c->fn[q], s = c->scale[q];
-    const double fn_plus = fn > 0.0 ? fn : 0.0;
-    double ct = gamma_t > 0.0 ? gamma_t * c->meff[q] * s : 0.0, et = 0.0;
-    if (c_t > 0.0) ct += c_t * s;
-    c->force[q] = tl_v3_add(c->force[q], tl_friction_force(c->history[q] + off, c->normal[q], c->vrel[q],
-                                                           c->spin_mean[q], kt * s, ct, mu, fn_plus, dt,
-                                                           want ? &et : NULL));
-    if (want) c->energy[q] += et;
+  switch (cf->transport) {
+  case TL_FRICTION_ROTATE: COULOMB_LOOP(tl_friction_force_rotate) break;
+  case TL_FRICTION_IMPLICIT: COULOMB_LOOP(tl_friction_force_implicit) break;
+  default: COULOMB_LOOP(tl_friction_force) break;
   }
 }
 TL_CONTACT_PART_LOOPS(coulomb, coulomb_loop)

@@ -21,6 +21,7 @@ TlStatus tl_dem_create(TlDem **out)
   d->track_energy = 1;
   d->orientation = 1;
   d->need_rebuild = 1;
+  d->dim = 3;
   *out = d;
   return TL_OK;
 fail:
@@ -105,6 +106,36 @@ TlStatus tl_dem_set_domain(TlDem *d, const TlDomain *domain)
   return TL_OK;
 }
 
+TlStatus tl_dem_set_dimension(TlDem *d, int dim)
+{
+  if (dim != 2 && dim != 3) TL_ERROR(TL_ERR_ARG, "dimension %d must be 2 (disks) or 3 (spheres)", dim);
+  if (d->setup_done && dim != d->dim)
+    TL_ERROR(TL_ERR_STATE, "the dimension (%d) is set before tl_dem_setup; this world is set up in %d", dim, d->dim);
+  d->dim = dim;
+  return tl_particles_set_disks(d->P, dim == 2);
+}
+
+int tl_dem_dimension(const TlDem *d) { return d->dim; }
+
+/* A two-dimensional world: a domain with an inert z and every particle in
+ * the plane z = 0 at rest along z. */
+static TlStatus check_planar_scene(const TlDem *d)
+{
+  const TlDomain *D = &d->domain;
+  if (D->kind == TL_DOMAIN_DEFORMABLE_CELL && !D->planar)
+    TL_ERROR(TL_ERR_ARG, "a 2-D world needs the planar cell (tl_domain_init_cell_2d); this deformable cell is periodic "
+             "along z");
+  if (D->periodic[2])
+    TL_ERROR(TL_ERR_ARG, "a 2-D world's domain must not be periodic along z (periodic flags %d %d %d)", D->periodic[0],
+             D->periodic[1], D->periodic[2]);
+  const TlParticles *P = d->P;
+  for (size_t i = 0; i < P->n; ++i)
+    if (P->x[i].z != 0.0 || P->v[i].z != 0.0)
+      TL_ERROR(TL_ERR_ARG, "2-D world: particle id %lld has z = %g, v_z = %g; disks lie in the plane z = 0 at rest along z",
+               (long long)P->id[i], P->x[i].z, P->v[i].z);
+  return TL_OK;
+}
+
 TlStatus tl_dem_set_skin(TlDem *d, double f)
 {
   if (!(f >= 0.0) || !(f <= 10.0)) TL_ERROR(TL_ERR_ARG, "skin %g (fraction of the mean diameter) must be in [0, 10]", f);
@@ -134,6 +165,20 @@ TlStatus tl_dem_set_pair_law(TlDem *d, int a, int b, int law)
   d->pair_laws[d->n_pair_laws++] = (PairLaw){a, b, law};
   d->need_rebuild = 1;
   return TL_OK;
+}
+
+int tl_dem_n_laws(const TlDem *d) { return d->n_laws; }
+
+TlContactLaw *tl_dem_law(TlDem *d, int k) { return k >= 0 && k < d->n_laws ? d->laws[k] : NULL; }
+
+int tl_dem_pair_law(const TlDem *d, int a, int b)
+{
+  int law = 0;
+  for (size_t k = 0; k < d->n_pair_laws; ++k) {
+    PairLaw p = d->pair_laws[k];
+    if ((p.a == a && p.b == b) || (p.a == b && p.b == a)) law = p.law;
+  }
+  return law;
 }
 
 TlStatus tl_dem_add_wall(TlDem *d, TlWall *w, int law)
@@ -241,6 +286,7 @@ TlStatus tl_dem_setup(TlDem *d)
   TlParticles *P = d->P;
   if (d->n_laws == 0) TL_ERROR(TL_ERR_STATE, "the scene has no contact law; add one with tl_dem_add_law");
   if (!(d->dt > 0.0)) TL_ERROR(TL_ERR_STATE, "no time step set; call tl_dem_set_timestep");
+  if (d->dim == 2) TL_CHECK(check_planar_scene(d));
   for (size_t s = 0; s < P->n_species; ++s)
     if (!(P->species_table[s].density > 0.0))
       TL_ERROR(TL_ERR_ARG, "species %zu has density %g; it must be positive", s, P->species_table[s].density);

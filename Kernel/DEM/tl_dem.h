@@ -97,10 +97,54 @@ void tl_dem_set_threads(TlDem *dem, int threads);
  * for memory locality (default 10; 0 never). */
 void tl_dem_set_sort_interval(TlDem *dem, int rebuilds);
 
+/* ---- two-dimensional (disk) mode ----
+ * tl_dem_set_dimension(dem, 2), before tl_dem_setup, makes a world of disks
+ * in the plane z = 0 (seeds/004's 2-D cells):
+ *   - particles are disks, cylinders of unit thickness: mass per unit
+ *     thickness m = ρ π r² (kg/m), inertia ½ m r² (tl_particles_set_disks;
+ *     the existing particles are recomputed, later ones follow);
+ *   - motion is in-plane translation (x, y) and rotation about z only: the
+ *     step never changes z, v_z, ω_x, ω_y (forces along z and torques about
+ *     x, y, from gravity or walls, are ignored); contacts use in-plane branch
+ *     vectors, normals and relative velocities, so z stays exactly 0;
+ *   - the domain is open, an orthogonal periodic box not periodic along z,
+ *     or the planar cell of tl_domain_init_cell_2d (h with a 2 x 2 in-plane
+ *     block, x and y periodic; a deformable cell periodic along z is
+ *     refused);
+ *   - forces, the laws' stiffnesses and energies are per unit thickness
+ *     (N/m, N/m per m, J/m), and tl_dem_stress divides by the in-plane area
+ *     (tl_domain_area): a stress per unit thickness (N/m) whose z row and
+ *     column are zero;
+ *   - checkpoints carry the dimension (loading into a world of the other
+ *     dimension is refused).
+ * Setup refuses a particle off the plane (z or v_z nonzero), naming it.  The
+ * contact loop and the step have their own 2-D paths: a 2-D scene costs
+ * what two dimensions need (Benchmarks/dem_2d_vs_3d). */
+TlStatus tl_dem_set_dimension(TlDem *dem, int dimension);
+int tl_dem_dimension(const TlDem *dem);
+
+/* Random sequential insertion of n particles of `species` (radii drawn from
+ * its distribution) without overlap, nearest periodic images included, at
+ * uniform random positions in the domain's cell (x = o + h s, s uniform in
+ * [0, 1)³; s_z = 0 in a 2-D world, so disks land in the plane z = 0), with
+ * zero velocity: a loose gas to be compressed (e.g. by a shrinking cell).
+ * Gives up after max_attempts tries of one particle (refused, naming the
+ * count placed and the packing fraction reached); *placed (may be NULL)
+ * receives the count.  `seed` fixes the sequence.  Brute force in n²:
+ * meant for cells of up to some 10⁴ particles. */
+TlStatus tl_dem_insert_gas(TlDem *dem, int species, size_t n, uint64_t seed, long max_attempts, size_t *placed);
+
 /* Takes ownership of the law; *index receives its number. */
 TlStatus tl_dem_add_law(TlDem *dem, TlContactLaw *law, int *index);
 /* Contacts between species a and b use law `law`. */
 TlStatus tl_dem_set_pair_law(TlDem *dem, int species_a, int species_b, int law);
+/* The laws as added (read and parameter access: a tangent operator reads
+ * their stiffness, a probe suppresses sliding through tl_contact_law_set),
+ * and the law of a pair of species (the last tl_dem_set_pair_law naming
+ * them, law 0 otherwise). */
+int tl_dem_n_laws(const TlDem *dem);
+TlContactLaw *tl_dem_law(TlDem *dem, int k);
+int tl_dem_pair_law(const TlDem *dem, int species_a, int species_b);
 /* Takes ownership of the wall; its contacts use law `law`. */
 TlStatus tl_dem_add_wall(TlDem *dem, TlWall *wall, int law);
 size_t tl_dem_n_walls(const TlDem *dem);

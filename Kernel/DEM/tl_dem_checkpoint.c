@@ -176,6 +176,7 @@ static TlStatus dem_save(const void *object, TlCheckpointWriter *w, const char *
   TL_CHECK(tl_checkpoint_write_int64(w, group, "n_touching", (int64_t)d->n_touching));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "n_laws", d->n_laws));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "rotation", d->rotation));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "dimension", d->dim));
   double scalars[8] = {d->skin, d->max_cut, d->r_min, d->disp2max, d->elastic_pp, d->contact_work_pp, d->work_ext, 0.0};
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "skin_cut_rmin_disp2_energy", 8, scalars));
   /* domain */
@@ -187,6 +188,7 @@ static TlStatus dem_save(const void *object, TlCheckpointWriter *w, const char *
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "domain_h_dot", 9, &D->h_dot.m[0][0]));
   TL_CHECK(tl_checkpoint_write_doubles(w, group, "domain_L", 9, &D->L.m[0][0]));
   TL_CHECK(tl_checkpoint_write_int64(w, group, "domain_deforming", D->deforming));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "domain_planar", D->planar));
   /* particles */
   snprintf(sub, sizeof sub, "%s/particles", group ? group : "");
   TL_CHECK(tl_checkpoint_write_int64(w, sub, "n", (int64_t)n));
@@ -263,6 +265,12 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
   TL_CHECK(tl_checkpoint_read_int64(r, group, "rotation", &v));
   if (v != d->rotation)
     TL_ERROR(TL_ERR_ARG, "%s: the saved scene %s rotation; this one %s", path, v ? "has" : "has no", d->rotation ? "has" : "has none");
+  /* the dimension: checkpoints written before the 2-D mode are of 3-D worlds */
+  v = 3;
+  if (tl_checkpoint_has(r, group, "dimension")) TL_CHECK(tl_checkpoint_read_int64(r, group, "dimension", &v));
+  if (v != d->dim)
+    TL_ERROR(TL_ERR_ARG, "%s: the saved world is %lld-dimensional; this one %d (tl_dem_set_dimension)", path,
+             (long long)v, d->dim);
   TL_CHECK(tl_checkpoint_read_int64(r, group, "n_walls", &v));
   if (v != (int64_t)d->n_walls) TL_ERROR(TL_ERR_ARG, "%s: the saved scene has %lld walls; this one %zu", path, (long long)v, d->n_walls);
   TL_CHECK(tl_checkpoint_read_int64(r, group, "n_prescribed", &v));
@@ -306,6 +314,11 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
   if (P->weight && tl_checkpoint_has(r, sub, "weight"))
     TL_CHECK(tl_checkpoint_read_doubles(r, sub, "weight", n, P->weight));
   TL_CHECK(check_particles(P, n, r, sub));
+  if (d->dim == 2)
+    for (size_t i = 0; i < n; ++i)
+      if (P->x[i].z != 0.0 || P->v[i].z != 0.0)
+        TL_ERROR(TL_ERR_FORMAT, "%s: 2-D world: particle %zu has z = %g, v_z = %g (disks lie in the plane z = 0)", path, i,
+                 P->x[i].z, P->v[i].z);
   for (size_t i = 0; i < n; ++i)
     if (P->species[i] < 0 || (size_t)P->species[i] >= P->n_species)
       TL_ERROR(TL_ERR_ARG, "%s: particle %zu has species %d; this scene has %zu", path, i, P->species[i], P->n_species);
@@ -336,6 +349,10 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
   TlDomain *D = &d->domain;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "domain_kind", &v));
   if (v != (int64_t)D->kind) TL_ERROR(TL_ERR_ARG, "%s: the saved domain is of kind %lld; this one %d", path, (long long)v, (int)D->kind);
+  v = 0;
+  if (tl_checkpoint_has(r, group, "domain_planar")) TL_CHECK(tl_checkpoint_read_int64(r, group, "domain_planar", &v));
+  if (v != D->planar)
+    TL_ERROR(TL_ERR_ARG, "%s: the saved domain %s planar; this one %s", path, v ? "is" : "is not", D->planar ? "is" : "is not");
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "domain_origin", 3, &D->origin.x));
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "domain_h", 9, &D->h.m[0][0]));
   TL_CHECK(tl_checkpoint_read_doubles(r, group, "domain_h_inv", 9, &D->h_inv.m[0][0]));

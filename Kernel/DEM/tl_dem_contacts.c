@@ -24,6 +24,7 @@ typedef struct {
   const double *cw; /* per-contact weights, NULL: unweighted */
   TlVec3 *F, *T;
   double len[3], half[3];
+  double hm[4], hinv[4], lm[4]; /* in-plane blocks of h, h⁻¹ and L (2-D world) */
   int bonded, want_energy;
   size_t hd;
   double el, pw;
@@ -58,15 +59,17 @@ _Static_assert((int)CHUNK <= (int)TL_CONTACT_CHUNK, "a chunk of the contact list
 static const TlVec3 no_spin[TL_CONTACT_CHUNK];
 
 /* The contact loop of one chunk, specialised at compile time on the domain
- * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell)
- * and on rotation, so the common cases carry no dead branches.  It stages
+ * kind (ORTHO: orthogonal periodic box; GENERAL: sheared or deforming cell),
+ * on rotation and on the dimension (PLANAR: a 2-D world, in-plane branch
+ * vectors, normals and relative velocities, spins about z, forces in x, y
+ * and torques about z only), so the common cases carry no dead branches.  It stages
  * the touching contacts' geometry in cc, has the chunk's law evaluate them
  * (one call per chunk, whatever the law), then scatters the forces.  The
  * same path serves every law: the built-in parts, a composition of them and
  * a law or part defined outside the library. */
 static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlContactChunk *cc, Chunk ch,
                                                                 const int ORTHO, const int GENERAL, const int ROT,
-                                                                const int WEIGHTED)
+                                                                const int PLANAR, const int WEIGHTED)
 {
   TlDem *d = c->d;
   TlContactList *L = c->L;
@@ -89,10 +92,33 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
     double ri, rj;
-    if (GENERAL) {
+    if (GENERAL && PLANAR) {
+      /* Eq. 20 in the plane */
+      const double bx = xr[j][0] - xr[i][0], by = xr[j][1] - xr[i][1];
+      const double sx = c->hinv[0] * bx + c->hinv[1] * by, sy = c->hinv[2] * bx + c->hinv[3] * by;
+      const double rx = sx - nearbyint(sx), ry = sy - nearbyint(sy);
+      b.x = c->hm[0] * rx + c->hm[1] * ry;
+      b.y = c->hm[2] * rx + c->hm[3] * ry;
+      b.z = 0.0;
+      ri = xr[i][3];
+      rj = xr[j][3];
+    } else if (GENERAL) {
       b = tl_domain_branch(dom, x[i], x[j]);
       ri = radius[i];
       rj = radius[j];
+    } else if (PLANAR) {
+      b.x = xr[j][0] - xr[i][0];
+      b.y = xr[j][1] - xr[i][1];
+      b.z = 0.0;
+      ri = xr[i][3];
+      rj = xr[j][3];
+      if (ORTHO)
+        for (int q = 0; q < 2; ++q) {
+          double *bc = q ? &b.y : &b.x;
+          if (c->len[q] <= 0.0) continue;
+          if (*bc > c->half[q]) *bc -= c->len[q];
+          else if (*bc < -c->half[q]) *bc += c->len[q];
+        }
     } else {
       b.x = xr[j][0] - xr[i][0];
       b.y = xr[j][1] - xr[i][1];
@@ -102,7 +128,7 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       if (ORTHO) minimum_image_ortho(c, &b);
     }
     const double cut = ri + rj;
-    const double r2 = b.x * b.x + b.y * b.y + b.z * b.z;
+    const double r2 = PLANAR ? b.x * b.x + b.y * b.y : b.x * b.x + b.y * b.y + b.z * b.z;
     if (r2 >= cut * cut && !bonded) {
       release_contact(L, k, hd);
       continue;
@@ -112,9 +138,22 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
     const TlVec3 n = dist > 0.0 ? tl_v3_scale(b, inv) : tl_v3(1, 0, 0);
     const double delta = cut - dist;
     const double li = ri - half * delta, lj = rj - half * delta;
-    TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, v[j].z - v[i].z};
-    if (GENERAL && dom->deforming) vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
-    if (ROT) {
+    TlVec3 vr = {v[j].x - v[i].x, v[j].y - v[i].y, PLANAR ? 0.0 : v[j].z - v[i].z};
+    if (PLANAR && GENERAL && dom->deforming) {
+      vr.x += c->lm[0] * b.x + c->lm[1] * b.y;
+      vr.y += c->lm[2] * b.x + c->lm[3] * b.y;
+    } else if (GENERAL && dom->deforming) {
+      vr = tl_v3_add(vr, tl_m3_mulv(dom->L, b));
+    }
+    if (ROT && PLANAR) {
+      /* -(lj ω_j + li ω_i) × n with spins about z */
+      const double wi = w[i].z, wj = w[j].z;
+      const double sz = lj * wj + li * wi;
+      vr.x += sz * n.y;
+      vr.y -= sz * n.x;
+      spin_mean[m] = (TlVec3){0.0, 0.0, 0.5 * (wi + wj)};
+      spin_rel[m] = (TlVec3){0.0, 0.0, wj - wi};
+    } else if (ROT) {
       const TlVec3 wi = w[i], wj = w[j];
       /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
       TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
@@ -180,9 +219,19 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       f = tl_v3_scale(f, wk);
       cpl = tl_v3_scale(cpl, wk);
     }
-    F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
-    F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
-    if (ROT) {
+    if (PLANAR) {
+      F[i].x += f.x; F[i].y += f.y;
+      F[j].x -= f.x; F[j].y -= f.y;
+    } else {
+      F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
+      F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
+    }
+    if (ROT && PLANAR) {
+      const TlVec3 n = cc->normal[q];
+      const double nfz = n.x * f.y - n.y * f.x;
+      T[i].z += li_[q] * nfz + cpl.z;
+      T[j].z += lj_[q] * nfz - cpl.z;
+    } else if (ROT) {
       /* branch_i = li n, branch_j = -lj n */
       const TlVec3 n = cc->normal[q];
       const double li = li_[q], lj = lj_[q];
@@ -194,17 +243,23 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
   }
 }
 
+#define TL_DISPATCH_ROT(FN, G, O, P, ...)                                               \
+  do {                                                                                  \
+    if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], O, G, 1, P __VA_ARGS__); \
+    else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], O, G, 0, P __VA_ARGS__);     \
+  } while (0)
 #define TL_DISPATCH_CHUNKS(FN, ...)                                                  \
   do {                                                                               \
-    if (general) {                                                                   \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 1, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 1, 0 __VA_ARGS__);    \
+    if (planar) {                                                                    \
+      if (general) TL_DISPATCH_ROT(FN, 1, 0, 1, __VA_ARGS__);                        \
+      else if (ortho) TL_DISPATCH_ROT(FN, 0, 1, 1, __VA_ARGS__);                     \
+      else TL_DISPATCH_ROT(FN, 0, 0, 1, __VA_ARGS__);                                \
+    } else if (general) {                                                            \
+      TL_DISPATCH_ROT(FN, 1, 0, 0, __VA_ARGS__);                                     \
     } else if (ortho) {                                                              \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 1, 0, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 1, 0, 0 __VA_ARGS__);    \
+      TL_DISPATCH_ROT(FN, 0, 1, 0, __VA_ARGS__);                                     \
     } else {                                                                         \
-      if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 0, 1 __VA_ARGS__); \
-      else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], 0, 0, 0 __VA_ARGS__);    \
+      TL_DISPATCH_ROT(FN, 0, 0, 0, __VA_ARGS__);                                     \
     }                                                                                \
   } while (0)
 
@@ -227,6 +282,7 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
     const int general = dom->any_periodic && (dom->kind != TL_DOMAIN_PERIODIC_BOX || dom->deforming);       \
     const int ortho = dom->any_periodic && !general;                                                         \
     const int rot = c->w != NULL;                                                                            \
+    const int planar = c->d->dim == 2;                                                                       \
     TlContactChunk chunk;                                                                                    \
     TlContactChunk *cc = &chunk;                                                                             \
     cc->dt = c->d->dt;                                                                                       \
@@ -266,6 +322,11 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     for (int q = 0; q < 3; ++q) {
       c.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
       c.half[q] = 0.5 * c.len[q];
+    }
+    for (int q = 0; q < 4; ++q) {
+      c.hm[q] = dom->h.m[q / 2][q % 2];
+      c.hinv[q] = dom->h_inv.m[q / 2][q % 2];
+      c.lm[q] = dom->L.m[q / 2][q % 2];
     }
     c.bonded = bonded;
     c.want_energy = want_energy;

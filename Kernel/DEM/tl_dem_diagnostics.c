@@ -43,7 +43,8 @@ TlStatus tl_dem_energy(TlDem *d, TlDemEnergy *e)
 TlStatus tl_dem_stress(TlDem *d, TlMat3 *sc, TlMat3 *sk)
 {
   const TlParticles *P = d->P;
-  double V = tl_domain_volume(&d->domain);
+  /* a 2-D world: per unit thickness, over the in-plane area */
+  double V = d->dim == 2 ? tl_domain_area(&d->domain) : tl_domain_volume(&d->domain);
   TlMat3 s = tl_m3_zero(), k = tl_m3_zero();
   const TlContactList *lists[2] = {&d->list, &d->bonds};
   for (int q = 0; q < 2; ++q) {

@@ -116,6 +116,13 @@ TlStatus tl_dem_rebuild(TlDem *d)
 {
   TlParticles *P = d->P;
   size_t n = P->n;
+  /* a 2-D world: a particle inserted off the plane would meet the others
+   * only through the grid's z, which the contacts ignore */
+  if (d->dim == 2)
+    for (size_t i = 0; i < n; ++i)
+      if (P->x[i].z != 0.0)
+        TL_ERROR(TL_ERR_ARG, "2-D world: particle id %lld has z = %g; disks lie in the plane z = 0", (long long)P->id[i],
+                 P->x[i].z);
   /* wrap into the periodic cell and remember the build positions */
   if (d->domain.any_periodic)
     for (size_t i = 0; i < n; ++i) P->x[i] = tl_domain_wrap(&d->domain, P->x[i]);

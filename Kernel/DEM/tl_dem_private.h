@@ -6,6 +6,7 @@
  *   tl_dem_weights.c     weights of the equations (volume coupling)
  *   tl_dem_step.c        time integration
  *   tl_dem_insert.c      insertion and removal of particles
+ *   tl_dem_gas.c         random sequential insertion of a loose gas
  *   tl_dem_diagnostics.c energy, stress, coordination, visitors, statistics
  *   tl_dem_checkpoint.c  checkpoint save and load */
 #ifndef TL_DEM_PRIVATE_H
@@ -74,6 +75,7 @@ struct TlDem {
   size_t n_presc, presc_cap;
   double dt, t, disp2max, r_min;
   int allow_above, setup_done, need_rebuild, rotation, orientation;
+  int dim; /* 3, or 2: disks in the plane z = 0 (tl_dem_set_dimension) */
   long steps, rebuilds;
   size_t n_touching;
   /* energy bookkeeping */

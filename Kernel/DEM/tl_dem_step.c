@@ -75,6 +75,33 @@ static TlStatus one_step(TlDem *d)
         d->work_ext += dt * tl_v3_dot(fe, vv);
       }
   const int nt = n >= 8192 ? d->nt : 1;
+  const int planar = d->dim == 2;
+  if (planar) {
+    /* 2-D: x, y and the spin about z only; z, v_z, ω_x, ω_y never change */
+    const double a00 = A.m[0][0], a01 = A.m[0][1], a10 = A.m[1][0], a11 = A.m[1][1];
+    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
+      for (size_t i = 0; i < n; ++i) {
+        if (motion[i] != TL_MOTION_FREE) continue;
+        const double hi = h * im[i];
+        const double vx = v[i].x + hi * f[i].x, vy = v[i].y + hi * f[i].y;
+        v[i].x = vx;
+        v[i].y = vy;
+        const double v2 = vx * vx + vy * vy;
+        v2max = v2 > v2max ? v2 : v2max;
+        if (deforming) {
+          const double px = x[i].x - o.x, py = x[i].y - o.y;
+          x[i].x = o.x + a00 * px + a01 * py + dt * vx;
+          x[i].y = o.y + a10 * px + a11 * py + dt * vy;
+        } else {
+          const double xx = x[i].x + dt * vx, xy = x[i].y + dt * vy;
+          x[i].x = xx;
+          x[i].y = xy;
+          const double dx = xx - xb[i].x, dy = xy - xb[i].y;
+          const double d2 = dx * dx + dy * dy;
+          disp2max = d2 > disp2max ? d2 : disp2max;
+        }
+      });
+  } else
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
     for (size_t i = 0; i < n; ++i) {
       if (motion[i] != TL_MOTION_FREE) continue;
@@ -100,6 +127,21 @@ static TlStatus one_step(TlDem *d)
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
     const int orient = d->orientation;
+    if (planar) {
+      TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
+        for (size_t i = 0; i < n; ++i) {
+          if (motion[i] != TL_MOTION_FREE) continue;
+          const double wz = w[i].z + h * ii[i] * tq[i].z;
+          w[i].z = wz;
+          if (!orient) continue;
+          /* dq/dt = ½ (0, ω) ⊗ q with ω = ω_z e_z */
+          TlQuat q = P->q[i];
+          const double hw = h * wz;
+          TlQuat r = {q.w - hw * q.z, q.x - hw * q.y, q.y + hw * q.x, q.z + hw * q.w};
+          double nq = 1.0 / sqrt(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+          P->q[i] = (TlQuat){r.w * nq, r.x * nq, r.y * nq, r.z * nq};
+        });
+    } else
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
       for (size_t i = 0; i < n; ++i) {
         if (motion[i] != TL_MOTION_FREE) continue;
@@ -125,6 +167,16 @@ static TlStatus one_step(TlDem *d)
   TL_CHECK(tl_dem_eval_forces(d));
   /* second half kick; a NaN anywhere poisons the sum and is then located */
   double sum = 0.0;
+  if (planar)
+    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
+      for (size_t i = 0; i < n; ++i) {
+        const double hi = h * im[i];
+        const double vx = v[i].x + hi * f[i].x, vy = v[i].y + hi * f[i].y;
+        v[i].x = vx;
+        v[i].y = vy;
+        sum += vx + vy;
+      });
+  else
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
     for (size_t i = 0; i < n; ++i) {
       const double hi = h * im[i]; /* 0 for fixed and prescribed particles */
@@ -136,6 +188,10 @@ static TlStatus one_step(TlDem *d)
     TlVec3 *restrict w = P->w;
     const TlVec3 *restrict tq = P->torque;
     const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
+    if (planar)
+      TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
+        for (size_t i = 0; i < n; ++i) w[i].z += h * ii[i] * tq[i].z;);
+    else
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
       for (size_t i = 0; i < n; ++i) {
         const double hi = h * ii[i];

@@ -62,6 +62,30 @@ TlStatus tl_domain_init_cell(TlDomain *d, TlVec3 origin, TlMat3 h)
   return finish(d);
 }
 
+/* The z row and column of a planar cell's h (identity: `one` = 1) or ḣ
+ * (zero: `one` = 0). */
+static TlStatus check_planar(const TlMat3 *m, const char *what, double one)
+{
+  static const int at[5][2] = {{0, 2}, {1, 2}, {2, 0}, {2, 1}, {2, 2}};
+  for (int k = 0; k < 5; ++k) {
+    int i = at[k][0], j = at[k][1];
+    double want = (i == 2 && j == 2) ? one : 0.0;
+    if (m->m[i][j] != want)
+      TL_ERROR(TL_ERR_ARG, "planar cell: %s[%d][%d] = %g must be %g (the z row and column are inert)", what, i, j,
+               m->m[i][j], want);
+  }
+  return TL_OK;
+}
+
+TlStatus tl_domain_init_cell_2d(TlDomain *d, TlVec3 origin, TlMat3 h)
+{
+  TL_CHECK(check_planar(&h, "h", 1.0));
+  TL_CHECK(tl_domain_init_cell(d, origin, h));
+  d->periodic[2] = 0;
+  d->planar = 1;
+  return finish(d);
+}
+
 TlStatus tl_domain_set_h_rate(TlDomain *d, TlMat3 h_dot)
 {
   if (d->kind != TL_DOMAIN_DEFORMABLE_CELL)
@@ -69,6 +93,7 @@ TlStatus tl_domain_set_h_rate(TlDomain *d, TlMat3 h_dot)
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (!isfinite(h_dot.m[i][j])) TL_ERROR(TL_ERR_ARG, "h_dot[%d][%d] = %g is not finite", i, j, h_dot.m[i][j]);
+  if (d->planar) TL_CHECK(check_planar(&h_dot, "h_dot", 0.0));
   d->h_dot = h_dot;
   return finish(d);
 }
@@ -77,6 +102,7 @@ TlStatus tl_domain_set_h(TlDomain *d, TlMat3 h)
 {
   if (d->kind != TL_DOMAIN_DEFORMABLE_CELL)
     TL_ERROR(TL_ERR_STATE, "only a deformable cell can change its h (this domain is of kind %d)", (int)d->kind);
+  if (d->planar) TL_CHECK(check_planar(&h, "h", 1.0));
   TlMat3 old = d->h;
   d->h = h;
   TlStatus s = finish(d);
@@ -89,6 +115,8 @@ TlStatus tl_domain_set_h(TlDomain *d, TlMat3 h)
 }
 
 double tl_domain_volume(const TlDomain *d) { return fabs(tl_m3_det(d->h)); }
+
+double tl_domain_area(const TlDomain *d) { return fabs(d->h.m[0][0] * d->h.m[1][1] - d->h.m[0][1] * d->h.m[1][0]); }
 
 double tl_domain_face_distance(const TlDomain *d, int k)
 {

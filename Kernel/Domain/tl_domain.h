@@ -15,6 +15,13 @@
  * v_j - v_i + L b (Eq. 21 written with the real branch vector).  With ḣ = 0
  * (every open box and fixed periodic box) this is the plain velocity.
  *
+ * Planar cell (the two-dimensional world of disks, tl_dem_set_dimension):
+ * a deformable cell periodic along x and y only, whose z row and column of h
+ * are those of the identity (a unit thickness, h_zz = 1) and never change
+ * (ḣ has no z row or column).  Its branch vectors and rounding (Eq. 20) are
+ * two-dimensional; z is inert.  tl_domain_area gives the in-plane area
+ * |det h₂ₓ₂|, what a stress per unit thickness divides by.
+ *
  * The hot functions are inline: the branch vector uses the rounding trick of
  * Eq. 20 in reduced coordinates. */
 #ifndef TL_DOMAIN_H
@@ -34,6 +41,7 @@ typedef struct {
   TlMat3 L;          /* velocity gradient ḣ h⁻¹ of the affine field */
   int any_periodic;
   int deforming;     /* h_dot nonzero */
+  int planar;        /* the planar cell: x, y periodic, z inert (tl_domain_init_cell_2d) */
 } TlDomain;
 
 /* Open box [lo, hi] (a hint for the grid; particles may leave it). */
@@ -43,12 +51,22 @@ TlStatus tl_domain_init_periodic_box(TlDomain *d, TlVec3 lo, TlVec3 hi, const in
 /* Deformable cell, periodic in all three directions, with cell matrix h
  * (columns = edge vectors, det h > 0) and origin o. */
 TlStatus tl_domain_init_cell(TlDomain *d, TlVec3 origin, TlMat3 h);
-/* Sets ḣ (deformable cell only). */
+/* Planar deformable cell (two-dimensional world), periodic along x and y:
+ * the upper-left 2 x 2 block of h holds the in-plane edge vectors (columns,
+ * det > 0); its z row and column must be those of the identity (refused
+ * otherwise, naming the entry).  Wrapping and branch vectors leave z alone
+ * (a two-dimensional world keeps its disks at z = 0). */
+TlStatus tl_domain_init_cell_2d(TlDomain *d, TlVec3 origin, TlMat3 h);
+/* Sets ḣ (deformable cell only; a planar cell refuses a z row or column). */
 TlStatus tl_domain_set_h_rate(TlDomain *d, TlMat3 h_dot);
-/* Replaces h (deformable cell), refusing det h <= 0. */
+/* Replaces h (deformable cell), refusing det h <= 0 (and, planar, a z row
+ * or column other than the identity's). */
 TlStatus tl_domain_set_h(TlDomain *d, TlMat3 h);
-/* Volume |det h|. */
+/* Volume |det h| (a planar cell: its area times the unit thickness). */
 double tl_domain_volume(const TlDomain *d);
+/* In-plane area |h_xx h_yy - h_xy h_yx| (per unit thickness of a
+ * two-dimensional world). */
+double tl_domain_area(const TlDomain *d);
 /* Distance between opposite faces of the cell along reduced direction k
  * (volume / area of the face spanned by the two other edge vectors). */
 double tl_domain_face_distance(const TlDomain *d, int k);
@@ -81,6 +99,15 @@ static inline TlVec3 tl_domain_branch(const TlDomain *d, TlVec3 xi, TlVec3 xj)
       }
     return b;
   }
+  if (d->planar) {
+    /* Eq. 20 in the plane: z is inert */
+    const double sx = d->h_inv.m[0][0] * b.x + d->h_inv.m[0][1] * b.y;
+    const double sy = d->h_inv.m[1][0] * b.x + d->h_inv.m[1][1] * b.y;
+    const double rx = sx - nearbyint(sx), ry = sy - nearbyint(sy);
+    b.x = d->h.m[0][0] * rx + d->h.m[0][1] * ry;
+    b.y = d->h.m[1][0] * rx + d->h.m[1][1] * ry;
+    return b;
+  }
   TlVec3 S = tl_m3_mulv(d->h_inv, b);
   S.x -= nearbyint(S.x);
   S.y -= nearbyint(S.y);
@@ -92,6 +119,15 @@ static inline TlVec3 tl_domain_branch(const TlDomain *d, TlVec3 xi, TlVec3 xj)
 static inline TlVec3 tl_domain_wrap(const TlDomain *d, TlVec3 x)
 {
   if (!d->any_periodic) return x;
+  if (d->planar) {
+    const double px = x.x - d->origin.x, py = x.y - d->origin.y;
+    double sx = d->h_inv.m[0][0] * px + d->h_inv.m[0][1] * py;
+    double sy = d->h_inv.m[1][0] * px + d->h_inv.m[1][1] * py;
+    sx -= floor(sx);
+    sy -= floor(sy);
+    return (TlVec3){d->origin.x + d->h.m[0][0] * sx + d->h.m[0][1] * sy,
+                    d->origin.y + d->h.m[1][0] * sx + d->h.m[1][1] * sy, x.z};
+  }
   TlVec3 s = tl_domain_to_reduced(d, x);
   double *c = &s.x;
   for (int k = 0; k < 3; ++k)

@@ -7,12 +7,34 @@
 #include "tl_hdf5_util.h"
 #include "tl_memory.h"
 
+/* A checkpoint in memory: the datasets in the order written, each a path,
+ * a kind, a rank and its bytes.  Buffers stay allocated from one save to the
+ * next (a cell saved at every step writes the same paths again). */
+enum { TL_CKPT_DOUBLE = 0, TL_CKPT_INT64, TL_CKPT_BYTES, TL_CKPT_STRING };
+
+typedef struct {
+  char *path;
+  int kind, rank;
+  size_t n, bytes, cap; /* elements, bytes used, bytes allocated */
+  void *data;
+} TlCkptEntry;
+
+struct TlCheckpointMemory {
+  TlCkptEntry *entries;
+  size_t n, cap;
+};
+
+static char tl_ckpt_memory_name[] = "(checkpoint in memory)";
+
 struct TlCheckpointWriter {
   TlH5File file;
+  TlCheckpointMemory *mem; /* non-NULL: writes go here, not to a file */
 };
 
 struct TlCheckpointReader {
   TlH5File file;
+  const TlCheckpointMemory *mem;
+  size_t cursor; /* where the next lookup starts: loads read in save order */
 };
 
 enum { TL_CKPT_PATH_MAX = 1024 };
@@ -49,6 +71,10 @@ fail:
 TlStatus tl_checkpoint_writer_commit(TlCheckpointWriter **writer)
 {
   if (!*writer) TL_ERROR(TL_ERR_STATE, "commit of a checkpoint writer that is not open");
+  if ((*writer)->mem) {
+    tl_free(writer);
+    return TL_OK;
+  }
   TlStatus s = tl_h5_commit(&(*writer)->file);
   tl_free(writer);
   if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
@@ -58,15 +84,54 @@ TlStatus tl_checkpoint_writer_commit(TlCheckpointWriter **writer)
 void tl_checkpoint_writer_abort(TlCheckpointWriter **writer)
 {
   if (!writer || !*writer) return;
-  tl_h5_abort(&(*writer)->file);
+  if ((*writer)->mem) (*writer)->mem->n = 0;
+  else tl_h5_abort(&(*writer)->file);
   tl_free(writer);
 }
 
-static TlStatus tl_ckpt_write(TlCheckpointWriter *w, const char *group, const char *name, hid_t type, int rank,
+/* Appends a dataset to a memory checkpoint, reusing the buffer of the entry
+ * that held this slot in the previous save. */
+static TlStatus tl_ckpt_mem_put(TlCheckpointMemory *m, const char *path, int kind, int rank, size_t n, size_t bytes,
+                                const void *data)
+{
+  for (size_t k = 0; k < m->n; ++k)
+    if (strcmp(m->entries[k].path, path) == 0)
+      TL_ERROR(TL_ERR_ARG, "%s: dataset '%s' written twice", tl_ckpt_memory_name, path);
+  if (m->n == m->cap) {
+    size_t cap = m->cap ? 2 * m->cap : 32;
+    TL_CHECK(tl_realloc(&m->entries, cap, sizeof *m->entries));
+    memset(m->entries + m->cap, 0, (cap - m->cap) * sizeof *m->entries);
+    m->cap = cap;
+  }
+  TlCkptEntry *e = &m->entries[m->n];
+  if (!e->path || strcmp(e->path, path)) {
+    tl_free(&e->path);
+    TL_CHECK(tl_strdup(path, &e->path));
+  }
+  if (bytes > e->cap) {
+    TL_CHECK(tl_realloc(&e->data, bytes, 1));
+    e->cap = bytes;
+  }
+  if (bytes) memcpy(e->data, data, bytes);
+  e->kind = kind, e->rank = rank, e->n = n, e->bytes = bytes;
+  m->n++;
+  return TL_OK;
+}
+
+/* The HDF5 memory type of a kind (called only on the file path: a memory
+ * checkpoint never enters the HDF5 library, which is not thread-safe). */
+static hid_t tl_ckpt_h5type(int kind)
+{
+  return kind == TL_CKPT_DOUBLE ? H5T_NATIVE_DOUBLE : kind == TL_CKPT_INT64 ? H5T_NATIVE_INT64 : H5T_NATIVE_UINT8;
+}
+
+static TlStatus tl_ckpt_write(TlCheckpointWriter *w, const char *group, const char *name, int kind, int rank,
                               size_t n, const void *data)
 {
   char path[TL_CKPT_PATH_MAX];
   TL_CHECK(tl_ckpt_path(w->file.path, group, name, path));
+  if (w->mem) return tl_ckpt_mem_put(w->mem, path, kind, rank, n, n * (kind == TL_CKPT_BYTES ? 1 : 8), data);
+  hid_t type = tl_ckpt_h5type(kind);
   hsize_t dim = n;
   TL_CHECK(tl_h5_write(&w->file, path, type, rank, &dim, data));
   return TL_OK;
@@ -75,36 +140,38 @@ static TlStatus tl_ckpt_write(TlCheckpointWriter *w, const char *group, const ch
 TlStatus tl_checkpoint_write_doubles(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
                                      const double *values)
 {
-  return tl_ckpt_write(w, group, name, H5T_NATIVE_DOUBLE, 1, n, values);
+  return tl_ckpt_write(w, group, name, TL_CKPT_DOUBLE, 1, n, values);
 }
 
 TlStatus tl_checkpoint_write_int64s(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
                                     const int64_t *values)
 {
-  return tl_ckpt_write(w, group, name, H5T_NATIVE_INT64, 1, n, values);
+  return tl_ckpt_write(w, group, name, TL_CKPT_INT64, 1, n, values);
 }
 
 TlStatus tl_checkpoint_write_bytes(TlCheckpointWriter *w, const char *group, const char *name, size_t n,
                                    const void *bytes)
 {
-  return tl_ckpt_write(w, group, name, H5T_NATIVE_UINT8, 1, n, bytes);
+  return tl_ckpt_write(w, group, name, TL_CKPT_BYTES, 1, n, bytes);
 }
 
 TlStatus tl_checkpoint_write_double(TlCheckpointWriter *w, const char *group, const char *name, double value)
 {
-  return tl_ckpt_write(w, group, name, H5T_NATIVE_DOUBLE, 0, 1, &value);
+  return tl_ckpt_write(w, group, name, TL_CKPT_DOUBLE, 0, 1, &value);
 }
 
 TlStatus tl_checkpoint_write_int64(TlCheckpointWriter *w, const char *group, const char *name, int64_t value)
 {
-  return tl_ckpt_write(w, group, name, H5T_NATIVE_INT64, 0, 1, &value);
+  return tl_ckpt_write(w, group, name, TL_CKPT_INT64, 0, 1, &value);
 }
 
 TlStatus tl_checkpoint_write_string(TlCheckpointWriter *w, const char *group, const char *name, const char *value)
 {
   char path[TL_CKPT_PATH_MAX];
   TL_CHECK(tl_ckpt_path(w->file.path, group, name, path));
-  TL_CHECK(tl_h5_write_string(&w->file, path, value ? value : ""));
+  if (!value) value = "";
+  if (w->mem) return tl_ckpt_mem_put(w->mem, path, TL_CKPT_STRING, 0, 1, strlen(value) + 1, value);
+  TL_CHECK(tl_h5_write_string(&w->file, path, value));
   return TL_OK;
 }
 
@@ -138,16 +205,32 @@ fail:
 void tl_checkpoint_reader_close(TlCheckpointReader **reader)
 {
   if (!reader || !*reader) return;
-  tl_h5_close(&(*reader)->file);
+  if (!(*reader)->mem) tl_h5_close(&(*reader)->file);
   tl_free(reader);
 }
 
 const char *tl_checkpoint_reader_path(const TlCheckpointReader *r) { return r->file.path; }
 
+/* The entry of a memory checkpoint at path, or NULL. */
+static const TlCkptEntry *tl_ckpt_mem_find(const TlCheckpointReader *r, const char *path)
+{
+  const TlCheckpointMemory *m = r->mem;
+  TlCheckpointReader *rw = (TlCheckpointReader *)r; /* the cursor is a lookup hint only */
+  for (size_t k = 0; k < m->n; ++k) {
+    size_t q = (r->cursor + k) % m->n;
+    if (strcmp(m->entries[q].path, path) == 0) {
+      rw->cursor = q + 1;
+      return &m->entries[q];
+    }
+  }
+  return NULL;
+}
+
 int tl_checkpoint_has(const TlCheckpointReader *r, const char *group, const char *name)
 {
   char path[TL_CKPT_PATH_MAX];
   if (tl_ckpt_path(r->file.path, group, name, path) != TL_OK) return 0;
+  if (r->mem) return tl_ckpt_mem_find(r, path) != NULL;
   return tl_h5_exists(&r->file, path);
 }
 
@@ -172,6 +255,13 @@ TlStatus tl_checkpoint_length(const TlCheckpointReader *r, const char *group, co
 {
   char path[TL_CKPT_PATH_MAX];
   TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (r->mem) {
+    const TlCkptEntry *e = tl_ckpt_mem_find(r, path);
+    if (!e || e->kind == TL_CKPT_STRING)
+      TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s'", r->file.path, path);
+    *n = e->n;
+    return TL_OK;
+  }
   if (!tl_h5_exists(&r->file, path))
     TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s'", r->file.path, path);
   int rank;
@@ -182,11 +272,24 @@ TlStatus tl_checkpoint_length(const TlCheckpointReader *r, const char *group, co
   return TL_OK;
 }
 
-static TlStatus tl_ckpt_read(const TlCheckpointReader *r, const char *group, const char *name, hid_t memtype,
-                             H5T_class_t cls, const char *what, int rank, size_t n, void *data)
+static TlStatus tl_ckpt_read(const TlCheckpointReader *r, const char *group, const char *name, int kind,
+                             const char *what, int rank, size_t n, void *data)
 {
   char path[TL_CKPT_PATH_MAX];
   TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (r->mem) {
+    const TlCkptEntry *e = tl_ckpt_mem_find(r, path);
+    if (!e) TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s' (expected %zu %s)", r->file.path, path, n, what);
+    if (e->kind != kind)
+      TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': dataset '%s' does not hold %s", r->file.path, path, what);
+    if (e->rank != rank || e->n != n)
+      TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': dataset '%s' holds %zu %s, expected %zu%s", r->file.path, path, e->n,
+               what, n, e->rank != rank ? (rank == 0 ? " (a scalar)" : " (an array)") : "");
+    if (e->bytes) memcpy(data, e->data, e->bytes);
+    return TL_OK;
+  }
+  hid_t memtype = tl_ckpt_h5type(kind);
+  H5T_class_t cls = kind == TL_CKPT_DOUBLE ? H5T_FLOAT : H5T_INTEGER;
   if (!tl_h5_exists(&r->file, path))
     TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no dataset '%s' (expected %zu %s)", r->file.path, path, n, what);
   TL_CHECK(tl_ckpt_check_type(r, path, cls, H5Tget_size(memtype), what));
@@ -205,29 +308,29 @@ static TlStatus tl_ckpt_read(const TlCheckpointReader *r, const char *group, con
 TlStatus tl_checkpoint_read_doubles(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
                                     double *values)
 {
-  return tl_ckpt_read(r, group, name, H5T_NATIVE_DOUBLE, H5T_FLOAT, "doubles", 1, n, values);
+  return tl_ckpt_read(r, group, name, TL_CKPT_DOUBLE, "doubles", 1, n, values);
 }
 
 TlStatus tl_checkpoint_read_int64s(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
                                    int64_t *values)
 {
-  return tl_ckpt_read(r, group, name, H5T_NATIVE_INT64, H5T_INTEGER, "int64 values", 1, n, values);
+  return tl_ckpt_read(r, group, name, TL_CKPT_INT64, "int64 values", 1, n, values);
 }
 
 TlStatus tl_checkpoint_read_bytes(const TlCheckpointReader *r, const char *group, const char *name, size_t n,
                                   void *bytes)
 {
-  return tl_ckpt_read(r, group, name, H5T_NATIVE_UINT8, H5T_INTEGER, "bytes", 1, n, bytes);
+  return tl_ckpt_read(r, group, name, TL_CKPT_BYTES, "bytes", 1, n, bytes);
 }
 
 TlStatus tl_checkpoint_read_double(const TlCheckpointReader *r, const char *group, const char *name, double *value)
 {
-  return tl_ckpt_read(r, group, name, H5T_NATIVE_DOUBLE, H5T_FLOAT, "double", 0, 1, value);
+  return tl_ckpt_read(r, group, name, TL_CKPT_DOUBLE, "double", 0, 1, value);
 }
 
 TlStatus tl_checkpoint_read_int64(const TlCheckpointReader *r, const char *group, const char *name, int64_t *value)
 {
-  return tl_ckpt_read(r, group, name, H5T_NATIVE_INT64, H5T_INTEGER, "int64", 0, 1, value);
+  return tl_ckpt_read(r, group, name, TL_CKPT_INT64, "int64", 0, 1, value);
 }
 
 /* "group/name" for messages. */
@@ -284,9 +387,103 @@ TlStatus tl_checkpoint_read_string(const TlCheckpointReader *r, const char *grou
 {
   char path[TL_CKPT_PATH_MAX];
   TL_CHECK(tl_ckpt_path(r->file.path, group, name, path));
+  if (r->mem) {
+    const TlCkptEntry *e = tl_ckpt_mem_find(r, path);
+    if (!e || e->kind != TL_CKPT_STRING)
+      TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no string '%s'", r->file.path, path);
+    return tl_strdup((const char *)e->data, value);
+  }
   if (!tl_h5_exists(&r->file, path))
     TL_ERROR(TL_ERR_NOT_FOUND, "checkpoint '%s' has no string '%s'", r->file.path, path);
   TL_CHECK(tl_h5_read_string(&r->file, path, value));
+  return TL_OK;
+}
+
+/* ---------------------------------------------------------------- memory */
+TlStatus tl_checkpoint_memory_create(TlCheckpointMemory **mem)
+{
+  TL_CHECK(TL_NEW(*mem));
+  return TL_OK;
+}
+
+void tl_checkpoint_memory_destroy(TlCheckpointMemory **mem)
+{
+  if (!mem || !*mem) return;
+  for (size_t k = 0; k < (*mem)->cap; ++k) {
+    tl_free(&(*mem)->entries[k].path);
+    tl_free(&(*mem)->entries[k].data);
+  }
+  tl_free(&(*mem)->entries);
+  tl_free(mem);
+}
+
+size_t tl_checkpoint_memory_bytes(const TlCheckpointMemory *mem)
+{
+  size_t b = 0;
+  for (size_t k = 0; k < mem->n; ++k) b += mem->entries[k].bytes;
+  return b;
+}
+
+int tl_checkpoint_memory_empty(const TlCheckpointMemory *mem) { return !mem || mem->n == 0; }
+
+TlStatus tl_checkpoint_writer_open_memory(TlCheckpointMemory *mem, TlCheckpointWriter **writer)
+{
+  if (!mem) TL_ERROR(TL_ERR_ARG, "tl_checkpoint_writer_open_memory: NULL memory checkpoint");
+  TlCheckpointWriter *w;
+  *writer = NULL;
+  TL_CHECK(TL_NEW(w));
+  w->file.id = H5I_INVALID_HID;
+  w->file.path = tl_ckpt_memory_name;
+  w->mem = mem;
+  mem->n = 0;
+  *writer = w;
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_reader_open_memory(const TlCheckpointMemory *mem, TlCheckpointReader **reader)
+{
+  if (!mem) TL_ERROR(TL_ERR_ARG, "tl_checkpoint_reader_open_memory: NULL memory checkpoint");
+  TlCheckpointReader *r;
+  *reader = NULL;
+  TL_CHECK(TL_NEW(r));
+  r->file.id = H5I_INVALID_HID;
+  r->file.path = tl_ckpt_memory_name;
+  r->mem = mem;
+  *reader = r;
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_memory_save(TlCheckpointMemory *mem, const TlCheckpointOps *ops, const void *object)
+{
+  TlCheckpointWriter *w;
+  TL_CHECK(tl_checkpoint_writer_open_memory(mem, &w));
+  TlStatus s = ops->save(object, w, "");
+  if (s != TL_OK) {
+    tl_checkpoint_writer_abort(&w);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  TL_CHECK(tl_checkpoint_writer_commit(&w));
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_memory_load(const TlCheckpointMemory *mem, const TlCheckpointOps *ops, void *object)
+{
+  if (!mem || mem->n == 0) TL_ERROR(TL_ERR_STATE, "load of %s from an empty checkpoint in memory", ops->header.name);
+  TlCheckpointReader *r;
+  TL_CHECK(tl_checkpoint_reader_open_memory(mem, &r));
+  TlStatus s = ops->load(object, r, "");
+  tl_checkpoint_reader_close(&r);
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  return TL_OK;
+}
+
+TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMemory *src)
+{
+  dst->n = 0;
+  for (size_t k = 0; k < src->n; ++k) {
+    const TlCkptEntry *e = &src->entries[k];
+    TL_CHECK(tl_ckpt_mem_put(dst, e->path, e->kind, e->rank, e->n, e->bytes, e->data));
+  }
   return TL_OK;
 }
 

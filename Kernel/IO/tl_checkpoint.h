@@ -129,4 +129,29 @@ TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double tim
  * with the same type.  time and step may be NULL. */
 TlStatus tl_checkpoint_load(TlCheckpoint *cp, const char *path, double *time, int64_t *step);
 
+/* ---------------------------------------------------------------- memory */
+/* A checkpoint held in memory: the same writer and reader, so any module's
+ * save() and load() work on it unchanged, without a file or HDF5 (a DEM
+ * cell's committed state, saved and restored many times per load step).
+ * Values come back bit for bit; load() checks them as from a file.  The
+ * buffers are kept from one save to the next.  A memory checkpoint is used
+ * by one thread at a time; distinct ones may be used concurrently. */
+typedef struct TlCheckpointMemory TlCheckpointMemory;
+TlStatus tl_checkpoint_memory_create(TlCheckpointMemory **mem);
+void tl_checkpoint_memory_destroy(TlCheckpointMemory **mem);
+/* Bytes of data it holds (the dataset payloads). */
+size_t tl_checkpoint_memory_bytes(const TlCheckpointMemory *mem);
+/* Whether nothing has been saved into it (or the last save was aborted). */
+int tl_checkpoint_memory_empty(const TlCheckpointMemory *mem);
+/* Empties mem and writes into it (commit finishes, abort leaves it empty);
+ * reads from it.  Group paths work as in a file. */
+TlStatus tl_checkpoint_writer_open_memory(TlCheckpointMemory *mem, TlCheckpointWriter **writer);
+TlStatus tl_checkpoint_reader_open_memory(const TlCheckpointMemory *mem, TlCheckpointReader **reader);
+/* object's state through ops->save into mem (replacing what it held), and
+ * back through ops->load; the group is the root. */
+TlStatus tl_checkpoint_memory_save(TlCheckpointMemory *mem, const TlCheckpointOps *ops, const void *object);
+TlStatus tl_checkpoint_memory_load(const TlCheckpointMemory *mem, const TlCheckpointOps *ops, void *object);
+/* dst = a copy of src. */
+TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMemory *src);
+
 #endif

@@ -88,6 +88,26 @@ static TlStatus grow(TlParticles *p, size_t need)
 TlStatus tl_particles_reserve(TlParticles *p, size_t n) { return grow(p, n); }
 
 static double sphere_inv_inertia(double mass, double radius) { return 1.0 / (0.4 * mass * radius * radius); }
+/* a solid cylinder about its axis; the sphere's arithmetic is kept as it was */
+static double inv_inertia_of(const TlParticles *p, double mass, double radius)
+{
+  return p->disks ? 1.0 / (0.5 * mass * radius * radius) : sphere_inv_inertia(mass, radius);
+}
+static double mass_of(const TlParticles *p, double density, double radius)
+{
+  return p->disks ? density * TL_PI * radius * radius : density * 4.0 / 3.0 * TL_PI * radius * radius * radius;
+}
+
+TlStatus tl_particles_set_disks(TlParticles *p, int disks)
+{
+  p->disks = disks != 0;
+  for (size_t k = 0; k < p->n; ++k) {
+    p->mass[k] = mass_of(p, p->species_table[p->species[k]].density, p->radius[k]);
+    p->inv_mass[k] = p->motion[k] == TL_MOTION_FREE ? 1.0 / p->mass[k] : 0.0;
+    if (p->q) p->inv_inertia[k] = p->motion[k] == TL_MOTION_FREE ? inv_inertia_of(p, p->mass[k], p->radius[k]) : 0.0;
+  }
+  return TL_OK;
+}
 
 TlStatus tl_particles_add(TlParticles *p, TlVec3 x, TlVec3 v, double radius, int species, size_t *index)
 {
@@ -105,7 +125,7 @@ TlStatus tl_particles_add(TlParticles *p, TlVec3 x, TlVec3 v, double radius, int
   p->v[k] = v;
   p->f[k] = tl_v3(0, 0, 0);
   p->radius[k] = radius;
-  p->mass[k] = density * 4.0 / 3.0 * TL_PI * radius * radius * radius;
+  p->mass[k] = mass_of(p, density, radius);
   p->inv_mass[k] = 1.0 / p->mass[k];
   p->species[k] = species;
   p->motion[k] = TL_MOTION_FREE;
@@ -114,7 +134,7 @@ TlStatus tl_particles_add(TlParticles *p, TlVec3 x, TlVec3 v, double radius, int
     p->q[k] = tl_q_identity();
     p->w[k] = tl_v3(0, 0, 0);
     p->torque[k] = tl_v3(0, 0, 0);
-    p->inv_inertia[k] = sphere_inv_inertia(p->mass[k], radius);
+    p->inv_inertia[k] = inv_inertia_of(p, p->mass[k], radius);
   }
   if (p->f_ext) p->f_ext[k] = tl_v3(0, 0, 0);
   if (p->f_coupling) p->f_coupling[k] = tl_v3(0, 0, 0);
@@ -155,7 +175,7 @@ TlStatus tl_particles_set_motion(TlParticles *p, size_t index, int motion)
   p->inv_mass[index] = motion == TL_MOTION_FREE ? 1.0 / p->mass[index] : 0.0;
   if (p->q)
     p->inv_inertia[index] =
-        motion == TL_MOTION_FREE ? sphere_inv_inertia(p->mass[index], p->radius[index]) : 0.0;
+        motion == TL_MOTION_FREE ? inv_inertia_of(p, p->mass[index], p->radius[index]) : 0.0;
   return TL_OK;
 }
 
@@ -170,7 +190,7 @@ TlStatus tl_particles_enable_rotation(TlParticles *p)
   for (size_t k = 0; k < p->n; ++k) {
     p->q[k] = tl_q_identity();
     p->inv_inertia[k] =
-        p->motion[k] == TL_MOTION_FREE ? sphere_inv_inertia(p->mass[k], p->radius[k]) : 0.0;
+        p->motion[k] == TL_MOTION_FREE ? inv_inertia_of(p, p->mass[k], p->radius[k]) : 0.0;
   }
   return TL_OK;
 }

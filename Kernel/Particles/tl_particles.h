@@ -67,7 +67,7 @@ typedef struct {
   TlQuat *q;           /* orientation */
   TlVec3 *w;           /* angular velocity (world frame) */
   TlVec3 *torque;
-  double *inv_inertia; /* 1 / (2/5 m r^2) for a solid sphere; 0 if not free */
+  double *inv_inertia; /* 1 / (2/5 m r^2) for a solid sphere, 1 / (1/2 m r^2) for a disk; 0 if not free */
   /* optional per-particle external force (besides gravity), NULL until
    * tl_particles_enable_external_force() */
   TlVec3 *f_ext;
@@ -84,6 +84,11 @@ typedef struct {
   TlSpecies *species_table;
   size_t n_species, species_capacity;
   int64_t next_id;
+  /* 0: spheres (mass 4/3 π r³ ρ, inertia 2/5 m r²); 1: disks, i.e. cylinders
+   * of unit thickness (mass per unit thickness π r² ρ in kg/m, inertia
+   * 1/2 m r² about the axis), the particles of a two-dimensional world
+   * (tl_dem_set_dimension); set by tl_particles_set_disks */
+  int disks;
 } TlParticles;
 
 TlStatus tl_particles_create(TlParticles **p);
@@ -99,7 +104,13 @@ double tl_species_sample_radius(const TlSpecies *s, uint64_t *state);
 /* A uniform random number in [0, 1) from a 64-bit state (splitmix64). */
 double tl_random_uniform(uint64_t *state);
 
-/* Inserts a free particle; mass from the species density.  Refuses radius
+/* Disks (1) or spheres (0): recomputes the mass, inverse mass and inertia of
+ * every particle from its radius and species density, and those inserted
+ * later follow (see `disks` above). */
+TlStatus tl_particles_set_disks(TlParticles *p, int disks);
+
+/* Inserts a free particle; mass from the species density (per unit
+ * thickness for disks).  Refuses radius
  * <= 0, non-finite position or velocity, unknown species.  *index (may be
  * NULL) receives its current index, its id is p->id[index]. */
 TlStatus tl_particles_add(TlParticles *p, TlVec3 x, TlVec3 v, double radius, int species,
