@@ -43,6 +43,7 @@
 
 #include "talus.h"
 #include "tl_material.h"
+#include "tl_nhl_material.h"
 #include "tl_mesh_snapshot.h"
 #include "tl_output_dir.h"
 #include "tl_solid.h"
@@ -54,6 +55,8 @@ typedef struct {
   int macro, evaluation, reference, check;
   double width, height, pressure, axial_strain, ratio_tol, ratio_tol_post, peak_drop, ref_tolerance;
   const char *material, *op, *cells, *output_dir;
+  long cell_particles, cell_seed;
+  double cell_mu, cell_kappa;
   TlOptions *options;
 } Config;
 
@@ -97,19 +100,36 @@ static TlStatus make_material(const Config *c, TlOptions *o, TlMaterial **out)
     TL_CHECK_GOTO(s, tl_options_get_real(o, name, scene_default(c->material, p), p->lo, p->hi, p->unit, help, &v), fail);
     TL_CHECK_GOTO(s, tl_material_set(m, p->name, v), fail);
   }
-  if (tl_param_find(ops->params, ops->n_params, "operator")) {
+  const int cells = tl_nhl_material_is(m);
+  const char *op = c->op[0] ? c->op : cells ? "demqo" : "consistent";
+  if (cells) {
+    /* One prepared cell, copied to every Gauss point: disks (2d) or
+     * spheres (3d) compressed isotropically to the lateral pressure, so
+     * the specimen starts in equilibrium (F1's k_t/k_n = 1, kappa, mu). */
+    TlNhlPacking pk;
+    tl_nhl_packing_default(&pk);
+    pk.kind = "random";
+    pk.dim = strcmp(c->cells, "3d") ? 2 : 3;
+    pk.n = c->cell_particles > 0 ? c->cell_particles : pk.dim == 2 ? 400 : 1000;
+    pk.seed = c->cell_seed;
+    pk.mu = c->cell_mu;
+    pk.kappa = c->cell_kappa;
+    pk.pressure = c->pressure;
+    TL_CHECK_GOTO(s, tl_nhl_material_set_operator(m, op), fail);
+    TL_CHECK_GOTO(s, tl_nhl_material_set_packing(m, &pk), fail);
+  } else if (tl_param_find(ops->params, ops->n_params, "operator")) {
     static const char *const names[] = {"consistent", "elastic"};
     int k = -1;
     for (int i = 0; i < 2; ++i)
-      if (!strcmp(c->op, names[i])) k = i;
+      if (!strcmp(op, names[i])) k = i;
     if (k < 0) {
-      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-operator %s: law %s knows consistent and elastic", c->op,
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-operator %s: law %s knows consistent and elastic", op,
                        c->material);
       goto fail;
     }
     TL_CHECK_GOTO(s, tl_material_set(m, "operator", (double)k), fail);
-  } else if (strcmp(c->op, "consistent")) {
-    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-operator %s: law %s has one tangent only (consistent)", c->op,
+  } else if (strcmp(op, "consistent")) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-operator %s: law %s has one tangent only (consistent)", op,
                      c->material);
     goto fail;
   }
@@ -156,11 +176,22 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-material", "mises_plastic",
                                          "law by registered name (dem_cell, mises_plastic, hooke, ...); its "
                                          "parameters are the -mat_<name> options", &c->material), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-operator", "consistent",
-                                         "tangent operator of the law (mises_plastic: consistent | elastic, the "
-                                         "upper bound, as UKO is for a cell)", &c->op), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-cells", "2d", "DEM cells: 2d (disks) or 3d (spheres); laws without "
-                                         "cells ignore it", &c->cells), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-operator", "",
+                                         "tangent operator: dem_cell any registered nhl_operator (cto, aeo, demqo, "
+                                         "pstlo, uko, ucko, ucko_2dof, kao; default demqo); mises_plastic consistent "
+                                         "(default) | elastic, the upper bound as UKO is for a cell", &c->op), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-cells", "2d", "dem_cell: 2d (disks) or 3d (spheres); other laws "
+                                         "ignore it", &c->cells), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-cell_particles", 0, 0, 1000000,
+                                      "dem_cell: particles per cell (0: 400 disks, 1000 spheres)", &c->cell_particles),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-cell_seed", 1, 0, 1000000000, "dem_cell: seed of the packing",
+                                      &c->cell_seed), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-cell_mu", 0.5, 0.0, 10.0, "", "dem_cell: contact friction",
+                                       &c->cell_mu), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-cell_kappa", 500.0, 1.0, 1e9, "",
+                                       "dem_cell: stiffness level kappa = k_n / sigma0 (2-D), k_n / (sigma0 <d>) (3-D)",
+                                       &c->cell_kappa), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-ratio_tol", 1e-3, 1e-14, 0.5, "", "|F|/|R| before the peak",
                                        &c->ratio_tol), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-ratio_tol_post", 1e-2, 1e-14, 0.5, "", "|F|/|R| after the peak",
@@ -189,7 +220,7 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/fe2_biaxial", "output folder", &c->output_dir),
                 done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
-                                      "HDF5/XDMF snapshot every n steps (0: none; the last step always)",
+                                      "HDF5/XDMF snapshot every n steps and at the last (0: none)",
                                       &c->snapshot_every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0,
                                        "exit with an error unless every step converged and the reference matches",
@@ -406,6 +437,7 @@ typedef struct {
   int *conn;
   TlVec3 *ref, *disp;
   double *cauchy, *green, *mises, *cost, *state[3];
+  size_t state_index[3];
   int n_state, nq;
   TlField fields[8];
   size_t n_fields;
@@ -451,13 +483,27 @@ static TlStatus snapshots_open(const Config *c, const Scene *sc, const TlMateria
   sn->fields[sn->n_fields++] = (TlField){"strain_green", 6, sn->green};
   sn->fields[sn->n_fields++] = (TlField){"von_mises", 1, sn->mises};
   sn->fields[sn->n_fields++] = (TlField){"gp_cost", sn->nq, sn->cost};
+  /* The state summary: the laws this driver knows name theirs; others show
+   * their first three state values. */
+  static const char *const generic[3] = {"gp_state0", "gp_state1", "gp_state2"};
+  static const char *const cell_names[3] = {"gp_dem_steps", "gp_imbalance", "gp_post_peak"};
+  static const size_t cell_index[3] = {TL_NHL_STATE_DEM_STEPS, TL_NHL_STATE_IMBALANCE, TL_NHL_STATE_POST_PEAK};
+  const char *const *names = generic;
   sn->n_state = mat->state_size < 3 ? (int)mat->state_size : 3;
-  static const char *const names[3] = {"gp_state0", "gp_state1", "gp_state2"};
+  for (int k = 0; k < 3; ++k) sn->state_index[k] = (size_t)k;
+  if (tl_nhl_material_is(mat)) {
+    names = cell_names;
+    for (int k = 0; k < 3; ++k) sn->state_index[k] = cell_index[k];
+  } else if (!strcmp(mat->ops->header.name, "mises_plastic")) {
+    static const char *const kappa[1] = {"gp_kappa"};
+    names = kappa;
+    sn->n_state = 1;
+    sn->state_index[0] = 6;
+  }
   for (int k = 0; k < sn->n_state; ++k) {
     TL_CHECK(tl_calloc(&sn->state[k], ne * (size_t)sn->nq, sizeof(double)));
     sn->fields[sn->n_fields++] = (TlField){names[k], sn->nq, sn->state[k]};
   }
-  /* mises_plastic keeps kappa last: show it rather than E_p components. */
   TL_CHECK(tl_mkdir_p(c->output_dir));
   TL_CHECK(tl_mesh_writer_create(c->output_dir, "biaxial", &sn->writer));
   return TL_OK;
@@ -495,11 +541,7 @@ static TlStatus snapshots_write(Snapshots *sn, const Scene *sc, const TlMaterial
       TlMat3 C = tl_m3_mul(tl_m3_transpose(F), F);
       E = tl_m3_add(E, tl_m3_scale(tl_m3_add(C, tl_m3_scale(tl_m3_identity(), -1.0)), 0.5 / nq));
       sn->cost[p] = cost[p];
-      for (int k = 0; k < sn->n_state; ++k) {
-        /* mises_plastic and other laws with a scalar history keep it last. */
-        const size_t idx = ss > 3 && k == 0 ? ss - 1 : (size_t)k;
-        sn->state[k][p] = state ? state[p * ss + idx] : 0.0;
-      }
+      for (int k = 0; k < sn->n_state; ++k) sn->state[k][p] = state ? state[p * ss + sn->state_index[k]] : 0.0;
     }
     tensor6(sig, sn->cauchy + 6 * e);
     tensor6(E, sn->green + 6 * e);
@@ -570,10 +612,12 @@ static TlStatus run(int argc, char **argv)
                            {"failed_iterations", ""}, {"cuts", ""},           {"ratio", ""},
                            {"force", "N"},         {"reaction", "N"},         {"loose", ""},
                            {"post_peak", ""},      {"q_reference", "Pa"}};
-  const TlColumn tcols[] = {{"step", ""}, {"wall", "s"}, {"t_points", "s"}, {"t_points_wall", "s"},
-                            {"point_evaluations", ""}, {"t_costliest_point", "s"}};
+  const TlColumn tcols[] = {{"step", ""},          {"wall", "s"},         {"t_points", "s"},
+                            {"t_points_wall", "s"}, {"point_evaluations", ""}, {"t_costliest_point", "s"},
+                            {"cell_evaluations", ""}, {"dem_steps", ""},  {"unconverged_cells", ""},
+                            {"max_imbalance", ""}};
   TL_CHECK_GOTO(s, open_table(&c, "biaxial", 14, cols, &ts), done);
-  TL_CHECK_GOTO(s, open_table(&c, "timing", 6, tcols, &tt), done);
+  TL_CHECK_GOTO(s, open_table(&c, "timing", 10, tcols, &tt), done);
   if (c.snapshot_every > 0) TL_CHECK_GOTO(s, snapshots_open(&c, &sc, mat, &sn), done);
   rp.ss = rp.mat ? rp.mat->state_size : 0;
   if (rp.ss > 64) {
@@ -584,13 +628,15 @@ static TlStatus run(int argc, char **argv)
   rp.a = 1.0;
   printf("fe2_biaxial: %s %ld x %ld (%zu nodes, %lld dofs), law %s (operator %s), pressure %g Pa, to %g %% in %ld "
          "steps, |F|/|R| <= %g / %g, %d threads\n",
-         macros[c.macro], c.nx, c.ny, sc.mesh->n_nodes, (long long)st->n, c.material, c.op, c.pressure,
+         macros[c.macro], c.nx, c.ny, sc.mesh->n_nodes, (long long)st->n, c.material,
+         c.op[0] ? c.op : tl_nhl_material_is(mat) ? "demqo" : "consistent", c.pressure,
          100.0 * c.axial_strain, c.steps, c.ratio_tol, so.ratio_tol_post,
          c.threads > 0 ? (int)c.threads : omp_get_max_threads());
   double q_max = -HUGE_VAL, strain_peak = 0.0, ref_diff = 0.0, ref_peak = 0.0, t0 = tl_wtime();
   long iterations = 0, iterations_pre = 0, steps_pre = 0, iterations_post = 0, steps_post = 0, cuts = 0, loose = 0,
        failed_it = 0;
   double worst_ratio = 0.0;
+  long cell_evaluations = 0, dem_steps = 0, unconverged = 0;
   Measures m = {0};
   TlSolidEvalStats es0, es1;
   tl_solid_get_evaluation_stats(sc.solid, &es0);
@@ -614,14 +660,22 @@ static TlStatus run(int argc, char **argv)
     if (si->post_peak) iterations_post += si->iterations, steps_post++;
     else iterations_pre += si->iterations, steps_pre++;
     if (m.q > q_max) q_max = m.q, strain_peak = m.axial_strain;
-    if (!st->post_peak && m.q < (1.0 - c.peak_drop) * q_max) tl_stepper_set_post_peak(st, 1);
+    if (!st->post_peak && m.q < (1.0 - c.peak_drop) * q_max) {
+      tl_stepper_set_post_peak(st, 1);
+      /* the cells' operators (AEO freezes) follow the macro peak */
+      if (tl_nhl_material_is(mat)) tl_nhl_material_set_regime(mat, 0);
+    }
+    TlNhlMaterialTotals nt = {0};
+    if (tl_nhl_material_is(mat)) tl_nhl_material_totals(mat, &nt, 1);
+    cell_evaluations += nt.evaluations, dem_steps += nt.dem_steps, unconverged += nt.unconverged;
     tl_solid_get_evaluation_stats(sc.solid, &es1);
     double row[14] = {(double)k,           m.axial_strain, m.sigma_axial,     m.q,
                       m.eps_v,             (double)si->iterations, (double)si->failed_iterations, (double)si->cuts,
                       si->ratio,           si->force,      si->reaction,      (double)si->loose,
                       (double)si->post_peak, q_ref};
-    double trow[6] = {(double)k, tw, es1.t_points - es0.t_points, es1.t_wall - es0.t_wall,
-                      (double)(es1.points - es0.points), es1.t_last_max};
+    double trow[10] = {(double)k, tw, es1.t_points - es0.t_points, es1.t_wall - es0.t_wall,
+                       (double)(es1.points - es0.points), es1.t_last_max, (double)nt.evaluations,
+                       (double)nt.dem_steps, (double)nt.unconverged, nt.max_imbalance};
     es0 = es1;
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     TL_CHECK_GOTO(s, tl_timeseries_append(tt, trow), done);
@@ -664,6 +718,11 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "t_points_wall", es.t_wall);
   tl_summary_int(&sum, "point_evaluations", es.points);
   tl_summary_int(&sum, "tangent_reuses", es.reuses);
+  if (tl_nhl_material_is(mat)) {
+    tl_summary_int(&sum, "cell_evaluations", cell_evaluations);
+    tl_summary_int(&sum, "dem_steps", dem_steps);
+    tl_summary_int(&sum, "unconverged_cells", unconverged);
+  }
   printf("%ld steps, %ld Newton iterations (%.2f per step before the peak, %.2f after), %ld halvings; %ld point "
          "evaluations at %.3g s each (%.3f s in the point loop of %.3f s)\n",
          c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
