@@ -53,7 +53,7 @@
 typedef struct {
   long nx, ny, elements, steps, max_iterations, max_cuts, accept_loose_after, snapshot_every, threads;
   int macro, evaluation, reference, check;
-  double width, height, pressure, axial_strain, ratio_tol, ratio_tol_post, peak_drop, ref_tolerance;
+  double width, height, pressure, axial_strain, ratio_tol, ratio_tol_post, peak_drop, ref_tolerance, ratio_diverge;
   const char *material, *op, *cells, *output_dir;
   long cell_particles, cell_seed;
   double cell_mu, cell_kappa;
@@ -202,6 +202,9 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-peak_drop", 0.005, 0.0, 0.99, "",
                                        "the peak is passed when the deviator falls below (1 - this) x its maximum",
                                        &c->peak_drop), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-ratio_diverge", 10.0, 0.0, 1e12, "",
+                                       "halve an increment whose |F|/|R| grows this many times above its best (0: never)",
+                                       &c->ratio_diverge), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-max_iterations", 30, 1, 10000, "Newton iterations per increment",
                                       &c->max_iterations), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-max_cuts", 6, 0, 60, "halvings of a failing load step", &c->max_cuts),
@@ -605,6 +608,7 @@ static TlStatus run(int argc, char **argv)
   so.accept_loose_after = c.accept_loose_after;
   so.max_iterations = c.max_iterations;
   so.max_cuts = (int)c.max_cuts;
+  so.ratio_diverge = c.ratio_diverge;
   TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(sc.solid), &so, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
   const TlColumn cols[] = {{"step", ""},          {"axial_strain", ""},      {"sigma_axial", "Pa"},

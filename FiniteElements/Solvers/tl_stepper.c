@@ -34,6 +34,7 @@ void tl_stepper_options_default(TlStepperOptions *o)
   o->ratio_tol_post = 1e-2;
   o->accept_loose_after = 0;
   o->peak_drop = -1.0;
+  o->ratio_diverge = 10.0;
 }
 
 TlStatus tl_stepper_register_all(void)

@@ -34,6 +34,8 @@
  *                       tl_stepper_set_post_peak, or detected when |R| of
  *                       an accepted increment falls below (1 - peak_drop)
  *                       times its largest value so far (peak_drop >= 0).
+ *                       An increment whose ratio grows ratio_diverge times
+ *                       above its best is given up and halved.
  *
  * Life cycle: tl_stepper_create(type, sys, options) -> set_state(t, u, v)
  * (computes a consistent initial acceleration) -> step(dt) ... -> destroy.
@@ -79,6 +81,11 @@ typedef struct {
                             * iterations even before the peak (0: never) [0] */
   double peak_drop;    /* FORCE_RATIO: relative drop of |R| that marks the peak
                         * (negative: only tl_stepper_set_post_peak) [-1] */
+  double ratio_diverge; /* FORCE_RATIO: give the increment up (halve it) once |F|/|R|
+                         * exceeds this factor times its smallest value in the
+                         * increment, from the second iteration on: a diverging
+                         * iterate would drive the law (a DEM cell) far off its
+                         * path (0: never) [10] */
 } TlStepperOptions;
 
 /* Quasi-static convergence tests (see "quasi_static" above). */

@@ -24,6 +24,7 @@ typedef struct {
   double *x, *zero;
   unsigned char *dirichlet; /* n: 1 at the Dirichlet dofs */
   double ratio, force, reaction; /* the force-ratio test at the last iterate */
+  double best;                   /* the smallest ratio of the increment */
   int loose;                     /* ... passed at the loose tolerance only */
 } QuasiStatic;
 
@@ -81,6 +82,8 @@ static TlStatus qs_setup(TlStepper *st)
     if (o->accept_loose_after < 0)
       TL_ERROR(TL_ERR_ARG, "accept_loose_after = %ld must be >= 0", o->accept_loose_after);
     if (!(o->peak_drop < 1.0)) TL_ERROR(TL_ERR_ARG, "peak_drop = %g must be below 1", o->peak_drop);
+    if (!(o->ratio_diverge == 0.0 || o->ratio_diverge > 1.0))
+      TL_ERROR(TL_ERR_ARG, "ratio_diverge = %g must be 0 (never) or above 1", o->ratio_diverge);
     if (o->line_search) TL_ERROR(TL_ERR_ARG, "the force-ratio test runs plain Newton steps: no line search");
   }
   TL_CHECK(tl_stepper_implicit_setup(st, qs_residual, qs_jacobian));
@@ -128,6 +131,8 @@ static int ratio_test(void *ctx, const double *x, const double *r, long k, doubl
     qs->loose = 1;
     return TL_NEWTON_CONVERGED;
   }
+  if (k == 0 || qs->ratio < qs->best) qs->best = qs->ratio;
+  if (o->ratio_diverge > 0.0 && k >= 2 && qs->ratio > o->ratio_diverge * qs->best) return TL_NEWTON_FAILED;
   return TL_NEWTON_CONTINUE;
 }
 
