@@ -52,7 +52,7 @@
 
 typedef struct {
   long nx, ny, elements, steps, max_iterations, max_cuts, accept_loose_after, snapshot_every, threads;
-  int macro, evaluation, reference, check;
+  int macro, evaluation, reference, check, predictor;
   double width, height, pressure, axial_strain, ratio_tol, ratio_tol_post, peak_drop, ref_tolerance, ratio_diverge;
   const char *material, *op, *cells, *output_dir;
   long cell_particles, cell_seed;
@@ -60,19 +60,22 @@ typedef struct {
   TlOptions *options;
 } Config;
 
-static const char *const macros[] = {"q8", "hex8", "hex27", NULL};
+static const char *const macros[] = {"q8", "q8_3x3", "hex8", "hex27", NULL};
 static const char *const evaluations[] = {"auto", "chunked", "points", NULL};
 static const char *const references[] = {"none", "point", NULL};
+static const char *const predictors[] = {"last", "extrapolate", NULL};
 
 /* Defaults of the analytic stand-in that make it a soil-like specimen at
- * the test's pressure (100 kPa): E / p = 1000, peak deviator 1.5 p, then
- * softening to 0.5 p.  The law's own defaults stay what its table says. */
+ * the test's pressure (100 kPa): E / p = 1000, yield at a deviator of
+ * 1.5 p, then mild hardening (H = E / 20; -mat_H < 0 with -mat_sigma_res
+ * softens, and localises on fine meshes: the local law has no internal
+ * length).  The law's own defaults stay what its table says. */
 static const struct {
   const char *law, *param;
   double value;
 } scene_defaults[] = {
     {"mises_plastic", "E", 1e8},      {"mises_plastic", "nu", 0.3},      {"mises_plastic", "sigma_y", 1.5e5},
-    {"mises_plastic", "H", -2e6},     {"mises_plastic", "sigma_res", 5e4},
+    {"mises_plastic", "H", 5e6},      {"mises_plastic", "sigma_res", 0.0},
 };
 
 static double scene_default(const char *law, const TlParam *p)
@@ -155,8 +158,8 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
                              "the quasi-static Newton loop with the paper's |F|/|R| test.",
                              &o));
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-macro", "q8", macros,
-                                         "macro elements: q8 (plane strain, 2 x 2 Gauss points) or one layer of "
-                                         "hex8 / hex27 with u_z = 0", &c->macro), done);
+                                         "macro elements: q8 (plane strain, 2 x 2 Gauss points: the paper's), q8_3x3 "
+                                         "(3 x 3) or one layer of hex8 / hex27 with u_z = 0", &c->macro), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-elements", 128, 1, 1000000,
                                       "elements, nx x ny with ny = 2 nx (128: 8 x 16); -nx/-ny override", &c->elements),
                 done);
@@ -208,6 +211,10 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-max_iterations", 30, 1, 10000, "Newton iterations per increment",
                                       &c->max_iterations), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-max_cuts", 6, 0, 60, "halvings of a failing load step", &c->max_cuts),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-predictor", "last", predictors,
+                                         "Newton's start: last (the last equilibrium, the platen moved: the paper's) or "
+                                         "extrapolate (the last increment continued at the free dofs)", &c->predictor),
                 done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-evaluation", "points", evaluations,
                                          "Gauss-point evaluation: points (parallel per point, longest first), "
@@ -314,16 +321,18 @@ static void scene_destroy(Scene *sc)
 static TlStatus scene_create(const Config *c, TlMaterial *mat, Scene *sc)
 {
   memset(sc, 0, sizeof *sc);
-  const int dim = c->macro == 0 ? 2 : 3;
+  const int dim = c->macro <= 1 ? 2 : 3;
   if (dim == 2) {
     size_t n[2] = {(size_t)c->nx, (size_t)c->ny};
     double lo[2] = {0.0, 0.0}, hi[2] = {c->width, c->height};
-    TL_CHECK(tl_mesh_create_rectangle(&tl_element_quad8, n, lo, hi, &sc->mesh));
+    const TlElementType *q8 = &tl_element_quad8;
+    if (c->macro == 0) TL_CHECK(tl_element_type_find("quad8r", &q8));
+    TL_CHECK(tl_mesh_create_rectangle(q8, n, lo, hi, &sc->mesh));
   } else {
     size_t n[3] = {(size_t)c->nx, (size_t)c->ny, 1};
     double depth = c->width / (double)c->nx;
     double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {c->width, c->height, depth};
-    TL_CHECK(tl_mesh_create_box(c->macro == 1 ? &tl_element_hex8 : &tl_element_hex27, n, lo, hi, &sc->mesh));
+    TL_CHECK(tl_mesh_create_box(c->macro == 2 ? &tl_element_hex8 : &tl_element_hex27, n, lo, hi, &sc->mesh));
   }
   /* The anchor against horizontal rigid motion: the nodes at x = y = 0. */
   size_t anchor[4], n_anchor = 0;
@@ -376,7 +385,7 @@ static double mean_u(const TlSolid *s, const double *u, const size_t *nodes, siz
 static void measure(const Config *c, const Scene *sc, const TlStepper *st, Measures *m)
 {
   const TlSolid *s = sc->solid;
-  const double depth = c->macro == 0 ? 1.0 : c->width / (double)c->nx;
+  const double depth = c->macro <= 1 ? 1.0 : c->width / (double)c->nx;
   /* The axial force: the reactions at the platen's dofs, f_int - lambda f_ext. */
   double force = 0.0;
   for (size_t k = 0; k < sc->n_top; ++k) {
@@ -609,6 +618,7 @@ static TlStatus run(int argc, char **argv)
   so.max_iterations = c.max_iterations;
   so.max_cuts = (int)c.max_cuts;
   so.ratio_diverge = c.ratio_diverge;
+  so.predictor = c.predictor ? TL_PREDICTOR_TAYLOR : TL_PREDICTOR_LAST;
   TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(sc.solid), &so, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
   const TlColumn cols[] = {{"step", ""},          {"axial_strain", ""},      {"sigma_axial", "Pa"},

@@ -67,7 +67,9 @@ typedef struct {
                          * the residual at the accepted iterate): TL_NEWTON_KINSOL or
                          * TL_NEWTON_SUNNONLINSOL (tl_newton.h) [KINSOL] */
   int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
-  int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO] */
+  int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO]; quasi-static: TAYLOR
+                        * starts Newton from the last increment extrapolated (u + h du/h_prev
+                        * at the free dofs), AUTO and LAST from the last equilibrium */
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
   double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
   int critical_bound;  /* explicit: take omega_max^2 from the system's (conservative) bound
