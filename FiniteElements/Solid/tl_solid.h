@@ -114,8 +114,10 @@ TlStatus tl_solid_set_node_weights(TlSolid *solid, int b, const double *w_nodes)
  *   TL_SOLID_EVAL_AUTO     POINTS for a law with commit or rollback hooks
  *                          (state outside the solid's arrays: a DEM cell),
  *                          CHUNKED otherwise [default].
- * n_threads <= 0: the OpenMP default (omp_get_max_threads at set-up, the
- * most the solid's scratch allows).  A law evaluated in POINTS mode is
+ * n_threads <= 0: the threads of the solid's set-up (omp_get_max_threads
+ * then; the element loops keep that number).  Points that cost 5 us or
+ * more on average go one by one, longest first, each timed; cheaper ones in
+ * static blocks of consecutive points.  A law evaluated in POINTS mode is
  * called from several threads at once on disjoint points (tl_material.h);
  * a law that runs threads of its own should run one per point here. */
 enum { TL_SOLID_EVAL_AUTO = 0, TL_SOLID_EVAL_CHUNKED = 1, TL_SOLID_EVAL_POINTS = 2 };
