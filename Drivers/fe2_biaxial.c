@@ -267,6 +267,8 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   c->options = o;
   return TL_OK;
 done:
+  tl_material_destroy(mat);
+  if (ref_mat) tl_material_destroy(ref_mat);
   tl_options_destroy(&o);
   return s;
 }
