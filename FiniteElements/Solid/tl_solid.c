@@ -88,6 +88,7 @@ void tl_solid_destroy_content(TlMechSystem *sys)
     tl_free(&B->pw_mass);
     tl_free(&B->w_nodes);
     tl_free(&B->wdet_plain);
+    tl_solid_points_free(B);
   }
   for (int i = 0; i < s->n_dead; ++i) tl_free(&s->dead[i].f);
   for (int t = 0; t < s->n_threads && s->scratch; ++t) {

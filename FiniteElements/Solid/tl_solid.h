@@ -98,6 +98,57 @@ TlStatus tl_solid_set_node_weights(TlSolid *solid, int b, const double *w_nodes)
  * the weighted masses; the consistent mass and the body loads are left to
  * the point weights.  NULL: none (the default); a call replaces the last. */
 TlStatus tl_solid_set_lumped_mass_weights(TlSolid *solid, const double *w_nodes);
+
+/* How the material is evaluated (a sub-scale law at every Gauss point,
+ * seeds/004 §3, costs milliseconds to minutes per point; Hooke costs
+ * nanoseconds):
+ *   TL_SOLID_EVAL_CHUNKED  the gradients, S and D of chunks of elements in
+ *                          one material call, chunks of a colour in
+ *                          parallel (cheap laws);
+ *   TL_SOLID_EVAL_POINTS   the gradients of a whole block first, then every
+ *                          Gauss point evaluated on its own (S and D
+ *                          together) in parallel over n_threads threads,
+ *                          the points handed out longest first by their
+ *                          last measured cost (LPT; dynamic schedule, one
+ *                          point per task), then the element forces and
+ *                          the tangent assembled in the fixed colour order.
+ *                          Each point's result does not depend on which
+ *                          thread ran it, so the results are the same bits
+ *                          for any thread count.  S and D are kept: the
+ *                          tangent asked at the displacements of the last
+ *                          residual reuses them (one law evaluation per
+ *                          Newton iteration, as the FE x DEM codes do);
+ *                          commit and rollback forget them.  Stored energy
+ *                          (tl_solid_strain_energy) goes the chunked way.
+ *   TL_SOLID_EVAL_AUTO     POINTS for a law with commit or rollback hooks
+ *                          (state outside the solid's arrays: a DEM cell),
+ *                          CHUNKED otherwise [default].
+ * n_threads <= 0: the threads of the solid's set-up (omp_get_max_threads
+ * then; the element loops keep that number).  Points that cost 5 us or
+ * more on average go one by one, longest first, each timed; cheaper ones in
+ * static blocks of consecutive points.  A law evaluated in POINTS mode is
+ * called from several threads at once on disjoint points (tl_material.h);
+ * a law that runs threads of its own should run one per point here. */
+enum { TL_SOLID_EVAL_AUTO = 0, TL_SOLID_EVAL_CHUNKED = 1, TL_SOLID_EVAL_POINTS = 2 };
+TlStatus tl_solid_set_evaluation(TlSolid *solid, int mode, int n_threads);
+typedef struct {
+  long evaluations;   /* POINTS: block evaluations (every point once) */
+  long reuses;        /* POINTS: tangents served from the kept S and D */
+  long points;        /* POINTS: point evaluations */
+  double t_wall;      /* POINTS: wall time in the parallel point loop, s */
+  double t_points;    /* POINTS: summed per-point cost (all threads), s */
+  double t_last_max;  /* POINTS: the costliest point of the last evaluation, s */
+  int threads;        /* threads the point loop runs on */
+} TlSolidEvalStats;
+void tl_solid_get_evaluation_stats(const TlSolid *solid, TlSolidEvalStats *stats);
+/* POINTS: the last evaluated deformation gradients F and second
+ * Piola-Kirchhoff stresses S of block b (n_el x nq each, element major;
+ * after a commit those of the accepted state), the last measured cost of
+ * every point (seconds) and the committed material state (state_size per
+ * point); NULL outputs are skipped.  Before any POINTS evaluation the
+ * arrays are NULL. */
+TlStatus tl_solid_point_data(const TlSolid *solid, int b, const TlMat3 **F, const TlMat3 **S,
+                             const double **cost, const double **state, int *nq);
 /* Numbers the dofs, checks materials and elements, precomputes geometry,
  * masses and dead loads.  After it, the loads and conditions are frozen. */
 TlStatus tl_solid_setup(TlSolid *solid);

@@ -4,6 +4,7 @@
 
 #include <omp.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "tl_memory.h"
@@ -162,10 +163,249 @@ void tl_solid_element_forces(const SolidBlock *B, int dim, size_t e, const TlMat
       for (int c = 0; c < r; ++c) Ke[r * nd + c] = Ke[c * nd + r];
 }
 
+/* ------------------------------------------------ point-by-point path
+ *
+ * For laws that cost far more than the element arithmetic (a DEM cell per
+ * Gauss point): the block's gradients first, then the points evaluated one
+ * by one in parallel, the costliest first (LPT: with a dynamic schedule the
+ * long tasks start early and the short ones fill the gaps at the end), then
+ * the element forces in the colour order of the chunked path. */
+
+TlStatus tl_solid_set_evaluation(TlSolid *s, int mode, int n_threads)
+{
+  if (mode != TL_SOLID_EVAL_AUTO && mode != TL_SOLID_EVAL_CHUNKED && mode != TL_SOLID_EVAL_POINTS)
+    TL_ERROR(TL_ERR_ARG, "solid: evaluation mode %d is none of AUTO (%d), CHUNKED (%d), POINTS (%d)", mode,
+             TL_SOLID_EVAL_AUTO, TL_SOLID_EVAL_CHUNKED, TL_SOLID_EVAL_POINTS);
+  if (n_threads > 4096) TL_ERROR(TL_ERR_ARG, "solid: %d evaluation threads, at most 4096", n_threads);
+  s->eval_mode = mode;
+  s->eval_threads = n_threads;
+  tl_solid_points_invalidate(s);
+  return TL_OK;
+}
+
+int tl_solid_points_mode(const TlSolid *s, int b)
+{
+  if (s->eval_mode == TL_SOLID_EVAL_POINTS) return 1;
+  if (s->eval_mode == TL_SOLID_EVAL_CHUNKED) return 0;
+  const TlMaterialOps *o = s->blocks[b].material->ops;
+  return o->commit != NULL || o->rollback != NULL;
+}
+
+void tl_solid_points_invalidate(TlSolid *s)
+{
+  if (!s->blocks) return;
+  for (int b = 0; b < s->mesh->n_blocks; ++b) s->blocks[b].p_valid = 0;
+}
+
+void tl_solid_points_free(SolidBlock *B)
+{
+  tl_free(&B->pH);
+  tl_free(&B->pS);
+  tl_free(&B->pD);
+  tl_free(&B->pcost);
+  tl_free(&B->porder);
+  tl_free(&B->pu);
+}
+
+void tl_solid_get_evaluation_stats(const TlSolid *s, TlSolidEvalStats *stats)
+{
+  *stats = s->eval_stats;
+  stats->threads = s->eval_threads > 0 ? s->eval_threads : s->n_threads;
+}
+
+TlStatus tl_solid_point_data(const TlSolid *s, int b, const TlMat3 **F, const TlMat3 **S, const double **cost,
+                             const double **state, int *nq)
+{
+  if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: point data before tl_solid_setup");
+  if (b < 0 || b >= s->mesh->n_blocks) TL_ERROR(TL_ERR_ARG, "solid: no block %d (%d blocks)", b, s->mesh->n_blocks);
+  const SolidBlock *B = &s->blocks[b];
+  if (F) *F = B->pH;
+  if (S) *S = B->pS;
+  if (cost) *cost = B->pcost;
+  if (state) *state = B->material->state_size ? B->state_old : NULL;
+  if (nq) *nq = B->nq;
+  return TL_OK;
+}
+
+typedef struct {
+  double cost;
+  size_t index;
+} PointCost;
+
+/* Decreasing cost, ties by index: a total order, so the schedule is the
+ * same on every run. */
+static int by_cost(const void *a, const void *b)
+{
+  const PointCost *x = a, *y = b;
+  if (x->cost != y->cost) return x->cost < y->cost ? 1 : -1;
+  return x->index < y->index ? -1 : x->index > y->index;
+}
+
+static TlStatus points_allocate(TlSolid *s, SolidBlock *B, size_t np)
+{
+  if (B->pH) return TL_OK;
+  TL_CHECK(tl_calloc(&B->pH, np, sizeof *B->pH));
+  TL_CHECK(tl_calloc(&B->pS, np, sizeof *B->pS));
+  TL_CHECK(tl_calloc(&B->pD, 36 * np, sizeof *B->pD));
+  TL_CHECK(tl_calloc(&B->pcost, np, sizeof *B->pcost));
+  TL_CHECK(tl_calloc(&B->porder, np, sizeof *B->porder));
+  TL_CHECK(tl_calloc(&B->pu, s->n_nodes * (size_t)s->dim, sizeof *B->pu));
+  for (size_t p = 0; p < np; ++p) B->porder[p] = p;
+  return TL_OK;
+}
+
+/* Records the error of point p with its element and Gauss point. */
+static void point_error(const TlElementBlock *blk, int nq, size_t p, TlStatus st, ParallelError *pe)
+{
+  const size_t e = p / (size_t)nq;
+  tl_error_trace(st, __FILE__, __LINE__);
+  char msg[900];
+  snprintf(msg, sizeof msg, "%s", tl_error_message());
+  tl_error_set(st, __FILE__, __LINE__, "block %s element %zu (tag %ld) Gauss point %d: %s", blk->name, e,
+               blk->tags ? blk->tags[e] : (long)e, (int)(p % (size_t)nq), msg);
+  tl_solid_parallel_error_record(pe, st);
+}
+
+/* S and D at every point of block b for u_nodes, unless kept from the last
+ * evaluation at the same displacements. */
+static TlStatus points_evaluate(TlSolid *s, int b, const double *u_nodes)
+{
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  const int dim = s->dim, nn = B->nn, nq = B->nq;
+  const size_t np = blk->n_elements * (size_t)nq, nu = s->n_nodes * (size_t)dim;
+  const TlMaterial *mat = B->material;
+  const size_t ss = mat->state_size;
+  TL_CHECK(points_allocate(s, B, np));
+  if (B->p_valid && !memcmp(B->pu, u_nodes, nu * sizeof *u_nodes)) {
+    s->eval_stats.reuses++;
+    return TL_OK;
+  }
+  B->p_valid = 0;
+  double *ue = s->scratch[0].ue;
+  for (size_t e = 0; e < blk->n_elements; ++e) {
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i) ue[a * dim + i] = u_nodes[blk->conn[e * nn + a] * dim + i];
+    tl_solid_deformation_gradients(B, dim, e, ue, B->pH + e * nq);
+    for (int q = 0; q < nq; ++q) {
+      TlMat3 Fq = B->pH[e * nq + q];
+      for (int i = 0; i < 3; ++i) Fq.m[i][i] += 1.0;
+      double J = tl_m3_det(Fq);
+      if (!(J > 0.0))
+        TL_ERROR(TL_ERR_NUMERIC,
+                 "block %s element %zu (tag %ld): det F = %g at Gauss point %d; the element is inverted "
+                 "(displacements too large or unstable run)",
+                 blk->name, e, blk->tags ? blk->tags[e] : (long)e, J, q);
+    }
+  }
+  const int nt = s->eval_threads > 0 ? s->eval_threads : s->n_threads;
+  /* How the last evaluation says to schedule this one: points of 5 us or
+   * more on average (a DEM cell takes milliseconds to seconds) one by one,
+   * longest first, each timed; cheap points (Hooke's law, a fraction of a
+   * microsecond) in static blocks of consecutive points, untimed, in
+   * parallel when there is 1 ms of work in all, else on this thread.  The
+   * first evaluation of a block takes the first way to measure.  Every
+   * point is the same call on the same data whichever way: the same bits. */
+  const double mean = np ? B->p_total / (double)np : 0.0;
+  const int lpt = nt > 1 && np > 1 && (B->p_total == 0.0 || mean >= 5e-6);
+  const int blocks = !lpt && nt > 1 && B->p_total > 1e-3;
+  ParallelError pe = {TL_OK, ""};
+  double total = 0.0, worst = 0.0, t0 = omp_get_wtime();
+  if (!lpt) {
+#pragma omp parallel for schedule(static) if (blocks) num_threads(nt)
+    for (long k = 0; k < (long)np; ++k) {
+      const size_t p = (size_t)k;
+      TlStatus st = tl_material_evaluate_gradient(mat, 1, B->pH + p, ss ? B->state_old + p * ss : NULL,
+                                                  ss ? B->state_new + p * ss : NULL, B->pS + p, B->pD + 36 * p, NULL);
+      if (st != TL_OK) {
+#pragma omp critical(tl_solid_error)
+        point_error(blk, nq, p, st, &pe);
+      }
+    }
+    /* The mean cost (CPU time across the threads) stands for every point. */
+    total = (omp_get_wtime() - t0) * (blocks ? nt : 1);
+    for (size_t p = 0; p < np; ++p) B->pcost[p] = total / (double)np;
+    worst = np ? total / (double)np : 0.0;
+  } else {
+    /* LPT order from the last measured costs. */
+    PointCost *pc = NULL;
+    TL_CHECK(tl_calloc(&pc, np, sizeof *pc));
+    for (size_t p = 0; p < np; ++p) pc[p] = (PointCost){B->pcost[p], p};
+    qsort(pc, np, sizeof *pc, by_cost);
+    for (size_t p = 0; p < np; ++p) B->porder[p] = pc[p].index;
+    tl_free(&pc);
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : total) reduction(max : worst) num_threads(nt)
+    for (long k = 0; k < (long)np; ++k) {
+      TlStatus seen;
+#pragma omp critical(tl_solid_error)
+      seen = pe.status;
+      if (seen != TL_OK) continue;
+      const size_t p = B->porder[k];
+      const double tp = omp_get_wtime();
+      TlStatus st = tl_material_evaluate_gradient(mat, 1, B->pH + p, ss ? B->state_old + p * ss : NULL,
+                                                  ss ? B->state_new + p * ss : NULL, B->pS + p, B->pD + 36 * p, NULL);
+      const double c = omp_get_wtime() - tp;
+      B->pcost[p] = c;
+      total += c;
+      worst = c > worst ? c : worst;
+      if (st != TL_OK) point_error(blk, nq, p, st, &pe);
+    }
+  }
+  s->eval_stats.t_wall += omp_get_wtime() - t0;
+  TL_CHECK(tl_solid_parallel_error_raise(&pe));
+  B->p_total = total;
+  s->eval_stats.evaluations++;
+  s->eval_stats.points += (long)np;
+  s->eval_stats.t_points += total;
+  s->eval_stats.t_last_max = worst;
+  memcpy(B->pu, u_nodes, nu * sizeof *u_nodes);
+  B->p_valid = 1;
+  return TL_OK;
+}
+
+static TlStatus block_forces_points(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
+                                    TlSparse *K)
+{
+  TL_CHECK(points_evaluate(s, b, u_nodes));
+  const TlElementBlock *blk = &s->mesh->blocks[b];
+  SolidBlock *B = &s->blocks[b];
+  const int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
+  const int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_pattern;
+  ParallelError pe = {TL_OK, ""};
+  for (int colour = 0; colour < B->n_colours; ++colour) {
+    size_t first = B->colour_ptr[colour], count = B->colour_ptr[colour + 1] - first;
+    long n_chunks = (long)((count + CHUNK - 1) / CHUNK);
+#pragma omp parallel for schedule(dynamic) if (n_chunks >= 4) num_threads(s->n_threads)
+    for (long ch = 0; ch < n_chunks; ++ch) {
+      Scratch *w = &s->scratch[omp_get_thread_num()];
+      size_t c0 = first + (size_t)ch * CHUNK;
+      size_t nk = count - (size_t)ch * CHUNK < CHUNK ? count - (size_t)ch * CHUNK : CHUNK;
+      for (size_t k = 0; k < nk; ++k) {
+        size_t e = B->colour_elements[c0 + k];
+        tl_solid_element_forces(B, dim, e, B->pH + e * nq, B->pS + e * nq, K ? B->pD + 36 * e * nq : NULL,
+                                f_nodes ? w->fe : NULL, K ? w->Ke : NULL, w->B, w->DB);
+        if (f_nodes)
+          for (int a = 0; a < nn; ++a)
+            for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
+        if (K) {
+          size_t g = B->offset + e;
+          TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
+                                : tl_sparse_add_element(K, nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
+          if (sk != TL_OK) tl_solid_parallel_error_record(&pe, sk);
+        }
+      }
+    }
+  }
+  TL_CHECK(tl_solid_parallel_error_raise(&pe));
+  return TL_OK;
+}
+
 TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
                                TlSparse *K, double *W)
 {
   if (!s->ready) TL_ERROR(TL_ERR_STATE, "solid: block forces before tl_solid_setup");
+  if ((f_nodes || K) && !W && tl_solid_points_mode(s, b))
+    return block_forces_points(s, b, u_nodes, f_nodes, c_u, K);
   if (f_nodes && !K && !W && s->dim == 3 && s->blocks[b].material->state_size == 0)
     return tl_solid_block_residual(s, b, u_nodes, f_nodes);
   const TlElementBlock *blk = &s->mesh->blocks[b];

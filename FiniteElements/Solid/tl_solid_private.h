@@ -48,6 +48,17 @@ typedef struct {
   double *pw_mass;    /* n_el x qm.n at the mass points */
   double *w_nodes;    /* n_nodes: a nodal field interpolated at setup instead */
   double *wdet_plain; /* n_el x nq: unweighted weight x det J0 (volume averages) */
+  /* POINTS evaluation (tl_solid_set_evaluation), allocated on first use:
+   * H = F - 1, S and D of every point from the last evaluation, which was
+   * at node-space displacements pu; p_valid until the next commit or
+   * rollback. */
+  TlMat3 *pH, *pS;
+  double *pD;     /* 36 per point */
+  double *pcost;  /* last measured seconds per point */
+  size_t *porder; /* points by decreasing cost (LPT) */
+  double *pu;     /* n_nodes x dim */
+  double p_total; /* summed cost of the last evaluation */
+  int p_valid;
 } SolidBlock;
 
 typedef struct {
@@ -133,6 +144,8 @@ struct TlSolid {
   size_t n_pattern; /* the elements of the matrix pattern */
   char constraint_sets[256];
   int ready;
+  int eval_mode, eval_threads; /* tl_solid_set_evaluation */
+  TlSolidEvalStats eval_stats;
 };
 
 
@@ -159,6 +172,12 @@ TlStatus tl_solid_pressure_loads(TlSolid *s, double t, const double *u_nodes, do
                                  TlSparse *K);
 /* The external force at (t, u) in node space. */
 TlStatus tl_solid_external_nodes(TlSolid *s, double t, const double *u, double *f_nodes);
+
+/* POINTS evaluation (tl_solid_kernel.c): whether block b is evaluated point
+ * by point, and forgetting the kept S and D (commit, rollback). */
+int tl_solid_points_mode(const TlSolid *s, int b);
+void tl_solid_points_invalidate(TlSolid *s);
+void tl_solid_points_free(SolidBlock *B);
 
 /* Weights (tl_solid_weights.c): the nodal weight field at the points. */
 TlStatus tl_solid_interpolate_weights(TlSolid *s, int b, const double *Nq);

@@ -139,6 +139,7 @@ static TlStatus op_strain_energy(TlMechSystem *sys, const double *u, double *W)
 static TlStatus op_commit(TlMechSystem *sys)
 {
   TlSolid *s = (TlSolid *)sys;
+  tl_solid_points_invalidate(s);
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     SolidBlock *B = &s->blocks[b];
     size_t ss = B->material->state_size, np = s->mesh->blocks[b].n_elements * B->nq;
@@ -156,6 +157,7 @@ static TlStatus op_commit(TlMechSystem *sys)
 static TlStatus op_rollback(TlMechSystem *sys)
 {
   TlSolid *s = (TlSolid *)sys;
+  tl_solid_points_invalidate(s);
   for (int b = 0; b < s->mesh->n_blocks; ++b) {
     SolidBlock *B = &s->blocks[b];
     size_t ss = B->material->state_size, np = s->mesh->blocks[b].n_elements * B->nq;

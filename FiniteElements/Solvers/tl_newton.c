@@ -48,6 +48,10 @@ struct TlNewton {
   int diagnosis;    /* why the correction test gave up (CTEST_*) */
   double corrections[TL_NEWTON_HISTORY];
   int n_corrections;
+  /* PLAIN: the residual and correction of the loop, the test's measures. */
+  double *r_plain, *d_plain;
+  double measures[TL_NEWTON_HISTORY];
+  int n_measures;
 };
 
 enum { CTEST_NONE = 0, CTEST_DIVERGING = 1, CTEST_NOT_FINITE = 2 };
@@ -332,11 +336,12 @@ static TlStatus apply_options(TlNewton *nw, const TlNewtonOptions *o)
   if (o->max_iterations < 1 || o->max_setup_calls < 1)
     TL_ERROR(TL_ERR_ARG, "max_iterations = %ld and max_setup_calls = %ld must be >= 1",
              o->max_iterations, o->max_setup_calls);
-  if (o->method != TL_NEWTON_KINSOL && o->method != TL_NEWTON_SUNNONLINSOL)
-    TL_ERROR(TL_ERR_ARG, "Newton method %d is neither KINSOL (%d) nor SUNNONLINSOL (%d)", o->method,
-             TL_NEWTON_KINSOL, TL_NEWTON_SUNNONLINSOL);
-  if (o->method == TL_NEWTON_SUNNONLINSOL && o->line_search)
-    TL_ERROR(TL_ERR_ARG, "the SUNNonlinSol Newton has no line search; use the KINSOL method for it");
+  if (o->method != TL_NEWTON_KINSOL && o->method != TL_NEWTON_SUNNONLINSOL && o->method != TL_NEWTON_PLAIN)
+    TL_ERROR(TL_ERR_ARG, "Newton method %d is none of KINSOL (%d), SUNNONLINSOL (%d), PLAIN (%d)", o->method,
+             TL_NEWTON_KINSOL, TL_NEWTON_SUNNONLINSOL, TL_NEWTON_PLAIN);
+  if (o->method != TL_NEWTON_KINSOL && o->line_search)
+    TL_ERROR(TL_ERR_ARG, "the %s Newton has no line search; use the KINSOL method for it",
+             o->method == TL_NEWTON_PLAIN ? "plain" : "SUNNonlinSol");
   nw->opt = *o;
   if (SUNNonlinSolSetMaxIters(nw->nls, o->max_iterations > 1000000 ? 1000000 : (int)o->max_iterations))
     TL_ERROR(TL_ERR_ARG, "SUNNonlinSol rejected max_iterations = %ld", o->max_iterations);
@@ -386,6 +391,8 @@ TlStatus tl_newton_create(TlSparseIndex n, TlSparse *J, const char *solver_type,
   TL_CHECK_GOTO(st, tl_calloc(&nw->xtrial, (size_t)n, sizeof *nw->xtrial), fail);
   TL_CHECK_GOTO(st, tl_calloc(&nw->r_start, (size_t)n, sizeof *nw->r_start), fail);
   TL_CHECK_GOTO(st, tl_calloc(&nw->rows, (size_t)n, sizeof *nw->rows), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&nw->r_plain, (size_t)n, sizeof *nw->r_plain), fail);
+  TL_CHECK_GOTO(st, tl_calloc(&nw->d_plain, (size_t)n, sizeof *nw->d_plain), fail);
   if (!nw->x || !nw->scale || !nw->uscale || !nw->kin || !nw->Jmat || !nw->Lsol || !nw->ycor ||
       !nw->weight || !nw->nls) {
     st = tl_error_set(TL_ERR_MEM, __FILE__, __LINE__, "KINSOL objects for %lld unknowns",
@@ -518,12 +525,73 @@ static TlStatus solve_sunnonlinsol(TlNewton *nw, double *x)
            why, flag, iters, correction_tolerance(nw), nw->opt.ftol, nw->jnorm, nw->crate, hist);
 }
 
+/* The PLAIN loop (tl_newton.h). */
+static TlStatus solve_plain(TlNewton *nw, double *x)
+{
+  const TlNewtonOptions *o = &nw->opt;
+  double *r = nw->r_plain, *d = nw->d_plain;
+  nw->n_measures = 0;
+  long k = 0;
+  int verdict = TL_NEWTON_CONTINUE, reused = 0;
+  TlStatus st = TL_OK;
+  for (;; ++k) {
+    if (evaluate_residual(nw, x, r)) {
+      st = nw->callback_status;
+      break;
+    }
+    double measure = nw->history[nw->n_history - 1];
+    if (o->test) verdict = o->test(o->test_ctx, x, r, k, &measure);
+    else verdict = measure <= o->ftol ? TL_NEWTON_CONVERGED : TL_NEWTON_CONTINUE;
+    if (nw->n_measures < TL_NEWTON_HISTORY) nw->measures[nw->n_measures++] = measure;
+    else nw->measures[TL_NEWTON_HISTORY - 1] = measure;
+    if (verdict != TL_NEWTON_CONTINUE || k >= o->max_iterations) break;
+    /* Fresh factors at x unless kept ones may serve another iteration. */
+    reused = nw->factored && nw->since_factor < o->max_setup_calls && (k > 0 || o->keep_factors);
+    if (!reused && factor_at(nw, x)) {
+      st = nw->callback_status;
+      break;
+    }
+    st = tl_linear_solver_solve(nw->ls, r, d);
+    nw->since_factor++;
+    if (st != TL_OK) break;
+    for (TlSparseIndex i = 0; i < nw->n; ++i) x[i] -= d[i];
+  }
+  nw->stats.last_iterations = k;
+  nw->stats.iterations += k;
+  nw->stats.solves++;
+  nw->stats.last_residual = nw->n_history ? nw->history[nw->n_history - 1] : NAN;
+  if (st == TL_OK && verdict == TL_NEWTON_CONVERGED) return TL_OK;
+  nw->factored = 0;
+  char hist[700];
+  history_text(nw, hist, sizeof hist);
+  if (st != TL_OK) {
+    char why[1024];
+    snprintf(why, sizeof why, "%s", nw->callback_status != TL_OK ? nw->callback_message : tl_error_message());
+    TL_ERROR(st, "%s; Newton stopped after %ld iterations; %s", why, k, hist);
+  }
+  int w = 0;
+  char meas[600];
+  meas[0] = '\0';
+  for (int i = 0; i < nw->n_measures && (size_t)w < sizeof meas; ++i)
+    w += snprintf(meas + w, sizeof meas - (size_t)w, " %.3e", nw->measures[i]);
+  TL_ERROR(TL_ERR_CONVERGENCE, "Newton did not converge: %s after %ld iterations (limit %ld); test measures:%s; %s",
+           verdict == TL_NEWTON_FAILED ? "the convergence test gave up" : "iteration limit reached", k,
+           o->max_iterations, meas, hist);
+}
+
+int tl_newton_test_history(const TlNewton *nw, const double **measures)
+{
+  *measures = nw->measures;
+  return nw->n_measures;
+}
+
 TlStatus tl_newton_solve(TlNewton *nw, double *x)
 {
   nw->callback_status = TL_OK;
   nw->callback_message[0] = '\0';
   nw->n_history = 0;
   if (nw->opt.method == TL_NEWTON_SUNNONLINSOL) return solve_sunnonlinsol(nw, x);
+  if (nw->opt.method == TL_NEWTON_PLAIN) return solve_plain(nw, x);
   memcpy(N_VGetArrayPointer(nw->x), x, (size_t)nw->n * sizeof *x);
   /* KINSOL scales steps by uscale: 1 / u_scale makes the step test relative
    * to the problem's displacement size; residuals stay unscaled. */
@@ -608,6 +676,8 @@ void tl_newton_destroy(TlNewton **nw)
   tl_free(&p->xtrial);
   tl_free(&p->r_start);
   tl_free(&p->rows);
+  tl_free(&p->r_plain);
+  tl_free(&p->d_plain);
   if (p->sunctx) SUNContext_Free(&p->sunctx);
   tl_linear_solver_destroy(&p->ls);
   tl_free(nw);

@@ -51,8 +51,21 @@ typedef TlStatus (*TlNewtonResidual)(void *ctx, const double *x, double *r);
 /* J = dF/dx at x; J arrives zeroed. */
 typedef TlStatus (*TlNewtonJacobian)(void *ctx, const double *x, TlSparse *J);
 
-/* The nonlinear iteration. */
-enum { TL_NEWTON_KINSOL = 0, TL_NEWTON_SUNNONLINSOL = 1 };
+/* The nonlinear iteration.  TL_NEWTON_PLAIN is the textbook loop of the
+ * FE codes FEM x DEM grew in (seeds/004 §2.5): evaluate F(x); stop when the
+ * caller's test says so (TlNewtonOptions.test; without one, when
+ * ||F||_inf <= ftol); otherwise J at x (fresh factors every max_setup_calls
+ * iterations), x -= J^-1 F.  No line search, no step test: the residual at
+ * the accepted iterate is always the last one evaluated, so a trial state
+ * a callback leaves there is the accepted one. */
+enum { TL_NEWTON_KINSOL = 0, TL_NEWTON_SUNNONLINSOL = 1, TL_NEWTON_PLAIN = 2 };
+
+/* A caller's convergence test for TL_NEWTON_PLAIN, called after every
+ * residual evaluation with r = F(x) and the number of corrections applied
+ * so far (0 at the start).  Returns one of the verdicts below and may set
+ * *measure (the quantity it tested, kept in the test history). */
+enum { TL_NEWTON_CONTINUE = 0, TL_NEWTON_CONVERGED = 1, TL_NEWTON_FAILED = 2 };
+typedef int (*TlNewtonTest)(void *ctx, const double *x, const double *r, long iteration, double *measure);
 
 typedef struct {
   int method;           /* TL_NEWTON_KINSOL or TL_NEWTON_SUNNONLINSOL [KINSOL] */
@@ -67,6 +80,8 @@ typedef struct {
   int evaluate_solution; /* SUNNONLINSOL: evaluate F once more at the accepted iterate, for a
                           * callback whose side effects the caller reads (trial material
                           * state to commit) [0] */
+  TlNewtonTest test;     /* PLAIN: the convergence test (NULL: ||F||_inf <= ftol) [NULL] */
+  void *test_ctx;
 } TlNewtonOptions;
 
 typedef struct {
@@ -106,6 +121,8 @@ void tl_newton_set_iterations_since_factor(TlNewton *newton, long n);
 void tl_newton_get_stats(const TlNewton *newton, TlNewtonStats *stats);
 /* Residual norms of the last solve (one per evaluation), count returned. */
 int tl_newton_history(const TlNewton *newton, const double **norms);
+/* PLAIN with a test: the measures the test returned in the last solve, count returned. */
+int tl_newton_test_history(const TlNewton *newton, const double **measures);
 /* SUNNONLINSOL: correction norms max |d_m| of the last solve, count returned. */
 int tl_newton_correction_history(const TlNewton *newton, const double **norms);
 /* SUNNONLINSOL: the convergence-rate estimate crate kept across solves (1

@@ -29,6 +29,12 @@ void tl_stepper_options_default(TlStepperOptions *o)
   o->blowup = 1e6;
   o->ramp_time = 0.0;
   o->max_cuts = 10;
+  o->convergence = TL_CONVERGENCE_RESIDUAL;
+  o->ratio_tol = 1e-3;
+  o->ratio_tol_post = 1e-2;
+  o->accept_loose_after = 0;
+  o->peak_drop = -1.0;
+  o->ratio_diverge = 10.0;
 }
 
 TlStatus tl_stepper_register_all(void)

@@ -12,7 +12,30 @@
  *  "quasi_static"       f_int(u) = lambda(t) f_ext(t, u) by Newton with load
  *                       stepping: lambda = min(t / ramp_time, 1) (1 when
  *                       ramp_time = 0), a failed step is halved up to
- *                       max_cuts times.
+ *                       max_cuts times.  Two convergence tests: the
+ *                       residual's max norm against rtol x force scale
+ *                       (default, KINSOL or SUNNonlinSol), or the force
+ *                       ratio of seeds/004 §2.5.3 (convergence =
+ *                       TL_CONVERGENCE_FORCE_RATIO, plain Newton with the
+ *                       material's operator as the Jacobian):
+ *                         |F| / |R| <= ratio_tol (ratio_tol_post after the peak),
+ *                       |F| = 2-norm of the residual over the free dofs,
+ *                       |R| = 2-norm of the forces that balance the
+ *                       internal ones: the reactions at the Dirichlet dofs
+ *                       and the applied loads lambda f_ext at the free dofs
+ *                       (the paper's "reactions"; with displacement control
+ *                       alone exactly them).  Clamped dofs (tl_solid_fix)
+ *                       are not in the system and carry no reaction here:
+ *                       prescribe supports as zero displacements to count
+ *                       them.  After accept_loose_after iterations an
+ *                       iterate within ratio_tol_post is accepted before the
+ *                       peak too ("convergence stops progressing after a
+ *                       few iterations").  The peak: set by
+ *                       tl_stepper_set_post_peak, or detected when |R| of
+ *                       an accepted increment falls below (1 - peak_drop)
+ *                       times its largest value so far (peak_drop >= 0).
+ *                       An increment whose ratio grows ratio_diverge times
+ *                       above its best is given up and halved.
  *
  * Life cycle: tl_stepper_create(type, sys, options) -> set_state(t, u, v)
  * (computes a consistent initial acceleration) -> step(dt) ... -> destroy.
@@ -44,14 +67,44 @@ typedef struct {
                          * the residual at the accepted iterate): TL_NEWTON_KINSOL or
                          * TL_NEWTON_SUNNONLINSOL (tl_newton.h) [KINSOL] */
   int lumped;          /* implicit: use the lumped mass even if a consistent one exists [0] */
-  int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO] */
+  int predictor;       /* Newmark's Newton start, TL_PREDICTOR_* [AUTO]; quasi-static: TAYLOR
+                        * starts Newton from the last increment extrapolated (u + h du/h_prev
+                        * at the free dofs), AUTO and LAST from the last equilibrium */
   int allow_unstable;  /* explicit: run above the critical step (for tests) [0] */
   double blowup;       /* explicit: kinetic energy beyond blowup x energy budget = unstable [1e6] */
   int critical_bound;  /* explicit: take omega_max^2 from the system's (conservative) bound
                         * instead of Lanczos on M^-1 K (sharp, from below) [0] */
   double ramp_time;    /* quasi-static load ramp [0] */
   int max_cuts;        /* quasi-static step halvings [10] */
+  int convergence;     /* quasi-static test, TL_CONVERGENCE_* [RESIDUAL] */
+  double ratio_tol;    /* FORCE_RATIO: |F|/|R| before the peak [1e-3] */
+  double ratio_tol_post; /* FORCE_RATIO: after the peak [1e-2] */
+  long accept_loose_after; /* FORCE_RATIO: accept at ratio_tol_post after this many
+                            * iterations even before the peak (0: never) [0] */
+  double peak_drop;    /* FORCE_RATIO: relative drop of |R| that marks the peak
+                        * (negative: only tl_stepper_set_post_peak) [-1] */
+  double ratio_diverge; /* FORCE_RATIO: give the increment up (halve it) once |F|/|R|
+                         * exceeds this factor times its smallest value in the
+                         * increment, from the second iteration on: a diverging
+                         * iterate would drive the law (a DEM cell) far off its
+                         * path (0: never) [10] */
 } TlStepperOptions;
+
+/* Quasi-static convergence tests (see "quasi_static" above). */
+enum { TL_CONVERGENCE_RESIDUAL = 0, TL_CONVERGENCE_FORCE_RATIO = 1 };
+
+/* What the last tl_stepper_step did (quasi-static only). */
+typedef struct {
+  long increments;        /* accepted increments (1 unless halved) */
+  long cuts;              /* halvings */
+  long iterations;        /* Newton iterations of the accepted increments */
+  long failed_iterations; /* Newton iterations of the rejected attempts */
+  long loose;             /* increments accepted at ratio_tol_post */
+  double ratio;           /* FORCE_RATIO: |F|/|R| of the last accepted iterate */
+  double reaction;        /* FORCE_RATIO: |R| there */
+  double force;           /* FORCE_RATIO: |F| there */
+  int post_peak;          /* the loose tolerance applied at the end of the step */
+} TlStepInfo;
 
 /* Newmark predictors: the last displacement u_n (safe when the step leaves
  * element modes unresolved, omega dt >> 1: their undamped parts in v_n, a_n
@@ -109,6 +162,9 @@ struct TlStepper {
   double u_scale;     /* displacement size for Newton's step test */
   double omega2_bound; /* implicit, predictor AUTO: the system's bound on omega_max^2 at the initial state (0: none) */
   TlStepperStats stats;
+  TlStepInfo last_step;
+  int post_peak;       /* quasi-static FORCE_RATIO: past the peak */
+  double reaction_max; /* the largest |R| of an accepted increment */
   void *impl;
 };
 
@@ -127,6 +183,9 @@ TlStatus tl_stepper_energies(TlStepper *st, TlEnergies *e);
  * critical_bound is set (conservative, cheaper on big meshes). */
 TlStatus tl_stepper_critical_dt(TlStepper *st, double *dt_crit);
 void tl_stepper_get_stats(const TlStepper *st, TlStepperStats *stats);
+/* Quasi-static FORCE_RATIO: from now on (on != 0) the loose tolerance
+ * ratio_tol_post applies. */
+void tl_stepper_set_post_peak(TlStepper *st, int on);
 void tl_stepper_destroy(TlStepper **st);
 
 /* Checkpoint section of a stepper (tl_checkpoint.h; object: the TlStepper):

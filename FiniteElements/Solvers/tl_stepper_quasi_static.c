@@ -6,7 +6,13 @@
  *
  * solved by Newton at t + dt from the previous equilibrium; when Newton
  * fails the increment is halved (up to max_cuts times) and the remaining
- * interval is covered in smaller increments. */
+ * interval is covered in smaller increments.
+ *
+ * With convergence = TL_CONVERGENCE_FORCE_RATIO the iteration is the plain
+ * Newton loop of the FE x DEM codes (seeds/004 §2.5.3), tested on
+ * |F|/|R| (tl_stepper.h): the out-of-balance force over the forces that
+ * balance the internal ones, both 2-norms, so the test does not depend on
+ * the units or the size of the increment. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -16,6 +22,12 @@
 
 typedef struct {
   double *x, *zero;
+  double *du;    /* the last accepted increment (TAYLOR predictor) */
+  double h_prev; /* its size in t (0: none yet) */
+  unsigned char *dirichlet; /* n: 1 at the Dirichlet dofs */
+  double ratio, force, reaction; /* the force-ratio test at the last iterate */
+  double best;                   /* the smallest ratio of the increment */
+  int loose;                     /* ... passed at the loose tolerance only */
 } QuasiStatic;
 
 static double load_factor(const TlStepper *st, double t)
@@ -59,6 +71,24 @@ static TlStatus qs_setup(TlStepper *st)
   st->impl = qs;
   TL_CHECK(tl_calloc(&qs->x, (size_t)st->n, sizeof *qs->x));
   TL_CHECK(tl_calloc(&qs->zero, (size_t)st->n, sizeof *qs->zero));
+  TL_CHECK(tl_calloc(&qs->dirichlet, (size_t)st->n, sizeof *qs->dirichlet));
+  TL_CHECK(tl_calloc(&qs->du, (size_t)st->n, sizeof *qs->du));
+  for (TlSparseIndex k = 0; k < st->sys->n_dirichlet; ++k) qs->dirichlet[st->sys->dirichlet_dofs[k]] = 1;
+  const TlStepperOptions *o = &st->opt;
+  if (o->convergence != TL_CONVERGENCE_RESIDUAL && o->convergence != TL_CONVERGENCE_FORCE_RATIO)
+    TL_ERROR(TL_ERR_ARG, "quasi-static convergence test %d is neither RESIDUAL (%d) nor FORCE_RATIO (%d)",
+             o->convergence, TL_CONVERGENCE_RESIDUAL, TL_CONVERGENCE_FORCE_RATIO);
+  if (o->convergence == TL_CONVERGENCE_FORCE_RATIO) {
+    if (!(o->ratio_tol > 0.0 && o->ratio_tol < 1.0) || !(o->ratio_tol_post >= o->ratio_tol && o->ratio_tol_post < 1.0))
+      TL_ERROR(TL_ERR_ARG, "force-ratio tolerances %g (before the peak) and %g (after) must satisfy 0 < %g <= %g < 1",
+               o->ratio_tol, o->ratio_tol_post, o->ratio_tol, o->ratio_tol_post);
+    if (o->accept_loose_after < 0)
+      TL_ERROR(TL_ERR_ARG, "accept_loose_after = %ld must be >= 0", o->accept_loose_after);
+    if (!(o->peak_drop < 1.0)) TL_ERROR(TL_ERR_ARG, "peak_drop = %g must be below 1", o->peak_drop);
+    if (!(o->ratio_diverge == 0.0 || o->ratio_diverge > 1.0))
+      TL_ERROR(TL_ERR_ARG, "ratio_diverge = %g must be 0 (never) or above 1", o->ratio_diverge);
+    if (o->line_search) TL_ERROR(TL_ERR_ARG, "the force-ratio test runs plain Newton steps: no line search");
+  }
   TL_CHECK(tl_stepper_implicit_setup(st, qs_residual, qs_jacobian));
   return TL_OK;
 }
@@ -70,6 +100,62 @@ static TlStatus qs_initialise(TlStepper *st)
   return TL_OK;
 }
 
+/* The force-ratio test (tl_stepper.h) at iterate x with residual r; the
+ * stepper's f_int and f_ext are those of this residual evaluation. */
+static int ratio_test(void *ctx, const double *x, const double *r, long k, double *measure)
+{
+  (void)x;
+  TlStepper *st = ctx;
+  QuasiStatic *qs = st->impl;
+  const TlStepperOptions *o = &st->opt;
+  double F2 = 0.0, R2 = 0.0;
+  for (TlSparseIndex i = 0; i < st->n; ++i) {
+    const double g = st->lambda * st->f_ext[i];
+    if (qs->dirichlet[i]) {
+      const double R = st->f_int[i] - g;
+      R2 += R * R;
+    } else {
+      F2 += r[i] * r[i];
+      R2 += g * g;
+    }
+  }
+  qs->force = sqrt(F2);
+  qs->reaction = sqrt(R2);
+  /* Nothing loaded and nothing out of balance: equilibrium. */
+  qs->ratio = F2 == 0.0 ? 0.0 : qs->force / qs->reaction;
+  *measure = qs->ratio;
+  qs->loose = 0;
+  if (!isfinite(qs->ratio)) return R2 > 0.0 || !(F2 <= 0.0) ? TL_NEWTON_FAILED : TL_NEWTON_CONVERGED;
+  if (qs->ratio <= (st->post_peak ? o->ratio_tol_post : o->ratio_tol)) {
+    qs->loose = st->post_peak;
+    return TL_NEWTON_CONVERGED;
+  }
+  if (!st->post_peak && o->accept_loose_after > 0 && k >= o->accept_loose_after && qs->ratio <= o->ratio_tol_post) {
+    qs->loose = 1;
+    return TL_NEWTON_CONVERGED;
+  }
+  if (k == 0 || qs->ratio < qs->best) qs->best = qs->ratio;
+  if (o->ratio_diverge > 0.0 && k >= 2 && qs->ratio > o->ratio_diverge * qs->best) return TL_NEWTON_FAILED;
+  return TL_NEWTON_CONTINUE;
+}
+
+static TlStatus ratio_solve(TlStepper *st, double *x)
+{
+  TlNewtonOptions no;
+  tl_newton_options_default(&no);
+  no.method = TL_NEWTON_PLAIN;
+  no.max_iterations = st->opt.max_iterations;
+  no.max_setup_calls = st->opt.reuse;
+  no.keep_factors = st->opt.keep_factors;
+  no.test = ratio_test;
+  no.test_ctx = st;
+  TL_CHECK(tl_newton_set_options(st->newton, &no));
+  TL_CHECK(tl_newton_solve(st->newton, x));
+  return TL_OK;
+}
+
+void tl_stepper_set_post_peak(TlStepper *st, int on) { st->post_peak = on != 0; }
+
 /* One increment t -> t + h from the current equilibrium. */
 static TlStatus qs_increment(TlStepper *st, double h)
 {
@@ -80,15 +166,43 @@ static TlStatus qs_increment(TlStepper *st, double h)
   st->t_new = st->t + h;
   st->lambda = load_factor(st, st->t_new);
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
-  TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, qs->zero, st->f_int));
-  st->force_scale = fmax(st->lambda * tl_stepper_max_abs(st->f_ext, st->n),
-                         tl_stepper_max_abs(st->f_int, st->n));
+  /* The residual test's scale; the force ratio needs none (and the internal
+   * force at the last equilibrium would cost a DEM cell a relaxation). */
+  if (st->opt.convergence != TL_CONVERGENCE_FORCE_RATIO) {
+    TL_CHECK(sys->ops->internal_force(sys, st->t, st->u, qs->zero, st->f_int));
+    st->force_scale = fmax(st->lambda * tl_stepper_max_abs(st->f_ext, st->n), tl_stepper_max_abs(st->f_int, st->n));
+  }
   memcpy(qs->x, st->u, bytes);
+  /* TAYLOR: the free dofs continue along the last increment (the path of a
+   * monotonic load is smooth), which spares the law an iterate where only
+   * the prescribed dofs have moved. */
+  if (st->opt.predictor == TL_PREDICTOR_TAYLOR && qs->h_prev > 0.0)
+    for (TlSparseIndex i = 0; i < st->n; ++i)
+      if (!qs->dirichlet[i]) qs->x[i] += h / qs->h_prev * qs->du[i];
   if (sys->ops->dirichlet) TL_CHECK(sys->ops->dirichlet(sys, st->t_new, qs->x, NULL, NULL));
   memcpy(st->u, qs->x, bytes);
   double lambda0 = load_factor(st, st->t);
-  TlStatus s = tl_stepper_newton_solve(st, qs->x);
-  if (s != TL_OK) return tl_stepper_reject(st, s, "quasi-static", h);
+  const int ratio = st->opt.convergence == TL_CONVERGENCE_FORCE_RATIO;
+  TlStatus s = ratio ? ratio_solve(st, qs->x) : tl_stepper_newton_solve(st, qs->x);
+  TlNewtonStats ns;
+  tl_newton_get_stats(st->newton, &ns);
+  if (s != TL_OK) {
+    st->last_step.failed_iterations += ns.last_iterations;
+    return tl_stepper_reject(st, s, "quasi-static", h);
+  }
+  for (TlSparseIndex i = 0; i < st->n; ++i) qs->du[i] = qs->x[i] - st->u0[i];
+  qs->h_prev = h;
+  st->last_step.iterations += ns.last_iterations;
+  st->last_step.increments++;
+  if (ratio) {
+    st->last_step.ratio = qs->ratio;
+    st->last_step.force = qs->force;
+    st->last_step.reaction = qs->reaction;
+    st->last_step.loose += qs->loose;
+    /* The peak of the reaction norm: from the next increment on, the loose tolerance. */
+    if (st->opt.peak_drop >= 0.0 && qs->reaction < (1.0 - st->opt.peak_drop) * st->reaction_max) st->post_peak = 1;
+    st->reaction_max = fmax(st->reaction_max, qs->reaction);
+  }
   memcpy(st->u, qs->x, bytes);
   TL_CHECK(sys->ops->external_force(sys, st->t_new, st->u, st->f_ext));
   for (TlSparseIndex i = 0; i < st->n; ++i)
@@ -104,6 +218,7 @@ static TlStatus qs_step(TlStepper *st, double dt)
   const double t_end = st->t + dt;
   double h = dt;
   int cuts = 0;
+  memset(&st->last_step, 0, sizeof st->last_step);
   while (st->t < t_end - 1e-14 * fabs(t_end)) {
     h = fmin(h, t_end - st->t);
     TlStatus s = qs_increment(st, h);
@@ -116,11 +231,13 @@ static TlStatus qs_step(TlStepper *st, double dt)
                why, cuts, h);
     }
     ++cuts;
+    st->last_step.cuts++;
     st->stats.rejected++;
     h *= 0.5;
     tl_newton_invalidate(st->newton);
   }
   st->t = t_end;
+  st->last_step.post_peak = st->post_peak;
   return TL_OK;
 }
 
@@ -130,6 +247,8 @@ static void qs_destroy(TlStepper *st)
   if (!qs) return;
   tl_free(&qs->x);
   tl_free(&qs->zero);
+  tl_free(&qs->dirichlet);
+  tl_free(&qs->du);
   tl_free(&st->impl);
 }
 
