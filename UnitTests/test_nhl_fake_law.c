@@ -12,6 +12,7 @@
  *     same Newton iterations, converging quadratically. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "talus.h"
@@ -90,6 +91,80 @@ static void check_point(TlMaterial *law)
   tl_material_destroy(&m6);
 }
 
+/* The re-evaluation callback of a direct operator call: the analytic law. */
+static TlStatus law_eval(void *ctx, TlNhlEvalMode mode, TlMat3 F, TlMat3 *sigma, TlNhlEvalStats *es)
+{
+  (void)mode, (void)es;
+  return hooke_cauchy(ctx, F, sigma);
+}
+
+/* aeo: the cto while pre-peak, accumulated in the point's state across
+ * committed steps; post-peak the average of those, whatever F. */
+static void check_aeo(TlMaterial *law)
+{
+  TlMaterial *m = NULL;
+  TL_TEST_STATUS(tl_material_create("dem_cell", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_STATUS(tl_nhl_material_set_analytic(m, hooke_cauchy, law), TL_OK);
+  TL_TEST_STATUS(tl_nhl_material_set_operator(m, "aeo"), TL_OK);
+  TL_TEST_STATUS(tl_nhl_operator_set(tl_nhl_material_operator(m), "eps", 1e-6), TL_OK);
+  TL_TEST_STATUS(tl_material_setup(m), TL_OK);
+  TlNhlOperator *cto = NULL;
+  TL_TEST_STATUS(tl_nhl_operator_create("cto", &cto), TL_OK);
+  TL_TEST_STATUS(tl_nhl_operator_set(cto, "eps", 1e-6), TL_OK);
+  TL_TEST_STATUS(tl_nhl_operator_setup(cto), TL_OK);
+  const size_t ss = m->state_size;
+  TL_TEST_ASSERT(ss == TL_NHL_STATE_OPERATOR + 82, "aeo keeps %zu doubles per point (82 expected)", ss - TL_NHL_STATE_OPERATOR);
+  double *so = calloc(ss, sizeof *so), *sn = calloc(ss, sizeof *sn);
+  TL_TEST_STATUS(m->ops->init_state(m, 1, so), TL_OK);
+  TlMat3 Fk[4] = {tl_m3_identity(), tl_m3_identity(), tl_m3_identity(), tl_m3_identity()};
+  Fk[0].m[0][0] = 0.99, Fk[1].m[0][0] = 0.97, Fk[1].m[0][1] = 0.02, Fk[2].m[0][0] = 0.95, Fk[3].m[1][1] = 1.04;
+  double cavg[81] = {0}, D[4][36];
+  TlMat3 S[4];
+  tl_nhl_material_set_regime(m, 1);
+  for (int k = 0; k < 2; ++k) {
+    TL_TEST_STATUS(tl_material_evaluate(m, 1, &Fk[k], so, sn, &S[k], D[k], NULL), TL_OK);
+    TL_TEST_STATUS(m->ops->commit(m, 1, sn), TL_OK);
+    memcpy(so, sn, ss * sizeof *so);
+    /* the cto at the same state, by a direct call */
+    TlNhlOperatorInput in = {NULL, 3, Fk[k], tl_nhl_pk2_to_cauchy(Fk[k], S[k]), law_eval, law, 0, 1};
+    double c[81];
+    TlNhlOperatorStats ost;
+    memset(&ost, 0, sizeof ost);
+    TL_TEST_STATUS(cto->ops->compute(cto, &in, NULL, NULL, c, &ost), TL_OK);
+    for (int q = 0; q < 81; ++q) cavg[q] += 0.5 * c[q];
+  }
+  TL_TEST_ASSERT(so[TL_NHL_STATE_OPERATOR + 81] == 2.0, "aeo counted %g pre-peak steps (2)", so[TL_NHL_STATE_OPERATOR + 81]);
+  tl_nhl_material_set_regime(m, 0);
+  double err = 0.0, big = 0.0;
+  for (int k = 2; k < 4; ++k) {
+    TL_TEST_STATUS(tl_material_evaluate(m, 1, &Fk[k], so, sn, &S[k], D[k], NULL), TL_OK);
+    double Dexp[36];
+    tl_nhl_operator_to_D(cavg, Fk[k], tl_nhl_pk2_to_cauchy(Fk[k], S[k]), Dexp);
+    for (int q = 0; q < 36; ++q) err = fmax(err, fabs(D[k][q] - Dexp[q])), big = fmax(big, fabs(Dexp[q]));
+  }
+  TL_TEST_ASSERT(sn[TL_NHL_STATE_OPERATOR + 81] == 2.0, "post-peak aeo changed its count to %g", sn[TL_NHL_STATE_OPERATOR + 81]);
+  printf("aeo: post-peak D against the average of the two pre-peak cto's: %.2e relative\n", err / big);
+  /* the last cto alone differs from the average (the steps' strains) */
+  double dlast = 0.0;
+  double Dl[36];
+  {
+    TlNhlOperatorInput in = {NULL, 3, Fk[1], tl_nhl_pk2_to_cauchy(Fk[1], S[1]), law_eval, law, 0, 1};
+    double c[81];
+    TlNhlOperatorStats ost;
+    memset(&ost, 0, sizeof ost);
+    TL_TEST_STATUS(cto->ops->compute(cto, &in, NULL, NULL, c, &ost), TL_OK);
+    tl_nhl_operator_to_D(c, Fk[2], tl_nhl_pk2_to_cauchy(Fk[2], S[2]), Dl);
+    for (int q = 0; q < 36; ++q) dlast = fmax(dlast, fabs(D[2][q] - Dl[q]));
+  }
+  printf("aeo: the last pre-peak cto alone differs by %.2e relative\n", dlast / big);
+  TL_TEST_ASSERT(dlast > 1e-4 * big, "the test cannot tell the average from the last cto (%g of %g)", dlast, big);
+  TL_TEST_ASSERT(err <= 1e-9 * big, "post-peak aeo is not the average of the pre-peak cto's (%g of %g)", err, big);
+  free(so), free(sn);
+  tl_nhl_operator_destroy(&cto);
+  tl_material_destroy(&m);
+}
+
 typedef struct {
   double u[200];
   int n;
@@ -157,6 +232,7 @@ int main(void)
   TL_TEST_STATUS(tl_material_set(law, "nu", 0.3), TL_OK);
   TL_TEST_STATUS(tl_material_setup(law), TL_OK);
   check_point(law);
+  check_aeo(law);
 
   Solution plain, plumbed;
   solve(law, &plain);

@@ -14,9 +14,15 @@
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "talus.h"
 #include "tl_nhl_cell.h"
+#include "tl_nhl_material.h"
+#include "tl_solid.h"
+#include "tl_stepper.h"
 #include "tl_test.h"
 
 static double asym(TlMat3 s)
@@ -169,6 +175,26 @@ static void test_states(TlNhlCell *c, const char *label)
   if (dim == 2)
     TL_TEST_ASSERT(s1.m[2][2] == 0.0 && s1.m[0][2] == 0.0 && s1.m[1][2] == 0.0, "%s: out-of-plane stress %g %g %g",
                    label, s1.m[2][2], s1.m[0][2], s1.m[1][2]);
+  /* a DEMQO probe from the trial state: another stress, the world and the
+   * friction back as they were */
+  {
+    Snapshot *tr = calloc(1, sizeof *tr);
+    snap(c, tr);
+    TlMat3 Fp = F1, sp;
+    Fp.m[0][0] -= 1e-5;
+    TlNhlCellStats pst;
+    TL_TEST_STATUS(tl_nhl_cell_probe(c, Fp, &sp, &pst), TL_OK);
+    snap(c, x);
+    double mu = 0.0;
+    TL_TEST_STATUS(tl_contact_law_get(tl_nhl_cell_law(c), "mu", &mu), TL_OK);
+    printf("%s: probe of 1e-5: %ld steps, d sigma_11 / d eps = %.4g Pa\n", label, pst.dem_steps,
+           (sp.m[0][0] - s1.m[0][0]) / -1e-5);
+    TL_TEST_ASSERT(same_snap(tr, x), "%s: the probe left the world changed", label);
+    TL_TEST_ASSERT(mu == 0.5, "%s: friction %g after the probe (0.5)", label, mu);
+    TL_TEST_ASSERT((sp.m[0][0] - s1.m[0][0]) / -1e-5 > 0.0, "%s: a probe in compression did not compress (%g)", label,
+                   sp.m[0][0] - s1.m[0][0]);
+    free(tr);
+  }
   /* the same path again: the same bits (it starts from the committed state) */
   TL_TEST_STATUS(tl_nhl_cell_evaluate(c, F1, &s1b, NULL), TL_OK);
   TL_TEST_ASSERT(same_bits(s1, s1b), "%s: two evaluations at the same F differ", label);
@@ -211,6 +237,7 @@ static void test_states(TlNhlCell *c, const char *label)
                    "(sigma_xx %.17g vs %.17g)", label, s2c.m[0][0], s2.m[0][0]);
   }
   tl_checkpoint_reader_close(&r);
+  tl_nhl_cell_destroy(&copy);
   unlink(path);
   /* and the original, from its committed F1, gives the same bits again */
   TL_TEST_STATUS(tl_nhl_cell_evaluate(c, F2, &s2b, NULL), TL_OK);
@@ -230,6 +257,181 @@ static void test_states(TlNhlCell *c, const char *label)
                  label, sp.relax_steps, st.relax_steps);
   TL_TEST_REL(sp.pressure, st.pressure, 1e-2);
   free(c0), free(c1), free(t2), free(x);
+}
+
+/* The material in a solid: one hex8 element, an FCC cell (32 spheres,
+ * central springs) at each of its 8 Gauss points, under its confining
+ * pressure plus an axial load, Newton with the cto; a restart
+ * from the stepper's checkpoint (which holds the solid's, which holds the
+ * cells) continues bit for bit. */
+typedef struct {
+  TlMesh *mesh;
+  TlMaterial *m;
+  TlSolid *solid;
+  TlStepper *st;
+} Block;
+
+static double ramp(double t, void *ctx)
+{
+  (void)ctx;
+  return t;
+}
+
+static TlStatus block_create(const TlNhlPacking *p, Block *b)
+{
+  memset(b, 0, sizeof *b);
+  if (p->dim == 3) {
+    size_t n[3] = {1, 1, 1};
+    double lo[3] = {0, 0, 0}, hi[3] = {0.1, 0.1, 0.1};
+    TL_CHECK(tl_mesh_create_box(&tl_element_hex8, n, lo, hi, &b->mesh));
+  } else {
+    size_t n[2] = {1, 1};
+    double lo[2] = {0, 0}, hi[2] = {0.1, 0.1};
+    TL_CHECK(tl_mesh_create_rectangle(&tl_element_quad4, n, lo, hi, &b->mesh));
+  }
+  TL_CHECK(tl_material_create("dem_cell", &b->m));
+  TL_CHECK(tl_material_set(b->m, "inertial", 1e-2));
+  TL_CHECK(tl_nhl_material_set_packing(b->m, p));
+  TL_CHECK(tl_nhl_material_set_operator(b->m, "cto"));
+  TL_CHECK(tl_solid_create(b->mesh, &b->solid));
+  TL_CHECK(tl_solid_set_material(b->solid, NULL, b->m));
+  TL_CHECK(tl_solid_fix(b->solid, "xmin", 1));
+  TL_CHECK(tl_solid_fix(b->solid, "ymin", 2));
+  if (p->dim == 3) TL_CHECK(tl_solid_fix(b->solid, "zmin", 4));
+  /* the cells' confinement, balanced at u = 0, and 20 % more axially */
+  const double s0 = p->pressure;
+  TL_CHECK(tl_solid_add_traction(b->solid, "xmax", tl_v3(-s0, 0, 0), NULL, NULL));
+  TL_CHECK(tl_solid_add_traction(b->solid, "ymax", tl_v3(0, -s0, 0), NULL, NULL));
+  if (p->dim == 3) TL_CHECK(tl_solid_add_traction(b->solid, "zmax", tl_v3(0, 0, -s0), NULL, NULL));
+  TL_CHECK(tl_solid_add_traction(b->solid, "xmax", tl_v3(-0.2 * s0, 0, 0), ramp, NULL));
+  TL_CHECK(tl_solid_setup(b->solid));
+  TlStepperOptions o;
+  tl_stepper_options_default(&o);
+  o.rtol = 1e-8; /* a lattice of central springs: no relaxation noise */
+  o.solver = "klu";
+  o.max_iterations = 20;
+  TL_CHECK(tl_stepper_create("quasi_static", tl_solid_system(b->solid), &o, &b->st));
+  TL_CHECK(tl_stepper_set_state(b->st, 0.0, NULL, NULL));
+  return TL_OK;
+}
+
+static void block_destroy(Block *b)
+{
+  tl_stepper_destroy(&b->st);
+  tl_solid_destroy(&b->solid);
+  tl_material_destroy(&b->m);
+  tl_mesh_destroy(&b->mesh);
+}
+
+static void test_solid_restart(void)
+{
+  TlNhlPacking p;
+  tl_nhl_packing_default(&p);
+  p.kind = "fcc", p.dim = 3, p.n_side = 2, p.mu = 0.0;
+  Block a, b;
+  double t0 = tl_wtime();
+  TL_TEST_STATUS(block_create(&p, &a), TL_OK);
+  if (!a.st) {
+    block_destroy(&a);
+    return;
+  }
+  TL_TEST_ASSERT(tl_nhl_material_n_cells(a.m) == 8, "hex8: %zu cells (8 Gauss points)", tl_nhl_material_n_cells(a.m));
+  TL_TEST_STATUS(tl_stepper_step(a.st, 0.5), TL_OK);
+  {
+    const double *h = NULL;
+    int nh = tl_newton_history(a.st->newton, &h);
+    printf("solid: step 1 residuals");
+    for (int k = 0; k < nh; ++k) printf(" %.2e", h[k]);
+    printf("\n");
+    TL_TEST_ASSERT(nh >= 3 && h[nh - 1] < 1e-6 * h[0], "step 1: %d residuals, the last %g of %g", nh, h[nh - 1], h[0]);
+  }
+  char path[256];
+  snprintf(path, sizeof path, "test_nhl_path_solid_%d.h5", (int)getpid());
+  TlCheckpoint *cp = NULL;
+  TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, a.st), TL_OK);
+  TL_TEST_STATUS(tl_checkpoint_save(cp, path, a.st->t, 1), TL_OK);
+  tl_checkpoint_destroy(&cp);
+  TL_TEST_STATUS(tl_stepper_step(a.st, 0.5), TL_OK);
+  TlStepperStats sa;
+  tl_stepper_get_stats(a.st, &sa);
+  TlNhlMaterialTotals tot;
+  tl_nhl_material_totals(a.m, &tot, 0);
+  const double ux = a.st->u[0];
+  printf("solid: 8 fcc cells of %ld spheres, 2 load steps, %ld Newton iterations, %ld cell evaluations, %ld DEM steps, "
+         "%.2f s\n", 4 * p.n_side * p.n_side * p.n_side, sa.newton_iterations, tot.evaluations, tot.dem_steps, tl_wtime() - t0);
+  TL_TEST_STATUS(block_create(&p, &b), TL_OK);
+  if (b.st) {
+    TL_TEST_STATUS(tl_checkpoint_create(&cp), TL_OK);
+    TL_TEST_STATUS(tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, b.st), TL_OK);
+    TL_TEST_STATUS(tl_checkpoint_load(cp, path, NULL, NULL), TL_OK);
+    tl_checkpoint_destroy(&cp);
+    /* the cells were loaded: the committed F of a point is the one of step 1 */
+    TlMat3 Fa = tl_nhl_cell_committed_F(tl_nhl_material_cell(b.m, 0));
+    TL_TEST_ASSERT(Fa.m[0][0] < 1.0, "the restarted cell 0 is not compressed (F_11 = %.17g)", Fa.m[0][0]);
+    TL_TEST_STATUS(tl_stepper_step(b.st, 0.5), TL_OK);
+    TL_TEST_ASSERT(a.st->n == b.st->n && !memcmp(a.st->u, b.st->u, (size_t)a.st->n * sizeof *a.st->u),
+                   "the restarted run differs (u_0 %.17g vs %.17g)", b.st->u[0], a.st->u[0]);
+    int same = 1;
+    for (size_t k = 0; k < 8; ++k) {
+      TlMat3 x = tl_nhl_cell_committed_stress(tl_nhl_material_cell(a.m, k));
+      TlMat3 y = tl_nhl_cell_committed_stress(tl_nhl_material_cell(b.m, k));
+      same &= same_bits(x, y);
+    }
+    TL_TEST_ASSERT(same, "the restarted cells' stresses differ");
+  }
+  TL_TEST_ASSERT(ux != 0.0 && isfinite(ux), "no displacement (u_0 = %g)", ux);
+  unlink(path);
+  block_destroy(&a);
+  block_destroy(&b);
+}
+
+/* evaluate() from two threads on distinct points gives the bits of a
+ * serial run (each cell is single-threaded and owns its world). */
+static void test_threads(void)
+{
+  TlNhlPacking p;
+  tl_nhl_packing_default(&p);
+  p.kind = "random", p.dim = 3, p.n = 40, p.seed = 7;
+  TlMaterial *m = NULL;
+  TL_TEST_STATUS(tl_material_create("dem_cell", &m), TL_OK);
+  if (!m) return;
+  TL_TEST_STATUS(tl_material_set(m, "inertial", 1e-3), TL_OK);
+  TL_TEST_STATUS(tl_nhl_material_set_packing(m, &p), TL_OK);
+  TL_TEST_STATUS(tl_nhl_material_set_operator(m, "uko"), TL_OK);
+  TL_TEST_STATUS(tl_material_setup(m), TL_OK);
+  enum { NP = 4 };
+  const size_t ss = m->state_size;
+  double *so = calloc(NP * ss, sizeof *so), *sn = calloc(NP * ss, sizeof *sn);
+  TL_TEST_STATUS(m->ops->init_state(m, NP, so), TL_OK);
+  TlMat3 F[NP], S1[NP], S2[NP];
+  double D1[36 * NP], D2[36 * NP];
+  for (int q = 0; q < NP; ++q) {
+    F[q] = tl_m3_identity();
+    F[q].m[0][0] = 1.0 - 5e-4 * (q + 1), F[q].m[0][1] = 2e-4 * q;
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    TlMat3 *S = pass ? S2 : S1;
+    double *D = pass ? D2 : D1;
+    int bad = 0, used = 0;
+#pragma omp parallel for num_threads(pass ? 2 : 1) schedule(static, 1) reduction(+ : bad) reduction(| : used)
+    for (int q = 0; q < NP; ++q) {
+      bad += tl_material_evaluate(m, 1, &F[q], so + q * ss, sn + q * ss, &S[q], D + 36 * q, NULL) != TL_OK;
+#ifdef _OPENMP
+      used |= 1 << omp_get_thread_num();
+#else
+      used |= 1;
+#endif
+    }
+    if (pass) TL_TEST_ASSERT(used == 3, "the parallel pass ran on threads mask %d (two expected)", used);
+    TL_TEST_ASSERT(bad == 0, "pass %d: %d evaluations failed: %s", pass, bad, tl_error_message());
+    TL_TEST_STATUS(m->ops->rollback(m, NP, so), TL_OK);
+  }
+  TL_TEST_ASSERT(!memcmp(S1, S2, sizeof S1) && !memcmp(D1, D2, sizeof D1),
+                 "two threads gave other bits than one (S_11 of point 0: %.17g vs %.17g)", S2[0].m[0][0], S1[0].m[0][0]);
+  TL_TEST_ASSERT(S1[0].m[0][0] != S1[3].m[0][0], "the points' stresses do not depend on their F");
+  free(so), free(sn);
+  tl_material_destroy(&m);
 }
 
 int main(void)
@@ -256,5 +458,7 @@ int main(void)
   printf("random 2-D: %zu disks prepared in %.2f s\n", c ? tl_nhl_cell_n_particles(c) : 0, tl_wtime() - t0);
   if (c) test_states(c, "disks");
   tl_nhl_cell_destroy(&c);
+  test_solid_restart();
+  test_threads();
   return tl_test_report();
 }

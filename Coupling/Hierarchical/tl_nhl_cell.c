@@ -505,23 +505,36 @@ TlStatus tl_nhl_cell_probe(TlNhlCell *cell, TlMat3 F_f, TlMat3 *sigma, TlNhlCell
   const int back = cell->world_state;
   TlMat3 F0 = tl_nhl_cell_current_F(cell), s0;
   TL_CHECK(tl_nhl_cell_stress(cell, &s0, NULL));
-  /* a probe of a frictionless law stays frictionless (no history to keep) */
-  double mu = 0.0;
-  TL_CHECK(tl_contact_law_get(cell->world.law, "mu", &mu));
-  if (mu > 0.0) {
-    TL_CHECK(tl_contact_law_set(cell->world.law, "mu", TL_NHL_PROBE_MU));
-    TL_CHECK(tl_contact_law_setup(cell->world.law));
+  /* every law of the world with friction sticks; a frictionless one stays
+   * so (it has no history to keep) */
+  enum { MAX_LAWS = 64 };
+  const int nl = tl_dem_n_laws(cell->world.dem);
+  if (nl > MAX_LAWS) TL_ERROR(TL_ERR_ARG, "NHL cell probe: %d contact laws (at most %d)", nl, MAX_LAWS);
+  double mu[MAX_LAWS];
+  for (int k = 0; k < nl; ++k) {
+    TlContactLaw *law = tl_dem_law(cell->world.dem, k);
+    mu[k] = 0.0;
+    if (tl_contact_law_get(law, "mu", &mu[k]) != TL_OK) { /* a law without friction */
+      mu[k] = 0.0;
+      tl_error_clear();
+    }
+    if (mu[k] > 0.0) {
+      TL_CHECK(tl_contact_law_set(law, "mu", TL_NHL_PROBE_MU));
+      TL_CHECK(tl_contact_law_setup(law));
+    }
   }
   cell->world_state = WORLD_OTHER;
   TlStatus s = drive(cell, F0, s0, F_f, stats);
   if (s == TL_OK) s = tl_nhl_cell_relax(cell, stats);
   cell->world_state = WORLD_OTHER;
   if (s == TL_OK) s = finish(cell, sigma, stats, t0);
-  if (mu > 0.0) {
-    TlStatus s2 = tl_contact_law_set(cell->world.law, "mu", mu);
-    if (s2 == TL_OK) s2 = tl_contact_law_setup(cell->world.law);
-    if (s == TL_OK) s = s2;
-  }
+  for (int k = 0; k < nl; ++k)
+    if (mu[k] > 0.0) {
+      TlContactLaw *law = tl_dem_law(cell->world.dem, k);
+      TlStatus s2 = tl_contact_law_set(law, "mu", mu[k]);
+      if (s2 == TL_OK) s2 = tl_contact_law_setup(law);
+      if (s == TL_OK) s = s2;
+    }
   TL_CHECK(s);
   /* back to where the probe started: the trial (or committed) state */
   if (back == WORLD_TRIAL || back == WORLD_COMMITTED) TL_CHECK(restore(cell, back));

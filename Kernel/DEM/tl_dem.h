@@ -134,6 +134,36 @@ int tl_dem_dimension(const TlDem *dem);
  * meant for cells of up to some 10⁴ particles. */
 TlStatus tl_dem_insert_gas(TlDem *dem, int species, size_t n, uint64_t seed, long max_attempts, size_t *placed);
 
+/* Isotropic compression of a periodic cell (deformable or planar; set up)
+ * to a mean pressure, then relaxation under a pressure servo, the way a
+ * packing is prepared: the cell shrinks at ḣ = -rate h (rate_fast far below
+ * the target, blended towards `rate` as the pressure rises); once the target
+ * is reached the rate follows the pressure error (clamped to ±rate), until
+ * the pressure is within pressure_tolerance of the target and every
+ * particle's static balance Δ_n (seeds/004 Eq. 19) is below `tolerance`, or
+ * max_steps.  The pressure is -tr(σ)/d with d the dimension, contact and
+ * kinetic parts (N/m in 2-D, Pa in 3-D).  The cell's rate is zero on
+ * return.  The servo settles when one control interval strains the cell by
+ * much less than the packing's elastic strain at the target (about
+ * overlap / diameter): rate · control_every · dt ≪ P / k_n (2-D, linear
+ * springs); a faster rate makes it swing between compression and expansion
+ * (seeds/004 Eq. 18 with I ≈ 1e-5 near the target and 3e-3 for the gas
+ * suit 400 disks, Benchmarks/cell_vs_yade). */
+typedef struct {
+  double pressure;           /* target (Pa; N/m in 2-D), > 0 */
+  double rate, rate_fast;    /* strain rates near and far from the target (1/s), > 0 */
+  double tolerance;          /* Δ_n of every particle, e.g. 1e-3 */
+  double pressure_tolerance; /* relative, e.g. 1e-2 */
+  long control_every;        /* steps between servo updates, >= 1 */
+  long max_steps;
+} TlDemCompress;
+typedef struct {
+  long steps;
+  int converged;
+  double pressure, max_imbalance, solid_fraction, coordination;
+} TlDemCompressResult;
+TlStatus tl_dem_compress(TlDem *dem, const TlDemCompress *c, TlDemCompressResult *result);
+
 /* Takes ownership of the law; *index receives its number. */
 TlStatus tl_dem_add_law(TlDem *dem, TlContactLaw *law, int *index);
 /* Contacts between species a and b use law `law`. */

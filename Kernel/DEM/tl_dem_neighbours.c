@@ -246,6 +246,16 @@ int tl_dem_needs_rebuild(TlDem *d)
       }
     strain = sqrt(strain);
     TlVec3 o = d->domain.origin;
+    if (d->dim == 2) {
+      /* the plane only: z is inert */
+      const double a00 = A.m[0][0], a01 = A.m[0][1], a10 = A.m[1][0], a11 = A.m[1][1];
+      for (size_t i = 0; i < P->n; ++i) {
+        const double px = d->x_build[i].x - o.x, py = d->x_build[i].y - o.y;
+        const double dx = P->x[i].x - (o.x + a00 * px + a01 * py), dy = P->x[i].y - (o.y + a10 * px + a11 * py);
+        const double m = dx * dx + dy * dy;
+        if (m > max2) max2 = m;
+      }
+    } else
     for (size_t i = 0; i < P->n; ++i) {
       TlVec3 xa = tl_v3_add(o, tl_m3_mulv(A, tl_v3_sub(d->x_build[i], o)));
       double m = tl_v3_norm2(tl_v3_sub(P->x[i], xa));

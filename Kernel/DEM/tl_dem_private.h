@@ -7,6 +7,7 @@
  *   tl_dem_step.c        time integration
  *   tl_dem_insert.c      insertion and removal of particles
  *   tl_dem_gas.c         random sequential insertion of a loose gas
+ *   tl_dem_compress.c    isotropic compression of a cell to a pressure
  *   tl_dem_diagnostics.c energy, stress, coordination, visitors, statistics
  *   tl_dem_checkpoint.c  checkpoint save and load */
 #ifndef TL_DEM_PRIVATE_H
