@@ -247,10 +247,10 @@ static TlStatus run(int argc, char **argv)
   tl_summary_int(&sum, "talus_contacts", (long)st.n_contacts);
   tl_summary_int(&sum, "yade_contacts", ycontacts);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

@@ -211,11 +211,11 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "ratio", t3 / t2);
   tl_summary_real(&sum, "stress_difference", d / nrm);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_free(&pk.x);
   tl_free(&pk.radius);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

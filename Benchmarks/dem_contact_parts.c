@@ -168,8 +168,7 @@ static TlStatus run(int argc, char **argv)
          ns[6] / ns[5]);
   tl_summary_real(&sum, "outside_over_builtin", ns[4] / ns[3]);
   tl_summary_real(&sum, "outside_over_builtin_coulomb", ns[6] / ns[5]);
-  tl_summary_print(&sum, stdout);
-  return TL_OK;
+  return tl_summary_print(&sum, stdout);
 }
 
 int main(int argc, char **argv)

@@ -306,11 +306,11 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "energy_on_over_off", energy);
   tl_summary_int(&sum, "frictionless_lean", lean);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_free(&pk.x);
   tl_free(&pk.radius);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

@@ -126,9 +126,9 @@ static TlStatus run(int argc, char **argv)
   tl_summary_int(&sum, "threads", threads);
   tl_summary_real(&sum, "flatness", hi / lo);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

@@ -118,7 +118,7 @@ static TlStatus run(int argc, char **argv)
     tl_summary_real(&sum, key, mod.step);
   }
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 done:
   tl_options_destroy(&o);
   return s;

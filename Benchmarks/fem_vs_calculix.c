@@ -335,7 +335,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "dynamic_diff", rel(dyn.talus, dyn.ccx));
   tl_summary_real(&sum, "dynamic_time_ratio", dyn.t_talus / dyn.t_ccx);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 done:
   tl_options_destroy(&o);
   return s;

@@ -405,6 +405,6 @@ int main(int argc, char **argv)
   TlSummary summary;
   tl_summary_init(&summary);
   TlStatus status = run(argc, argv, &summary);
-  if (status == TL_OK) tl_summary_print(&summary, stdout);
+  if (status == TL_OK) status = tl_summary_print(&summary, stdout);
   return tl_driver_exit(status);
 }

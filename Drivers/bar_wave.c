@@ -108,6 +108,22 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when the speed misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 1.0, "", "relative tolerance for -check", &tol), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  if (!(pulse.v0 > 0.0)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-v0 %g m/s: a pulse of zero amplitude makes no wave to time", pulse.v0);
+    goto done;
+  }
+  {
+    /* The pulse must span a few elements, or no wave the mesh can carry is
+     * timed (the arrival is then a numerical precursor). */
+    const double dy = L / (double)ny / (elem ? 2.0 : 1.0), span = sqrt(E / rho) * 2.0 * M_PI / pulse.omega;
+    if (!(span >= 4.0 * dy)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "-omega %g rad/s: the pulse is %.3g m long, under 4 node spacings of %.3g m; at most -omega %.4g "
+                       "rad/s on this mesh",
+                       pulse.omega, span, dy, 2.0 * M_PI * sqrt(E / rho) / (4.0 * dy));
+      goto done;
+    }
+  }
   if (!(y2f > y1f)) {
     s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-station2 %g must exceed -station1 %g", y2f, y1f);
     goto done;
@@ -197,7 +213,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "dt", dt);
   tl_summary_int(&sum, "steps", steps);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (check && !(fabs(err) <= tol)) {
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
                      "measured speed %.6g differs from sqrt(E/rho) = %.6g by %.3g (tolerance %g)",

@@ -40,6 +40,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
@@ -125,6 +126,25 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->beam.ny = (size_t)ny;
   c->beam.nz = (size_t)nz;
   c->solver = solvers[solver];
+  if ((mode == MODE_ALL || mode == MODE_SMALL || mode == MODE_VIBRATION) && !(c->beam.load > 0.0)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-tip_load %g N: the small mode compares the deflection under it with Timoshenko's and the "
+                     "vibration mode releases the beam from it; it must be > 0", c->beam.load);
+    goto done;
+  }
+  if (mode == MODE_ALL || mode == MODE_VIBRATION) {
+    /* Newmark is stable at any step, but a step that does not resolve the
+     * first period measures nothing: at least 20 steps per period. */
+    double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c->beam);
+    if (!(c->dt <= T1 / 20.0)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "-dt %g s does not resolve the first bending period T1 = %.4g s: at most T1 / 20 = %.4g s",
+                       c->dt, T1, T1 / 20.0);
+      goto done;
+    }
+  }
+  /* -periods is the vibration's end time */
+  TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-periods"), done);
   c->options = o;
   return TL_OK;
 done:
@@ -428,6 +448,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
                            {"total", "J"}};
   TL_CHECK_GOTO(s, open_table(c, "vibration", 5, cols, &ts), done);
   TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c->options), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "newmark", &tl_stepper_checkpoint_ops, nm), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "vibration_table", &tl_timeseries_checkpoint_ops, ts), done);
   if (sn.out) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "snapshots", &tl_solid_output_checkpoint_ops, sn.out), done);
@@ -483,8 +504,9 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   double *t_cross = vs.t_cross, drift = vs.drift;
   long n_cross = (long)vs.n_cross;
   double wall = tl_wtime() - t0;
-  /* Successive zero crossings are half a period apart. */
-  double period = n_cross >= 2 ? 2.0 * (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : NAN;
+  /* Successive zero crossings are half a period apart: two are needed. */
+  int have_period = n_cross >= 2;
+  double period = have_period ? 2.0 * (t_cross[n_cross - 1] - t_cross[0]) / (n_cross - 1) : 0.0;
   /* drift: the largest |E(t) - E(0)| / E(0) over the run; per period: that
    * divided by the number of periods run (at least one). */
   double periods_run = (double)vs.step * c->dt / T1;
@@ -492,11 +514,23 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   TlStepperStats ss;
   tl_stepper_get_stats(nm, &ss);
   printf("free vibration: %ld Newmark steps of %g s (%.2f s wall, %ld Newton iterations, %ld "
-         "factorisations); period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%); largest energy "
-         "deviation %.2e (%.2e per period)\n",
-         (long)vs.step, c->dt, wall, ss.newton_iterations, ss.factorisations, period, T1,
-         100.0 * (period - T1) / T1, drift, drift_per_period);
-  tl_summary_real(sum, "period", period);
+         "factorisations); ",
+         (long)vs.step, c->dt, wall, ss.newton_iterations, ss.factorisations);
+  if (have_period)
+    printf("period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%)", period, T1, 100.0 * (period - T1) / T1);
+  else
+    printf("period undefined (the tip crossed zero %ld time%s in %.3g s; two crossings are needed: "
+           "-periods 1 or more), Euler-Bernoulli %.5f s",
+           n_cross, n_cross == 1 ? "" : "s", (double)vs.step * c->dt, T1);
+  printf("; largest energy deviation %.2e (%.2e per period)\n", drift, drift_per_period);
+  int stopped = vs.step < steps; /* -stop_step: a part of a run, to be continued by -restart */
+  if (stopped)
+    tl_summary_int(sum, "stopped_at", vs.step);
+  else if (have_period)
+    tl_summary_real(sum, "period", period);
+  else
+    tl_summary_undefined(sum, "period", "the tip crossed zero %ld time%s; two crossings are needed (-periods 1 or more)",
+                         n_cross, n_cross == 1 ? "" : "s");
   tl_summary_real(sum, "period_eb", T1);
   tl_summary_real(sum, "energy_error_max", drift);
   tl_summary_real(sum, "energy_error_per_period", drift_per_period);
@@ -536,7 +570,7 @@ static TlStatus run(int argc, char **argv)
   if (c.mode == MODE_MODAL) TL_CHECK_GOTO(s, run_modal(&c, &sum, &failed), done);
   if (c.mode == MODE_NLGEOM) TL_CHECK_GOTO(s, run_large(&c, 1, &sum, &failed), done);
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (failed) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "a -check criterion failed (see above)");
 done:
   tl_options_destroy(&c.options);

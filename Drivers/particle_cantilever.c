@@ -27,6 +27,7 @@
 #include <string.h>
 #include <time.h>
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
 #include "tl_io.h"
@@ -149,6 +150,18 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                       &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  /* The particles must start on the beam, or the run measures nothing. */
+  if (!(c->x0 + fabs(c->perturb) <= 0.5 * c->beam.b)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-x0 %g m (with -perturb %g m) puts a particle beside the beam: |x| must be at most half the "
+                     "width, %g m", c->x0, c->perturb, 0.5 * c->beam.b);
+    goto done;
+  }
+  if (!(c->y0 < c->beam.L)) {
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-y0 %g m puts the particles beyond the beam's free end at y = L = %g m", c->y0, c->beam.L);
+    goto done;
+  }
   c->kernel = kernels[kernel];
   c->beam.nx = (size_t)nx;
   c->beam.ny = (size_t)ny;
@@ -339,6 +352,7 @@ static TlStatus run(int argc, char **argv)
   /* Checkpoint: the beam's stepper, the world, the loop, the tables, the
    * snapshot series and the running diagnostics. */
   TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c.options), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, st), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
   TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "coupling", &tl_coupled_loop_checkpoint_ops, loop), done);
@@ -433,10 +447,14 @@ static TlStatus run(int argc, char **argv)
   const double err_avg = err_time > 0.0 ? err_int / err_time : NAN;
   const double wall = tl_wtime() - wall0;
   const double cpu = (double)(clock() - cpu0) / CLOCKS_PER_SEC;
-  printf("%ld coupled steps to t = %.4g s; particles leave the beam at t = %.4g s; err_avg = %.4g m, "
+  char off[64];
+  if (isnan(t_off))
+    snprintf(off, sizeof off, "particles stay on the beam");
+  else
+    snprintf(off, sizeof off, "particles leave the beam at t = %.4g s", t_off);
+  printf("%ld coupled steps to t = %.4g s; %s; err_avg = %.4g m, "
          "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
-         step, tl_coupled_loop_time(loop), t_off, err_avg, sym_dev, E_max,
-         d.e0[5]);
+         step, tl_coupled_loop_time(loop), off, err_avg, sym_dev, E_max, d.e0[5]);
   TlStepperStats fs;
   tl_stepper_get_stats(st, &fs);
   printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
@@ -450,10 +468,13 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "err_avg", err_avg);
   tl_summary_real(&sum, "sym_dev", sym_dev);
   tl_summary_real(&sum, "E_max", E_max);
-  tl_summary_real(&sum, "t_off", t_off);
+  if (isnan(t_off))
+    tl_summary_string(&sum, "t_off", "none"); /* the particles stay on the beam to the end */
+  else
+    tl_summary_real(&sum, "t_off", t_off);
   tl_summary_real(&sum, "cpu", cpu);
   tl_summary_real(&sum, "wall", wall);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 done:
   if (traj) {
     TlStatus s2 = tl_timeseries_close(&traj);

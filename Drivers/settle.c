@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_particle_snapshot.h"
@@ -35,7 +36,7 @@
 
 typedef struct {
   long n;
-  double d_min, d_max, density, E, box, height, t_end, dt_fraction;
+  double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance;
   long snapshots, samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
   const char *out, *restart;
@@ -65,6 +66,10 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-height", 0.12, 1e-6, 1e3, "m", "box height", &s->height));
   TL_CHECK(tl_options_get_real(*o, "-t_end", 0.4, 0.0, 1e6, "s", "simulated time", &s->t_end));
   TL_CHECK(tl_options_get_real(*o, "-dt_fraction", 0.2, 1e-6, 10.0, "", "time step over the critical time step (> 1 is refused)", &s->dt_fraction));
+  TL_CHECK(tl_options_get_real(*o, "-energy_tolerance", 0.05, 1e-12, 1.0, "",
+                               "stop with a diagnosis when |E_total - E_0| exceeds this fraction of |E_0| (E_total "
+                               "counts the dissipated energy: it is conserved by an accurate run)",
+                               &s->energy_tolerance));
   TL_CHECK(tl_options_get_int(*o, "-snapshots", 10, 0, 100000, "particle snapshots written", &s->snapshots));
   TL_CHECK(tl_options_get_int(*o, "-samples", 400, 1, 10000000, "rows of the energy table", &s->samples));
   TL_CHECK(tl_options_get_int(*o, "-floor_cells", 8, 1, 10000, "floor squares per side (4 triangles each)", &s->floor_cells));
@@ -204,6 +209,7 @@ static TlStatus run(int argc, char **argv)
   char cp_path[4200];
   snprintf(cp_path, sizeof cp_path, "%s/checkpoint.h5", s.out);
   TL_CHECK(tl_checkpoint_create(&cp));
+  TL_CHECK(tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o));
   TL_CHECK(tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem));
   TL_CHECK(tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts));
   TL_CHECK(tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer));
@@ -226,6 +232,20 @@ static TlStatus run(int argc, char **argv)
       double row[] = {tl_dem_time(dem), en.kinetic_translational, en.kinetic_rotational, en.elastic, en.gravitational,
                       en.dissipated, en.work_external, en.total, en.momentum.z, z, wall_fz};
       TL_CHECK(tl_timeseries_append(ts, row));
+      double balance_error = fabs(en.total - pr.e0) / fmax(fabs(pr.e0), 1e-300);
+      if (!(balance_error <= s.energy_tolerance)) {
+        TlStatus lost = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
+                                   "energy balance lost at t = %.6g s (step %ld): |E_total - E_0| = %.3g of |E_0|, "
+                                   "beyond -energy_tolerance %g; the time step (-dt_fraction %g of the critical "
+                                   "step) is too large for the contacts, or the run is unstable",
+                                   tl_dem_time(dem), k, balance_error, s.energy_tolerance, s.dt_fraction);
+        tl_checkpoint_destroy(&cp);
+        tl_timeseries_close(&ts);
+        tl_particle_writer_destroy(&writer);
+        tl_dem_destroy(&dem);
+        tl_options_destroy(&o);
+        return lost;
+      }
     }
     if (snap_every && (k % snap_every == 0 || k == steps)) {
       TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
@@ -269,10 +289,10 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "packing_fraction", vol / (s.box * s.box * top));
   tl_summary_real(&sum, "energy_balance_error", energy_error);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
   tl_options_destroy(&o);
-  return TL_OK;
+  return s_sum;
 }
 
 int main(int argc, char **argv)

@@ -113,7 +113,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "energy", e_ref);
   tl_summary_real(&sum, "energy_dev", e_dev);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 out:
   tl_wave_record_free(&r);
 done:

@@ -308,7 +308,7 @@ static TlStatus run(int argc, char **argv)
     tl_summary_string(&sum, "case", cases[icase]);
     tl_summary_int(&sum, "stopped_at", rc.steps);
     tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-    tl_summary_print(&sum, stdout);
+    s = tl_summary_print(&sum, stdout);
     goto out;
   }
   /* figures */
@@ -409,7 +409,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "wall_coupled", rc.wall);
   if (baseline[0]) tl_summary_real(&sum, "baseline_diff", baseline_diff);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 out:
   tl_wave_record_free(&rc);
   tl_wave_record_free(&rr);

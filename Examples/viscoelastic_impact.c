@@ -172,7 +172,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "scaling_spread", spread);
   tl_summary_string(&sum, "check", ok ? "pass" : "fail");
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (!ok)
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
                      "viscoelastic impact example: a check failed (|e - e_ref| <= %g, e falling with speed, "

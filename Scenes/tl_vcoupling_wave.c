@@ -257,6 +257,20 @@ static TlStatus build_particles(TlWave *w)
   return TL_OK;
 }
 
+/* The bar is built of whole elements (and n particles per element edge):
+ * each length must be a whole multiple of dx, or the mesh and the particles
+ * would not cover the same bar (and a section narrower than dx would hold
+ * no element and no particle at all). */
+static TlStatus check_whole_elements(const char *what, double len, double dx, int may_be_zero)
+{
+  double r = len / dx;
+  if (!(r >= (may_be_zero ? 0.0 : 1.0) - 1e-6) || !(fabs(r - (double)lround(r)) <= 1e-6 * fmax(1.0, r)))
+    TL_ERROR(TL_ERR_ARG, "%s = %g m is not a whole %smultiple of the element size dx = %g m (it is %.6g dx)", what, len,
+             may_be_zero ? "" : "positive ", dx, r);
+  if (r > 1e5) TL_ERROR(TL_ERR_ARG, "%s = %g m is %.3g elements of dx = %g m; at most 1e5", what, len, r, dx);
+  return TL_OK;
+}
+
 TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
 {
   *out = NULL;
@@ -266,6 +280,12 @@ TlStatus tl_wave_create(const TlWaveParams *p, TlWave **out)
   if (!p->full_dem && !(p->fem_start < p->dem_end && p->dem_end <= p->length && p->fem_start >= 0))
     TL_ERROR(TL_ERR_ARG, "overlap [%g, %g] must lie inside the bar [0, %g] with fem_start < dem_end", p->fem_start,
              p->dem_end, p->length);
+  TL_CHECK(check_whole_elements("the section side (width)", p->width, p->dx, 0));
+  TL_CHECK(check_whole_elements("the bar length", p->length, p->dx, 0));
+  if (!p->full_dem) {
+    TL_CHECK(check_whole_elements("the start of the FE bar (fem_start)", p->fem_start, p->dx, 1));
+    TL_CHECK(check_whole_elements("the end of the DEM bar (dem_end)", p->dem_end, p->dx, 0));
+  }
   if (!(p->E > 0) || !(p->rho > 0) || !(p->nu >= 0 && p->nu < 0.5))
     TL_ERROR(TL_ERR_ARG, "E = %g, rho = %g must be > 0 and nu = %g in [0, 0.5)", p->E, p->rho, p->nu);
   if (!(p->dt_over_tc > 0 && p->dt_over_tc <= 0.3))

@@ -115,6 +115,24 @@ int main(void)
   tl_summary_string(&sum, "case", "1P");
   TL_TEST_ASSERT(strcmp(sum.text, " err_avg=0.125 steps=42 case=1P") == 0, "summary '%s'", sum.text);
   TL_TEST_ASSERT(tl_driver_exit(TL_HELP) == 0 && tl_driver_exit(TL_OK) == 0, "exit codes");
+  FILE *devnull = fopen("/dev/null", "w");
+  TL_TEST_ASSERT(devnull != NULL, "/dev/null");
+  TL_TEST_STATUS(tl_summary_print(&sum, devnull), TL_OK);
+  /* No summary prints NaN: a non-finite value and a figure declared
+   * undefined are printed as "undefined", and printing then fails, naming
+   * them with their reasons. */
+  tl_summary_real(&sum, "period", NAN);
+  tl_summary_real(&sum, "ratio", INFINITY);
+  tl_summary_undefined(&sum, "speed", "no crossing in %d steps", 7);
+  TL_TEST_ASSERT(strstr(sum.text, "nan") == NULL && strstr(sum.text, "inf") == NULL &&
+                     strstr(sum.text, " period=undefined ratio=undefined speed=undefined") != NULL,
+                 "summary '%s'", sum.text);
+  TL_TEST_STATUS(tl_summary_print(&sum, devnull), TL_ERR_NUMERIC);
+  TL_TEST_ASSERT(sum.n_undefined == 3 && strstr(sum.undefined, "period: the computed value is NaN") &&
+                     strstr(sum.undefined, "ratio: the computed value is infinite") &&
+                     strstr(sum.undefined, "speed: no crossing in 7 steps"),
+                 "reasons '%s'", sum.undefined);
+  if (devnull) fclose(devnull);
 
   int argc = 1;
   char *args[] = {"test_core", NULL}, **argv = args;

@@ -248,6 +248,19 @@ static void test_bad_params(void)
   tl_wave_params_default(&p);
   p.fem_start = 13.0;
   TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  /* A section narrower than an element (no element, no particle) and a bar
+   * that is not a whole number of elements are refused. */
+  tl_wave_params_default(&p);
+  p.dx = 100.0;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  p.full_dem = 1;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  tl_wave_params_default(&p);
+  p.width = 1e-3;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
+  tl_wave_params_default(&p);
+  p.dx = 0.3;
+  TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);
   tl_wave_params_default(&p);
   p.dt_over_tc = 0.5;
   TL_TEST_STATUS(tl_wave_create(&p, &w), TL_ERR_ARG);

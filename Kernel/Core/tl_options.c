@@ -3,6 +3,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -19,6 +20,7 @@ typedef struct {
 
 typedef struct {
   char *name, *kind, *def, *unit, *help;
+  char *value; /* the value in force, in canonical text (reals to 17 digits) */
 } TlOptionDoc;
 
 struct TlOptions {
@@ -30,6 +32,8 @@ struct TlOptions {
   char *description;
   char *command_line;
   int help;
+  char **restart_safe; /* names a restart may change, beside the built-in ones */
+  size_t n_restart_safe, cap_restart_safe;
 };
 
 static char *tl_options_strdup(const char *s)
@@ -154,7 +158,10 @@ void tl_options_destroy(TlOptions **options)
     free(o->doc[i].def);
     free(o->doc[i].unit);
     free(o->doc[i].help);
+    free(o->doc[i].value);
   }
+  for (size_t i = 0; i < o->n_restart_safe; ++i) free(o->restart_safe[i]);
+  free(o->restart_safe);
   free(o->entry);
   free(o->doc);
   free(o->program);
@@ -232,6 +239,25 @@ static TlStatus tl_document(TlOptions *o, const char *name, const char *kind, co
   return TL_OK;
 }
 
+/* Records the value in force of a documented option, in canonical text. */
+static TlStatus tl_resolve(TlOptions *o, const char *name, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static TlStatus tl_resolve(TlOptions *o, const char *name, const char *fmt, ...)
+{
+  for (size_t i = 0; i < o->n_doc; ++i) {
+    if (strcmp(o->doc[i].name, name) != 0) continue;
+    char buf[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    free(o->doc[i].value);
+    o->doc[i].value = tl_options_strdup(buf);
+    if (!o->doc[i].value) TL_ERROR(TL_ERR_MEM, "option %s: no memory for its value", name);
+    return TL_OK;
+  }
+  return TL_OK;
+}
+
 /* The value of an option that was given, or NULL; marks it used. */
 static TlStatus tl_lookup(TlOptions *o, const char *name, int needs_value, const char **value, int *given)
 {
@@ -281,7 +307,7 @@ TlStatus tl_options_get_real(TlOptions *o, const char *name, double def, double 
   *value = def;
   if (given) TL_CHECK(tl_parse_real(name, text, value));
   TL_CHECK(tl_check_range(name, *value, lo, hi, unit));
-  return TL_OK;
+  return tl_resolve(o, name, "%.17g", *value);
 }
 
 TlStatus tl_options_get_int(TlOptions *o, const char *name, long def, long lo, long hi, const char *help,
@@ -304,7 +330,7 @@ TlStatus tl_options_get_int(TlOptions *o, const char *name, long def, long lo, l
   }
   if (*value < lo || *value > hi)
     TL_ERROR(TL_ERR_ARG, "option %s = %ld is outside [%ld, %ld]", name, *value, lo, hi);
-  return TL_OK;
+  return tl_resolve(o, name, "%ld", *value);
 }
 
 TlStatus tl_options_get_bool(TlOptions *o, const char *name, int def, const char *help, int *value)
@@ -314,15 +340,15 @@ TlStatus tl_options_get_bool(TlOptions *o, const char *name, int def, const char
   int given;
   TL_CHECK(tl_lookup(o, name, 0, &text, &given));
   *value = def;
-  if (!given) return TL_OK;
+  if (!given) return tl_resolve(o, name, "%s", def ? "true" : "false");
   if (!text) {
     *value = 1;
-    return TL_OK;
+    return tl_resolve(o, name, "true");
   }
   static const char *const yes[] = {"1", "true", "yes", "on"}, *const no[] = {"0", "false", "no", "off"};
   for (int i = 0; i < 4; ++i) {
-    if (strcmp(text, yes[i]) == 0) return (*value = 1), TL_OK;
-    if (strcmp(text, no[i]) == 0) return (*value = 0), TL_OK;
+    if (strcmp(text, yes[i]) == 0) return (*value = 1), tl_resolve(o, name, "true");
+    if (strcmp(text, no[i]) == 0) return (*value = 0), tl_resolve(o, name, "false");
   }
   TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not a boolean (true/false, yes/no, 1/0)", name, text);
 }
@@ -335,7 +361,7 @@ TlStatus tl_options_get_string(TlOptions *o, const char *name, const char *def, 
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
   *value = given ? text : def;
-  return TL_OK;
+  return tl_resolve(o, name, "%s", *value ? *value : "");
 }
 
 TlStatus tl_options_get_choice(TlOptions *o, const char *name, const char *def, const char *const *choices,
@@ -353,7 +379,7 @@ TlStatus tl_options_get_choice(TlOptions *o, const char *name, const char *def, 
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
   const char *v = given ? text : def;
   for (int i = 0; choices[i]; ++i)
-    if (strcmp(v, choices[i]) == 0) return (*index = i), TL_OK;
+    if (strcmp(v, choices[i]) == 0) return (*index = i), tl_resolve(o, name, "%s", v);
   TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not one of %s", name, v, kind);
 }
 
@@ -391,7 +417,7 @@ TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, 
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
   TL_CHECK(tl_parse_scaled(name, given ? text : def, scales, n, value));
   TL_CHECK(tl_check_range(name, *value, lo, hi, unit));
-  return TL_OK;
+  return tl_resolve(o, name, "%.17g", *value);
 }
 
 TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const char *def, double lo, double hi,
@@ -424,7 +450,12 @@ TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const ch
     if (!comma) break;
     p = comma;
   }
-  return TL_OK;
+  char buf[1024];
+  size_t len = 0;
+  buf[0] = '\0';
+  for (int i = 0; i < *count && len < sizeof buf; ++i)
+    len += (size_t)snprintf(buf + len, sizeof buf - len, "%s%.17g", i ? "," : "", values[i]);
+  return tl_resolve(o, name, "%s", buf);
 }
 
 TlStatus tl_options_get_real_list(TlOptions *o, const char *name, const char *def, const char *unit,
@@ -487,6 +518,52 @@ TlStatus tl_options_finish(TlOptions *o, FILE *out)
              o->entry[i].source, o->program);
   }
   return TL_OK;
+}
+
+/* Options that only say how far to run, where and how often to write, and
+ * with how many threads: a restart may change them. */
+static int tl_builtin_restart_safe(const char *name)
+{
+  static const char *const exact[] = {"-t_end", "-restart", "-output_dir", "-checkpoint_every", "-stop_step",
+                                      "-threads", "-check", "-tolerance", "-samples", NULL};
+  static const char *const prefix[] = {"-snapshot", "-output_", "-progress", NULL};
+  for (int i = 0; exact[i]; ++i)
+    if (strcmp(name, exact[i]) == 0) return 1;
+  for (int i = 0; prefix[i]; ++i)
+    if (strncmp(name, prefix[i], strlen(prefix[i])) == 0) return 1;
+  return 0;
+}
+
+TlStatus tl_options_set_restart_safe(TlOptions *o, const char *name)
+{
+  TL_CHECK(tl_array_reserve(&o->restart_safe, &o->cap_restart_safe, o->n_restart_safe + 1, sizeof *o->restart_safe));
+  o->restart_safe[o->n_restart_safe] = tl_options_strdup(name);
+  if (!o->restart_safe[o->n_restart_safe]) TL_ERROR(TL_ERR_MEM, "no memory for option name %s", name);
+  o->n_restart_safe++;
+  return TL_OK;
+}
+
+int tl_options_is_restart_safe(const TlOptions *o, const char *name)
+{
+  if (tl_builtin_restart_safe(name)) return 1;
+  for (size_t i = 0; i < o->n_restart_safe; ++i)
+    if (strcmp(o->restart_safe[i], name) == 0) return 1;
+  return 0;
+}
+
+size_t tl_options_n_values(const TlOptions *o) { return o->n_doc; }
+
+void tl_options_value_at(const TlOptions *o, size_t i, const char **name, const char **value)
+{
+  *name = o->doc[i].name;
+  *value = o->doc[i].value;
+}
+
+const char *tl_options_value(const TlOptions *o, const char *name)
+{
+  for (size_t i = 0; i < o->n_doc; ++i)
+    if (strcmp(o->doc[i].name, name) == 0) return o->doc[i].value;
+  return NULL;
 }
 
 const char *tl_options_program(const TlOptions *o) { return o->program; }

@@ -63,6 +63,21 @@ int tl_options_has(TlOptions *o, const char *name);
  * an error for any option given and never asked for; TL_OK otherwise. */
 TlStatus tl_options_finish(TlOptions *o, FILE *out);
 /* The program name (argv[0] without its folder). */
+/* The values in force of the options asked for so far (given or default),
+ * in canonical text (reals with 17 digits, booleans true/false): what a
+ * checkpoint stores so that a restart can be compared with the run it
+ * continues (Kernel/IO/tl_options_checkpoint.h). */
+size_t tl_options_n_values(const TlOptions *o);
+void tl_options_value_at(const TlOptions *o, size_t i, const char **name, const char **value);
+/* The value in force of `name`, NULL if it was never asked for. */
+const char *tl_options_value(const TlOptions *o, const char *name);
+/* Options a restart may change.  Built in: how far to run (-t_end,
+ * -stop_step), where and how often to write (-output_dir, -output_*,
+ * -snapshot*, -samples, -checkpoint_every), -restart, -threads, -check,
+ * -tolerance, -progress*; a driver adds its own (cantilever_fem's
+ * -periods, its end time). */
+TlStatus tl_options_set_restart_safe(TlOptions *o, const char *name);
+int tl_options_is_restart_safe(const TlOptions *o, const char *name);
 const char *tl_options_program(const TlOptions *o);
 /* The whole command line, for provenance in output files. */
 const char *tl_options_command_line(const TlOptions *o);

@@ -1,5 +1,6 @@
 #include "tl_summary.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <string.h>
 
@@ -7,6 +8,8 @@ void tl_summary_init(TlSummary *s)
 {
   s->text[0] = '\0';
   s->length = 0;
+  s->n_undefined = 0;
+  s->undefined[0] = '\0';
 }
 
 static void tl_summary_append(TlSummary *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
@@ -23,7 +26,28 @@ static void tl_summary_append(TlSummary *s, const char *fmt, ...)
 
 void tl_summary_real(TlSummary *s, const char *key, double value)
 {
+  if (!isfinite(value)) {
+    tl_summary_undefined(s, key, "the computed value is %s", isnan(value) ? "NaN" : "infinite");
+    return;
+  }
   tl_summary_append(s, " %s=%.6g", key, value);
+}
+
+void tl_summary_undefined(TlSummary *s, const char *key, const char *why_fmt, ...)
+{
+  tl_summary_append(s, " %s=undefined", key);
+  size_t n = strlen(s->undefined);
+  if (n + 4 < sizeof s->undefined) {
+    int k = snprintf(s->undefined + n, sizeof s->undefined - n, "%s%s: ", n ? "; " : "", key);
+    if (k > 0 && (size_t)k < sizeof s->undefined - n) {
+      n += (size_t)k;
+      va_list ap;
+      va_start(ap, why_fmt);
+      vsnprintf(s->undefined + n, sizeof s->undefined - n, why_fmt, ap);
+      va_end(ap);
+    }
+  }
+  s->n_undefined++;
 }
 
 void tl_summary_int(TlSummary *s, const char *key, long value) { tl_summary_append(s, " %s=%ld", key, value); }
@@ -33,8 +57,11 @@ void tl_summary_string(TlSummary *s, const char *key, const char *value)
   tl_summary_append(s, " %s=%s", key, value);
 }
 
-void tl_summary_print(const TlSummary *s, FILE *out)
+TlStatus tl_summary_print(const TlSummary *s, FILE *out)
 {
   fprintf(out, "summary:%s\n", s->text);
   fflush(out);
+  if (s->n_undefined == 0) return TL_OK;
+  return tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "%d summary figure%s undefined (%s)",
+                      s->n_undefined, s->n_undefined > 1 ? "s" : "", s->undefined);
 }
