@@ -384,11 +384,21 @@ static size_t find_root(size_t *parent, size_t a)
  * stiffness (a frictionless grain's rotation, the spin about a lone
  * contact's normal) gets a penalty so the factorisation exists — such a
  * direction carries no force. */
+typedef struct {
+  TlNhlOperator base;
+  double solver; /* 0 auto; 1 UMFPACK, 2 KLU on the full matrix (comparisons) */
+} Pstlo;
+
+static const TlParam pstlo_params[] = {
+    {"solver", 0, 0, 2, "",
+     "0: CHOLMOD, refined on the symmetric part when the network is not symmetric (LU if that fails); 1: UMFPACK "
+     "LU of the full matrix; 2: KLU LU of the full matrix", offsetof(Pstlo, solver)},
+};
+
 static TlStatus pstlo_run(const TlNhlOperator *op, const TlNhlOperatorInput *in, int symm, double c[81],
                           TlNhlOperatorStats *st, int *not_definite)
 {
   *not_definite = 0;
-  (void)op;
   Net N;
   TL_CHECK(gather(in, &N));
   TlParticles *P = tl_dem_particles(in->dem);
@@ -571,8 +581,9 @@ static TlStatus pstlo_run(const TlNhlOperator *op, const TlNhlOperatorInput *in,
     /* LU: UMFPACK (BLAS on the dense fronts of a 3-D network: 3x faster than
      * KLU on 864 spheres) */
     TlSparse *M = refine ? Ps : A;
-    snprintf(st->solver, sizeof st->solver, "%s", refine ? "cholmod+refinement" : upper ? "cholmod" : "umfpack");
-    TRY(tl_linear_solver_create(upper || refine ? "cholmod" : "umfpack", M, &ls));
+    const char *lu = ((const Pstlo *)op)->solver > 1.5 ? "klu" : "umfpack";
+    snprintf(st->solver, sizeof st->solver, "%s", refine ? "cholmod+refinement" : upper ? "cholmod" : lu);
+    TRY(tl_linear_solver_create(upper || refine ? "cholmod" : lu, M, &ls));
     s = tl_linear_solver_factor(ls, M);
     if (s != TL_OK && (upper || refine)) *not_definite = 1;
     if (s != TL_OK) goto done;
@@ -664,8 +675,8 @@ static TlStatus pstlo_compute(const TlNhlOperator *op, const TlNhlOperatorInput 
    * symmetrised: CHOLMOD on the symmetric part alone.  When CHOLMOD finds
    * the matrix indefinite (a pre-stress beyond what the springs hold) or the
    * refinement stalls: LU (UMFPACK). */
-  int not_definite = 0, symmetrise = op->symmetrise > 0.5;
-  TlStatus s = pstlo_run(op, in, symmetrise ? 1 : -1, c, st, &not_definite);
+  int not_definite = 0, symmetrise = op->symmetrise > 0.5, lu = ((const Pstlo *)op)->solver > 0.5;
+  TlStatus s = pstlo_run(op, in, lu ? (symmetrise ? 2 : 3) : symmetrise ? 1 : -1, c, st, &not_definite);
   if (s != TL_OK && not_definite) {
     tl_error_clear();
     memset(st, 0, sizeof *st);
@@ -792,8 +803,8 @@ static const TlNhlOperatorOps kao_ops = {
     sizeof(Kao), kao_params, 1, 0, NULL, kao_compute, NULL};
 static const TlNhlOperatorOps pstlo_ops = {
     {"nhl_operator", "pstlo",
-     "pre-stressed truss-like (Talus's reading): network stiffness with rotations, fluctuations condensed (KLU)"},
-    sizeof(TlNhlOperator), NULL, 0, 0, NULL, pstlo_compute, NULL};
+     "pre-stressed truss-like (Talus's reading): network stiffness with rotations, fluctuations condensed (CHOLMOD)"},
+    sizeof(Pstlo), pstlo_params, 1, 0, NULL, pstlo_compute, NULL};
 static const TlNhlOperatorOps demqo_ops = {
     {"nhl_operator", "demqo", "DEM quasi-elastic (Eq. 32): short probes from the equilibrated cell, no sliding"},
     sizeof(TlNhlOperator), NULL, 0, 0, NULL, demqo_compute, NULL};
