@@ -1,11 +1,13 @@
 /* The FE bar of the bridging-domain gouge (seeds/000 §4.1): a hex8 bar
  * along y, pre-stressed by an eigenstrain, periodic in x and z through the
- * tied system (tl_mech_tie.h, tl_solid_tie.h), u_y held at the far ends,
+ * solid's periodic ties (tl_solid_tie.h: slave nodes numbered as their masters), u_y held at the far ends,
  * and its linear fast path (tl_mech_linear.h).
  *  - At rest the pre-stress leaves forces on the lateral faces of the plain
  *    solid; the periodic tie cancels them to round-off (the lateral faces
  *    are inside the periodic body).
- *  - The tied tangent is P^T K P: finite differences of the tied force.
+ *  - The tied tangent matches finite differences of the tied force (the
+ *    pattern of elements sharing a dof across the period).
+ *  - A cycle of ties and a tie between differently held nodes are refused.
  *  - The tied lumped mass is the bar's mass.
  *  - The linear system agrees with the solid to second order in u.
  *  - A P pulse (Eq. 15) launched at y = 0 stays uniform over each section
@@ -19,7 +21,6 @@
 
 #include "talus.h"
 #include "tl_mech_linear.h"
-#include "tl_mech_tie.h"
 #include "tl_pulse.h"
 #include "tl_solid_tie.h"
 #include "tl_stepper.h"
@@ -33,7 +34,6 @@ typedef struct {
   TlMesh *mesh;
   TlMaterial *mat;
   TlSolid *solid;
-  TlMechSystem *tied;
   TlPulse pulse;
 } Bar;
 
@@ -62,17 +62,17 @@ static int bar_build(Bar *b, size_t ny, int pulse_c, int tie)
     if (pulse_c == 0) TL_TEST_STATUS(tl_solid_fix(b->solid, "ymin", 2), TL_OK);
     TL_TEST_STATUS(tl_solid_prescribe(b->solid, "ymin", pulse_c, tl_pulse_prescribed, &b->pulse), TL_OK);
   }
-  TL_TEST_STATUS(tl_solid_setup(b->solid), TL_OK);
   if (tie) {
-    TlPeriodicPair pairs[2] = {{"xmin", "xmax", {A, 0, 0}}, {"zmin", "zmax", {0, 0, A}}};
-    TL_TEST_STATUS(tl_solid_periodic_tie(b->solid, 2, pairs, 1e-9, &b->tied), TL_OK);
+    TL_TEST_STATUS(tl_solid_tie(b->solid, "xmin", "xmax", (double[3]){A, 0, 0}, 1e-9), TL_OK);
+    TL_TEST_STATUS(tl_solid_tie(b->solid, "zmin", "zmax", (double[3]){0, 0, A}, 1e-9), TL_OK);
   }
-  return b->solid != NULL && (!tie || b->tied != NULL);
+  TlStatus s = tl_solid_setup(b->solid);
+  TL_TEST_STATUS(s, TL_OK);
+  return s == TL_OK;
 }
 
 static void bar_free(Bar *b)
 {
-  tl_mech_system_destroy(&b->tied);
   tl_solid_destroy(&b->solid);
   tl_material_destroy(&b->mat);
   tl_mesh_destroy(&b->mesh);
@@ -87,13 +87,14 @@ static double max_abs(const double *x, size_t n)
 
 static void rest_test(void)
 {
-  Bar b;
-  if (!bar_build(&b, 8, -1, 1)) return;
-  TlMechSystem *plain = tl_solid_system(b.solid), *tied = b.tied;
+  Bar b, pb;
+  if (!bar_build(&b, 8, -1, 1) || !bar_build(&pb, 8, -1, 0)) return;
+  TlMechSystem *plain = tl_solid_system(pb.solid), *tied = tl_solid_system(b.solid);
   size_t np = (size_t)plain->ndof, nt = (size_t)tied->ndof;
   size_t nodes = b.mesh->n_nodes;
   /* 3 x 9 x 3 nodes, y held at the ends: the tie leaves 2 x 9 x 2 nodes. */
   TL_TEST_ASSERT(nt == 3 * 2 * 9 * 2 - 2 * 2 * 2, "tied dofs %zu, expected %d", nt, 3 * 2 * 9 * 2 - 8);
+  TL_TEST_ASSERT(tl_solid_n_tied(b.solid) == 3 * 3 * 9 - 2 * 2 * 9, "tied nodes %zu", tl_solid_n_tied(b.solid));
   double *u = calloc(np, sizeof *u), *f = calloc(np, sizeof *f), *ft = calloc(nt, sizeof *ft);
   double *m = calloc(nt, sizeof *m);
   plain->ops->internal_force(plain, 0.0, u, NULL, f);
@@ -103,24 +104,27 @@ static void rest_test(void)
    * and z components); the tied one: nothing at a free dof. */
   double lateral = 0.0;
   for (size_t k = 0; k < nodes; ++k) {
-    TlSparseIndex d = tl_solid_dof(b.solid, k, 0);
+    TlSparseIndex d = tl_solid_dof(pb.solid, k, 0);
     if (d >= 0) lateral = fmax(lateral, fabs(f[d]));
   }
   printf("rest: plain lateral force %.3e N, tied %.3e N (sigma0 A^2/4 = %.3e N)\n", lateral, max_abs(ft, nt), scale);
   TL_TEST_ASSERT(lateral > 0.2 * scale, "the plain bar shows its lateral pre-stress forces: %g of %g", lateral, scale);
   TL_TEST_ASSERT(max_abs(ft, nt) <= 1e-10 * scale, "tied bar at rest: force %g N against a scale %g N", max_abs(ft, nt),
                  scale);
+  TL_TEST_ASSERT(tl_solid_dof(b.solid, 2, 0) == tl_solid_dof(b.solid, 0, 0) && tl_solid_dof(b.solid, 0, 0) >= 0,
+                 "node 2 (x = A) shares the dofs of node 0 (x = 0): %lld, %lld", (long long)tl_solid_dof(b.solid, 2, 0),
+                 (long long)tl_solid_dof(b.solid, 0, 0));
   /* Mass. */
   tied->ops->lumped_mass(tied, m);
   /* Each tied x dof once: the bar's mass. */
   double mass = 0.0;
   double *seen = calloc(nt, sizeof *seen);
   for (size_t k = 0; k < nodes; ++k) {
-    TlSparseIndex r = tl_mech_tie_dof(tied, tl_solid_dof(b.solid, k, 0));
+    TlSparseIndex r = tl_solid_dof(b.solid, k, 0);
     if (!seen[r]) mass += m[r], seen[r] = 1;
   }
   TL_TEST_REL(mass, RHO * A * A * 4.0 * A, 1e-12);
-  /* Tangent: P^T K P against central differences of the tied force. */
+  /* Tangent against central differences of the tied force. */
   TlSparse *K = NULL;
   TL_TEST_STATUS(tied->ops->create_matrix(tied, 1, &K), TL_OK);
   double *ut = calloc(nt, sizeof *ut), *d = calloc(nt, sizeof *d), *Kd = calloc(nt, sizeof *Kd);
@@ -168,16 +172,29 @@ static void rest_test(void)
     TL_TEST_ASSERT(err[0] <= 1e-3 * scale * 1e-4 * 100, "linear path error %g N", err[0]);
     tl_mech_system_destroy(&lin);
   }
-  /* A cycle and a mismatched boundary condition are refused. */
-  TlSparseIndex *master = calloc(np, sizeof *master);
-  for (size_t i = 0; i < np; ++i) master[i] = (TlSparseIndex)i;
-  master[0] = 1, master[1] = 0;
-  TlMechSystem *bad = NULL;
-  TL_TEST_STATUS(tl_mech_tie_create(plain, master, &bad), TL_ERR_ARG);
+  /* A cycle and a mismatched boundary condition are refused at setup. */
+  TlSolid *bad = NULL;
+  TL_TEST_STATUS(tl_solid_create(b.mesh, &bad), TL_OK);
+  tl_solid_set_material(bad, NULL, b.mat);
+  TL_TEST_STATUS(tl_solid_tie(bad, "xmin", "xmax", (double[3]){A, 0, 0}, 1e-9), TL_OK);
+  TL_TEST_STATUS(tl_solid_tie(bad, "xmax", "xmin", (double[3]){-A, 0, 0}, 1e-9), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(bad), TL_ERR_ARG);
   TL_TEST_ASSERT(strstr(tl_error_message(), "cycle") != NULL, "cycle named: %s", tl_error_message());
-  free(master);
+  tl_solid_destroy(&bad);
+  TL_TEST_STATUS(tl_solid_create(b.mesh, &bad), TL_OK);
+  tl_solid_set_material(bad, NULL, b.mat);
+  TL_TEST_STATUS(tl_solid_fix(bad, "xmin", 7), TL_OK);
+  TL_TEST_STATUS(tl_solid_tie(bad, "xmin", "xmax", (double[3]){A, 0, 0}, 1e-9), TL_OK);
+  TL_TEST_STATUS(tl_solid_setup(bad), TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "share their boundary") != NULL, "mismatch named: %s", tl_error_message());
+  tl_solid_destroy(&bad);
+  TL_TEST_STATUS(tl_solid_create(b.mesh, &bad), TL_OK);
+  TL_TEST_STATUS(tl_solid_tie(bad, "xmin", "xmax", (double[3]){0.9 * A, 0, 0}, 1e-9), TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "has no node") != NULL, "unpaired node named: %s", tl_error_message());
+  tl_solid_destroy(&bad);
   free(u), free(f), free(ft), free(m), free(seen), free(ut), free(d), free(Kd), free(fp), free(fm);
   bar_free(&b);
+  bar_free(&pb);
 }
 
 /* Runs a pulse through a tied bar of 80 elements (40 A) with the central
@@ -190,9 +207,9 @@ static void pulse_run(int component, int linear, double *t_peak, double *u_peak,
   Bar b;
   *t_peak = *u_peak = *spread = *other = NAN;
   if (!bar_build(&b, 80, component, 1)) return;
-  TlMechSystem *sys = b.tied, *lin = NULL;
+  TlMechSystem *sys = tl_solid_system(b.solid), *lin = NULL;
   if (linear) {
-    TL_TEST_STATUS(tl_mech_linear_create(b.tied, 0.0, NULL, 0, &lin), TL_OK);
+    TL_TEST_STATUS(tl_mech_linear_create(sys, 0.0, NULL, 0, &lin), TL_OK);
     if (!lin) return;
     sys = lin;
   }
@@ -219,7 +236,7 @@ static void pulse_run(int component, int linear, double *t_peak, double *u_peak,
     for (size_t k = 0; k < ns; ++k) {
       for (int cc = 0; cc < 3; ++cc) {
         TlSparseIndex d = tl_solid_dof(b.solid, sec[k], cc);
-        double v = d >= 0 ? st->u[tl_mech_tie_dof(b.tied, d)] : 0.0;
+        double v = d >= 0 ? st->u[d] : 0.0;
         if (cc == component) lo = fmin(lo, v), hi = fmax(hi, v);
         else oth = fmax(oth, fabs(v));
       }
