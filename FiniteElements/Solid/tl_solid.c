@@ -121,6 +121,7 @@ void tl_solid_destroy_content(TlMechSystem *sys)
   tl_free(&s->elem_ptr);
   tl_free(&s->elem_dofs);
   tl_free(&s->lumped_nodes);
+  tl_free(&s->lumped_weights);
   tl_free(&s->un);
   tl_free(&s->fn);
   tl_free(&s->gn);

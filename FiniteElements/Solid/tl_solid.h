@@ -90,6 +90,14 @@ TlStatus tl_solid_matrix_add_nodes(const TlSolid *solid, TlSparse *K, int n, con
 TlStatus tl_solid_weight_points(const TlSolid *solid, int b, int *nq, int *nq_mass);
 TlStatus tl_solid_set_point_weights(TlSolid *solid, int b, const double *w, const double *w_mass);
 TlStatus tl_solid_set_node_weights(TlSolid *solid, int b, const double *w_nodes);
+/* Weights of the lumped mass per node (n_nodes, finite and > 0), set
+ * before tl_solid_setup: the lumped (HRZ) mass of node n, every component,
+ * is multiplied by w_nodes[n] after assembly (the nodal weighted masses
+ * alpha(X_I) M_I of the bridging domain method, seeds/000 §2), so the
+ * explicit steppers, the lumped kinetic energy and tl_solid_total_mass see
+ * the weighted masses; the consistent mass and the body loads are left to
+ * the point weights.  NULL: none (the default); a call replaces the last. */
+TlStatus tl_solid_set_lumped_mass_weights(TlSolid *solid, const double *w_nodes);
 /* Numbers the dofs, checks materials and elements, precomputes geometry,
  * masses and dead loads.  After it, the loads and conditions are frozen. */
 TlStatus tl_solid_setup(TlSolid *solid);

@@ -127,6 +127,7 @@ struct TlSolid {
   TlSparseIndex *dof; /* n_nodes x dim */
   TlSparseIndex *elem_ptr, *elem_dofs;
   double *lumped_nodes; /* n_nodes x dim */
+  double *lumped_weights; /* n_nodes: factors of the lumped mass (NULL: none) */
   double *un, *fn, *gn; /* node-space work vectors */
   Scratch *scratch;
   int n_threads;

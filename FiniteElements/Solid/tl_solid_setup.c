@@ -254,6 +254,8 @@ TlStatus tl_solid_setup(TlSolid *s)
       for (int a = 0; a < B->nn; ++a)
         for (int c = 0; c < dim; ++c) s->lumped_nodes[blk->conn[e * B->nn + a] * dim + c] += B->lumped[e * B->nn + a];
   }
+  if (s->lumped_weights)
+    for (size_t i = 0; i < nc; ++i) s->lumped_nodes[i] *= s->lumped_weights[i / dim];
   for (size_t i = 0; i < nc; ++i)
     if (!(s->lumped_nodes[i] > 0.0))
       TL_ERROR(TL_ERR_ARG, "solid: node %zu has zero mass: it belongs to no element, or the weights of every "

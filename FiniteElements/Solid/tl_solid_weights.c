@@ -72,6 +72,20 @@ TlStatus tl_solid_set_node_weights(TlSolid *s, int b, const double *w_nodes)
   return TL_OK;
 }
 
+TlStatus tl_solid_set_lumped_mass_weights(TlSolid *s, const double *w_nodes)
+{
+  TL_CHECK(tl_solid_not_after_setup(s, "set_lumped_mass_weights"));
+  tl_free(&s->lumped_weights);
+  if (!w_nodes) return TL_OK;
+  for (size_t i = 0; i < s->n_nodes; ++i)
+    if (!(w_nodes[i] > 0.0) || !isfinite(w_nodes[i]))
+      TL_ERROR(TL_ERR_ARG, "solid: lumped-mass weight %g at node %zu: weights of the lumped mass must be finite and > 0",
+               w_nodes[i], i);
+  TL_CHECK(tl_calloc(&s->lumped_weights, s->n_nodes ? s->n_nodes : 1, sizeof(double)));
+  memcpy(s->lumped_weights, w_nodes, s->n_nodes * sizeof(double));
+  return TL_OK;
+}
+
 /* The nodal weight field at the stiffness points (shape values Nq) and the
  * mass points (B->Nm), at setup. */
 TlStatus tl_solid_interpolate_weights(TlSolid *s, int b, const double *Nq)
