@@ -114,7 +114,7 @@ typedef struct {
   long step;                 /* corrections applied so far */
   double rate_before;        /* max |gdot*_i| over coupled particle components (m/s) */
   double rate_after;         /* max |gdot_i| after the correction (strong constraint, m/s) */
-  double rate_weak_after;    /* max |(N gdot)_I| after (the weak constraint, m/s) */
+  double rate_weak_after;    /* max |(N gdot)_I| after (the weak constraint, m/s; 0 for strong) */
   double velocity_scale;     /* max |velocity| of the coupled particles and dofs before (m/s) */
   double residual_max;       /* max |g_i| = |N^T u - d_i| (m), positions at the step's end */
   double residual_rms;
