@@ -39,10 +39,14 @@ typedef struct {
 
 /* ny elements of 0.5 A along y, 2 x 2 in the section; held in y at
  * ymax, the pulse (component pulse_c, or held when < 0) at ymin. */
+/* Elements across the section (1: an element tied to itself across the
+ * period, its two x faces sharing their dofs). */
+static size_t n_section = 2;
+
 static int bar_build(Bar *b, size_t ny, int pulse_c, int tie)
 {
   memset(b, 0, sizeof *b);
-  size_t n[3] = {2, ny, 2};
+  size_t n[3] = {n_section, ny, n_section};
   double lo[3] = {0, 0, 0}, hi[3] = {A, 0.5 * A * (double)ny, A};
   TL_TEST_STATUS(tl_mesh_create_box(&tl_element_hex8, n, lo, hi, &b->mesh), TL_OK);
   TL_TEST_STATUS(tl_material_create("saint_venant_kirchhoff", &b->mat), TL_OK);
@@ -219,7 +223,8 @@ static void pulse_run(int component, int linear, double *t_peak, double *u_peak,
   TL_TEST_STATUS(tl_stepper_create("central_difference", sys, &o, &st), TL_OK);
   if (!st) return;
   TL_TEST_STATUS(tl_stepper_set_state(st, 0.0, NULL, NULL), TL_OK);
-  double dt = 0.5 * st->dt_crit, c = b.pulse.speed, y_mon = 10.0 * A;
+  double dt = 2e-6, c = b.pulse.speed, y_mon = 10.0 * A; /* below every mesh's critical step */
+  TL_TEST_ASSERT(dt < 0.5 * st->dt_crit, "dt %g against the critical step %g", dt, st->dt_crit);
   *c_out = c, *t0_out = b.pulse.t0;
   double t_end = b.pulse.t0 + y_mon / c + 2.0 * b.pulse.t0;
   size_t nodes = b.mesh->n_nodes;
@@ -273,6 +278,33 @@ static void pulse_test(void)
   }
 }
 
+/* One element across the period (each element's x and z faces share their
+ * dofs): the same one-dimensional motion as with 2 x 2, to round-off, and
+ * zero force at rest. */
+static void single_element_section_test(void)
+{
+  double tp[2], up[2], spread, other, us, c, t0;
+  pulse_run(1, 0, &tp[0], &up[0], &spread, &other, &us, &c, &t0);
+  n_section = 1;
+  pulse_run(1, 0, &tp[1], &up[1], &spread, &other, &us, &c, &t0);
+  printf("one element across: P peak %.15e m at %.6e s; 2 x 2: %.15e m at %.6e s\n", up[1], tp[1], up[0], tp[0]);
+  TL_TEST_REL(up[1], up[0], 1e-10);
+  TL_TEST_ASSERT(tp[1] == tp[0], "peak times %.17g and %.17g", tp[1], tp[0]);
+  Bar b;
+  if (bar_build(&b, 8, -1, 1)) {
+    TlMechSystem *sys = tl_solid_system(b.solid);
+    size_t n = (size_t)sys->ndof;
+    double *u = calloc(n, sizeof *u), *f = calloc(n, sizeof *f);
+    TL_TEST_STATUS(sys->ops->internal_force(sys, 0.0, u, NULL, f), TL_OK);
+    double scale = 3.0 * E / (3.0 * (1 - 2 * NU)) * EPS0 * A * A;
+    TL_TEST_ASSERT(max_abs(f, n) <= 1e-10 * scale, "one element across, at rest: force %g N", max_abs(f, n));
+    TL_TEST_ASSERT(n == 3 * 9 - 2, "one element across: %zu dofs (one node per plane, y held at the ends: 25)", n);
+    free(u), free(f);
+    bar_free(&b);
+  }
+  n_section = 2;
+}
+
 static void pulse_shape_test(void)
 {
   TlPulse g, r;
@@ -315,5 +347,6 @@ int main(void)
   pulse_shape_test();
   rest_test();
   pulse_test();
+  single_element_section_test();
   return tl_test_report();
 }
