@@ -159,16 +159,24 @@ static void rest_test(void)
   TlMechSystem *lin = NULL;
   TL_TEST_STATUS(tl_mech_linear_create(tied, 0.0, NULL, 0, &lin), TL_OK);
   if (lin) {
-    double err[2];
+    double err[2], werr[2];
     for (int level = 0; level < 2; ++level) {
-      double s = level ? 0.5 : 1.0;
+      double s = level ? 0.5 : 1.0, Ws = 0.0, Wl = 0.0;
       for (size_t i = 0; i < nt; ++i) fp[i] = s * ut[i];
       tied->ops->internal_force(tied, 0.0, fp, NULL, fm);
       lin->ops->internal_force(lin, 0.0, fp, NULL, Kd);
       double e = 0.0;
       for (size_t i = 0; i < nt; ++i) e = fmax(e, fabs(fm[i] - Kd[i]));
       err[level] = e;
+      TL_TEST_STATUS(tied->ops->strain_energy(tied, fp, &Ws), TL_OK);
+      TL_TEST_STATUS(lin->ops->strain_energy(lin, fp, &Wl), TL_OK);
+      werr[level] = fabs(Ws - Wl);
     }
+    /* Stored energy: the quadratic expansion, off by third order. */
+    printf("linear path energy: error %.3e at u, %.3e at u/2 (ratio %.2f, third order: 8)\n", werr[0], werr[1],
+           werr[0] / werr[1]);
+    TL_TEST_ASSERT(werr[0] / werr[1] > 7.0 && werr[0] / werr[1] < 9.0, "linear path energy error ratio %g (8)",
+                   werr[0] / werr[1]);
     printf("linear path: error %.3e at u, %.3e at u/2 (ratio %.2f, second order: 4)\n", err[0], err[1],
            err[0] / err[1]);
     TL_TEST_ASSERT(err[0] / err[1] > 3.5 && err[0] / err[1] < 4.5, "linear path error ratio %g (second order: 4)",
