@@ -13,7 +13,9 @@
  * the coupling's report), ct_ux|ct_uy|ct_uz.csv/.h5 (the ct diagram: the
  * section average at every node plane, one row per sample; plane
  * positions in planes.csv), snapshots particles_*.h5/bars_*.h5 + .xmf,
- * checkpoint.h5.  Last line: summary: key=value ... */
+ * checkpoint.h5.  A run restarted (-restart) extends the snapshot series
+ * and writes its tables from the restart step as history_restart<step>.*,
+ * ct_*_restart<step>.*.  Last line: summary: key=value ... */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -166,6 +168,7 @@ static TlStatus run(int argc, char **argv)
   double t_i = t0 + (in.y_monitor[0] + y_end) / in.c, t_T = t0 + (in.y_monitor[1] + y_end) / in.c;
   long steps = r.steps;
   if (steps == 0) steps = r.p.mode == TL_GOUGE_WAVE ? (long)ceil((t_T + 0.8 * lam_c) / r.p.dt) : 500000;
+  if (r.snapshot_every > 0) TL_CHECK_GOTO(s, tl_gouge_open_snapshots(g, dir), done);
   if (r.restart[0]) {
     TL_CHECK_GOTO(s, tl_gouge_checkpoint_load(g, r.restart), done);
     printf("restarted from %s at step %ld\n", r.restart, tl_gouge_steps(g));
@@ -196,7 +199,11 @@ static TlStatus run(int argc, char **argv)
   enum { NH = 15 };
   for (int k = 0; k < NH; ++k) cols[k] = (TlColumn){hnames[k], hunits[k]};
   char base[4096];
-  snprintf(base, sizeof base, "%s/history", dir);
+  /* A restarted run writes its tables beside the first run's, from the
+   * restart step (history_restart<step>.csv ...), never over them. */
+  char tag[64] = "";
+  if (r.restart[0]) snprintf(tag, sizeof tag, "_restart%ld", tl_gouge_steps(g));
+  snprintf(base, sizeof base, "%s/history%s", dir, tag);
   TL_CHECK_GOTO(s, tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, NH, cols, &hist), done);
   cols[0] = (TlColumn){"t", "s"};
   for (size_t k = 0; k < np; ++k) {
@@ -205,7 +212,7 @@ static TlStatus run(int argc, char **argv)
   }
   const char *ctn[3] = {"ct_ux", "ct_uy", "ct_uz"};
   for (int c = 0; c < 3; ++c) {
-    snprintf(base, sizeof base, "%s/%s", dir, ctn[c]);
+    snprintf(base, sizeof base, "%s/%s%s", dir, ctn[c], tag);
     TL_CHECK_GOTO(s, tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, np + 1, cols, &ct[c]), done);
   }
   TL_CHECK_GOTO(s, tl_calloc(&row, NH, sizeof *row), done);
@@ -255,7 +262,9 @@ static TlStatus run(int argc, char **argv)
         TL_CHECK_GOTO(s, tl_timeseries_append(ct[c], ctrow), done);
       }
     }
-    if (r.snapshot_every > 0 && step % r.snapshot_every == 0) TL_CHECK_GOTO(s, tl_gouge_snapshot(g, dir), done);
+    /* (the restart step's snapshot is the first run's last) */
+    if (r.snapshot_every > 0 && step % r.snapshot_every == 0 && !(r.restart[0] && step == first))
+      TL_CHECK_GOTO(s, tl_gouge_snapshot(g, dir), done);
     if (r.checkpoint_every > 0 && step > first && step % r.checkpoint_every == 0) {
       snprintf(base, sizeof base, "%s/checkpoint.h5", dir);
       TL_CHECK_GOTO(s, tl_gouge_checkpoint_save(g, base), done);

@@ -467,11 +467,17 @@ void tl_gouge_planes(const TlGouge *g, double *y, double *u)
   }
 }
 
+TlStatus tl_gouge_open_snapshots(TlGouge *g, const char *dir)
+{
+  if (!g->pw) TL_CHECK(tl_particle_writer_create(dir, "particles", &g->pw));
+  if (!g->so) TL_CHECK(tl_solid_output_create(g->solid, dir, "bars", &g->so));
+  return TL_OK;
+}
+
 TlStatus tl_gouge_snapshot(TlGouge *g, const char *dir)
 {
   TlParticles *P = tl_dem_particles(g->dem);
-  if (!g->pw) TL_CHECK(tl_particle_writer_create(dir, "particles", &g->pw));
-  if (!g->so) TL_CHECK(tl_solid_output_create(g->solid, dir, "bars", &g->so));
+  TL_CHECK(tl_gouge_open_snapshots(g, dir));
   TL_CHECK(tl_realloc(&g->weights, P->n + 1, sizeof *g->weights));
   for (size_t i = 0; i < P->n; ++i) g->weights[i] = P->weight ? P->weight[i] : 1.0;
   TlField fields[1] = {{"weight", 1, g->weights}};
@@ -517,6 +523,9 @@ static TlStatus make_checkpoint(TlGouge *g, TlCheckpoint **cp)
   if (s == TL_OK) s = tl_checkpoint_add(*cp, "dem", &tl_dem_checkpoint_ops, g->dem);
   if (s == TL_OK) s = tl_checkpoint_add(*cp, "fem", &tl_stepper_checkpoint_ops, g->st);
   if (s == TL_OK) s = tl_checkpoint_add(*cp, "bdm", &tl_bdm_checkpoint_ops, g->bdm);
+  /* The snapshot series, when open, so that a restart extends them. */
+  if (s == TL_OK && g->pw) s = tl_checkpoint_add(*cp, "particle_snapshots", &tl_particle_writer_checkpoint_ops, g->pw);
+  if (s == TL_OK && g->so) s = tl_checkpoint_add(*cp, "bar_snapshots", &tl_solid_output_checkpoint_ops, g->so);
   if (s) tl_checkpoint_destroy(cp);
   return s;
 }

@@ -112,9 +112,14 @@ void tl_gouge_report(const TlGouge *g, TlBdmReport *rep);
 /* Snapshots (HDF5 + XDMF): particles (position, radius, velocity, weight
  * 1 - alpha) and the bars (displacement, velocity, stress) under dir. */
 TlStatus tl_gouge_snapshot(TlGouge *g, const char *dir);
+/* Opens the snapshot series under dir without writing (tl_gouge_snapshot
+ * opens them at its first call): open series are part of the checkpoint,
+ * so a restarted run with snapshots opens them before loading. */
+TlStatus tl_gouge_open_snapshots(TlGouge *g, const char *dir);
 
-/* The full dynamic state: the DEM, the FE stepper, the coupling and the
- * scene's step count, so that the same scene loaded continues bit for bit. */
+/* The full dynamic state: the DEM, the FE stepper, the coupling, the
+ * scene's step count and the open snapshot series, so that the same scene
+ * loaded continues bit for bit. */
 TlStatus tl_gouge_checkpoint_save(TlGouge *g, const char *path);
 TlStatus tl_gouge_checkpoint_load(TlGouge *g, const char *path);
 

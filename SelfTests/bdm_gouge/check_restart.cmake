@@ -1,6 +1,6 @@
 # Bit-for-bit restart of a coupled run: DRIVER with ARGS to STEPS steps in
 # one go, and the same run stopped at HALF (checkpoint) then restarted from
-# its checkpoint to STEPS; the last rows of both history.csv (time, the
+# its checkpoint to STEPS; the last rows of both histories (time, the
 # monitored planes' displacements, the coupling's report, %.17g) must be
 # identical strings.
 separate_arguments(args UNIX_COMMAND "${ARGS}")
@@ -14,7 +14,7 @@ if(NOT r1 EQUAL 0 OR NOT r2 EQUAL 0 OR NOT r3 EQUAL 0)
   message(FATAL_ERROR "a run failed (exits ${r1}, ${r2}, ${r3})")
 endif()
 file(STRINGS ${OUT}/whole/history.csv a)
-file(STRINGS ${OUT}/second/history.csv b)
+file(STRINGS ${OUT}/second/history_restart${HALF}.csv b)
 list(GET a -1 la)
 list(GET b -1 lb)
 list(LENGTH a na)
