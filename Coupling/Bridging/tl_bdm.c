@@ -11,16 +11,24 @@
 #include "tl_mesh_locator.h"
 #include "tl_timer.h"
 
-static double alpha_at(const TlBdm *b, const double x[3])
+/* alpha of the masses (clamped inside a zone: the correction divides by
+ * the weighted masses) and of the forces (the continuous profile: a clamp
+ * would make a contact's weight jump by alpha_min where its contact point
+ * crosses a zone's end, a kick the light particles there cannot take). */
+static double alpha_mass(const TlBdm *b, const double x[3])
 {
   return tl_bdm_alpha(b->zones, b->n_zones, b->opt.profile, b->opt.alpha_min, x);
+}
+static double alpha_force(const TlBdm *b, const double x[3])
+{
+  return tl_bdm_alpha(b->zones, b->n_zones, b->opt.profile, 0.0, x);
 }
 
 /* The DEM's weight field: at the particle centres (the world passes
  * P->x) the reference weight 1 - alpha(X_i) of each particle, by id, so a
- * particle's weighted mass is constant; at contact points (and for
- * particles inserted after the coupling was built) 1 - alpha at the
- * current point. */
+ * particle's weighted mass is constant (particles inserted after the
+ * coupling was built: at the current centre); at contact points 1 - alpha
+ * of the continuous profile at the current point. */
 static TlStatus dem_weight(void *ctx, size_t n, const TlVec3 *x, double *w)
 {
   TlBdm *b = ctx;
@@ -36,7 +44,7 @@ static TlStatus dem_weight(void *ctx, size_t n, const TlVec3 *x, double *w)
       }
     }
     const double p[3] = {x[i].x, x[i].y, x[i].z};
-    w[i] = 1.0 - alpha_at(b, p);
+    w[i] = 1.0 - (centres ? alpha_mass(b, p) : alpha_force(b, p));
   }
   return TL_OK;
 }
@@ -82,7 +90,7 @@ static TlStatus set_fe_weights(TlBdm *b)
   const TlMesh *mesh = tl_solid_mesh(b->solid);
   const TlElementBlock *blk = &mesh->blocks[b->block];
   const TlElementType *t = blk->type;
-  for (size_t I = 0; I < mesh->n_nodes; ++I) b->alpha_nodes[I] = alpha_at(b, mesh->x + 3 * I);
+  for (size_t I = 0; I < mesh->n_nodes; ++I) b->alpha_nodes[I] = alpha_mass(b, mesh->x + 3 * I);
   TlQuadrature q, qm;
   TL_CHECK(tl_element_quadrature(t, t->order_stiffness, &q));
   TL_CHECK(tl_element_quadrature(t, t->order_mass, &qm));
@@ -96,12 +104,12 @@ static TlStatus set_fe_weights(TlBdm *b)
     for (int p = 0; p < q.n; ++p) {
       double xp[3];
       tl_element_interpolate(t, xe, q.xi[p], xp);
-      w[e * q.n + p] = alpha_at(b, xp);
+      w[e * q.n + p] = alpha_force(b, xp);
     }
     for (int p = 0; p < qm.n; ++p) {
       double xp[3];
       tl_element_interpolate(t, xe, qm.xi[p], xp);
-      wm[e * qm.n + p] = b->opt.mass_weight == TL_BDM_MASS_QUADRATURE ? alpha_at(b, xp) : 1.0;
+      wm[e * qm.n + p] = b->opt.mass_weight == TL_BDM_MASS_QUADRATURE ? alpha_mass(b, xp) : 1.0;
     }
   }
   if (s == TL_OK) s = tl_solid_set_point_weights(b->solid, b->block, w, wm);
@@ -169,7 +177,14 @@ TlStatus tl_bdm_create(TlSolid *solid, int block, TlDem *dem, const TlBdmZone *z
     b->ref_x[i] = wrap_to_section(dom, lo, P->x[i]);
     b->slot_of_id[P->id[i]] = i;
     const double X[3] = {b->ref_x[i].x, b->ref_x[i].y, b->ref_x[i].z};
-    b->ref_w[i] = 1.0 - alpha_at(b, X);
+    b->ref_w[i] = 1.0 - alpha_mass(b, X);
+    if (!(b->ref_w[i] > 0.0)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "bdm: particle id %lld at (%g, %g, %g) lies on the FE side of a zone (alpha = 1), so its "
+                       "weighted mass (1 - alpha) m would vanish: the DEM must end at a zone's s_fe",
+                       (long long)P->id[i], X[0], X[1], X[2]);
+      goto fail;
+    }
   }
   TL_CHECK_GOTO(s, set_fe_weights(b), fail);
   tl_dem_set_weight_field(dem, dem_weight, b);
@@ -187,31 +202,42 @@ void tl_bdm_destroy(TlBdm **pb)
   if (b->wrapper) tl_solid_remove_wrapper(b->solid, &b->wrapper);
   tl_bdm_system_destroy(&b->sys);
   void *arr[] = {&b->ref_id, &b->ref_x, &b->ref_w, &b->slot_of_id, &b->index_of_id, &b->alpha_nodes, &b->c_slot,
-                 &b->c_idx, &b->ptr, &b->dof, &b->phi, &b->m_q, &b->fixed, &b->comp, &b->v_q, &b->v_q0, &b->gdot,
+                 &b->c_idx, &b->g_slot, &b->g_idx, &b->ptr, &b->dof, &b->phi, &b->m_q, &b->fixed, &b->comp, &b->v_q, &b->v_q0, &b->gdot,
                  &b->mu, &b->g_w, &b->v_dof0, &b->ghost_fe, &b->ghost_dem};
   for (size_t k = 0; k < sizeof arr / sizeof arr[0]; ++k) tl_free(arr[k]);
   tl_free(pb);
 }
 
-/* Current indices of the coupled particles: checked cheaply each step,
- * rebuilt through an id table when the world renumbered them. */
-TlStatus tl_bdm_remap(TlBdm *b)
+/* Current indices of a list of particles (reference slots): checked
+ * cheaply each step, rebuilt through an id table when the world renumbered
+ * them. */
+static TlStatus remap_list(TlBdm *b, size_t n, const size_t *slot, size_t *idx, int *table_built)
 {
   const TlParticles *P = tl_dem_particles(b->dem);
   int ok = 1;
-  for (size_t k = 0; k < b->n_c && ok; ++k)
-    ok = b->c_idx[k] < P->n && P->id[b->c_idx[k]] == b->ref_id[b->c_slot[k]];
+  for (size_t k = 0; k < n && ok; ++k) ok = idx[k] < P->n && P->id[idx[k]] == b->ref_id[slot[k]];
   if (ok) return TL_OK;
-  for (int64_t id = 0; id < b->id_cap; ++id) b->index_of_id[id] = SIZE_MAX;
-  for (size_t i = 0; i < P->n; ++i)
-    if (P->id[i] >= 0 && P->id[i] < b->id_cap) b->index_of_id[P->id[i]] = i;
-  for (size_t k = 0; k < b->n_c; ++k) {
-    int64_t id = b->ref_id[b->c_slot[k]];
+  if (!*table_built) {
+    for (int64_t id = 0; id < b->id_cap; ++id) b->index_of_id[id] = SIZE_MAX;
+    for (size_t i = 0; i < P->n; ++i)
+      if (P->id[i] >= 0 && P->id[i] < b->id_cap) b->index_of_id[P->id[i]] = i;
+    *table_built = 1;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    int64_t id = b->ref_id[slot[k]];
     size_t i = b->index_of_id[id];
     if (i == SIZE_MAX)
       TL_ERROR(TL_ERR_STATE, "bdm: coupled particle id %lld is no longer in the DEM world", (long long)id);
-    b->c_idx[k] = i;
+    idx[k] = i;
   }
+  return TL_OK;
+}
+
+TlStatus tl_bdm_remap(TlBdm *b)
+{
+  int built = 0;
+  TL_CHECK(remap_list(b, b->n_c, b->c_slot, b->c_idx, &built));
+  if (b->n_g) TL_CHECK(remap_list(b, b->n_g, b->g_slot, b->g_idx, &built));
   return TL_OK;
 }
 
@@ -347,6 +373,51 @@ static void total_momentum(const TlBdm *b, double P3[3])
   }
 }
 
+/* The diagnostics of the current state (after a correction): constraint
+ * rates, the displacement residual and the total weighted momentum. */
+static void diagnose(TlBdm *b)
+{
+  const TlParticles *P = tl_dem_particles(b->dem);
+  const TlStepper *st = b->st;
+  const size_t nq = 3 * b->n_c;
+  b->last.rate_after = b->last.rate_weak_after = b->last.residual_max = 0.0;
+  if (tl_bdm_remap(b) != TL_OK) { /* a coupled particle was removed: nothing to measure */
+    b->last.rate_after = b->last.rate_weak_after = b->last.residual_max = b->last.residual_rms = NAN;
+    return;
+  }
+  for (size_t k = 0; k < b->n_c; ++k) {
+    const TlVec3 v = P->v[b->c_idx[k]];
+    b->v_q[3 * k] = v.x;
+    b->v_q[3 * k + 1] = v.y;
+    b->v_q[3 * k + 2] = v.z;
+  }
+  tl_bdm_system_rate(b->sys, st->v, b->v_q, b->gdot);
+  for (size_t q = 0; q < nq; ++q) b->last.rate_after = amax(b->last.rate_after, b->gdot[q]);
+  size_t n_rows;
+  tl_bdm_system_rows(b->sys, &n_rows);
+  if (n_rows) { /* the weak constraint's own rate (0 for the strong one) */
+    tl_bdm_system_weak_rate(b->sys, b->gdot, b->g_w);
+    for (size_t k = 0; k < n_rows; ++k) b->last.rate_weak_after = amax(b->last.rate_weak_after, b->g_w[k]);
+  }
+  /* displacement residual g = N^T u - d, d unwrapped to the nearest image */
+  const TlDomain *dom = tl_dem_domain(b->dem);
+  for (size_t k = 0; k < b->n_c; ++k) {
+    TlVec3 d = tl_domain_branch(dom, b->ref_x[b->c_slot[k]], P->x[b->c_idx[k]]);
+    b->v_q0[3 * k] = d.x;
+    b->v_q0[3 * k + 1] = d.y;
+    b->v_q0[3 * k + 2] = d.z;
+  }
+  tl_bdm_system_rate(b->sys, st->u, b->v_q0, b->gdot);
+  double ss = 0.0;
+  for (size_t q = 0; q < nq; ++q) {
+    b->last.residual_max = amax(b->last.residual_max, b->gdot[q]);
+    ss += b->gdot[q] * b->gdot[q];
+  }
+  b->last.residual_rms = sqrt(ss / (double)nq);
+  total_momentum(b, b->last.momentum);
+  b->state_diagnosed = 1;
+}
+
 TlStatus tl_bdm_correct(TlBdm *b, TlBdmReport *rep)
 {
   if (!b->ready) TL_ERROR(TL_ERR_STATE, "bdm: tl_bdm_setup must precede tl_bdm_correct");
@@ -387,43 +458,27 @@ TlStatus tl_bdm_correct(TlBdm *b, TlBdmReport *rep)
     dK += 0.5 * m * (v0 - v1) * (v0 + v1);
     dP[b->comp[J]] += m * (v1 - v0);
   }
-  tl_bdm_system_rate(b->sys, st->v, b->v_q, b->gdot);
-  for (size_t q = 0; q < nq; ++q) r.rate_after = amax(r.rate_after, b->gdot[q]);
-  size_t n_rows;
-  tl_bdm_system_rows(b->sys, &n_rows);
-  if (n_rows) { /* the weak constraint's own rate (0 for the strong one) */
-    tl_bdm_system_weak_rate(b->sys, b->gdot, b->g_w);
-    for (size_t k = 0; k < n_rows; ++k) r.rate_weak_after = amax(r.rate_weak_after, b->g_w[k]);
-  }
-  /* displacement residual g = N^T u - d, d unwrapped to the nearest image */
-  const TlDomain *dom = tl_dem_domain(b->dem);
-  for (size_t k = 0; k < b->n_c; ++k) {
-    TlVec3 d = tl_domain_branch(dom, b->ref_x[b->c_slot[k]], P->x[b->c_idx[k]]);
-    b->v_q0[3 * k] = d.x;
-    b->v_q0[3 * k + 1] = d.y;
-    b->v_q0[3 * k + 2] = d.z;
-  }
-  tl_bdm_system_rate(b->sys, st->u, b->v_q0, b->gdot);
-  double ss = 0.0;
-  for (size_t q = 0; q < nq; ++q) {
-    r.residual_max = amax(r.residual_max, b->gdot[q]);
-    ss += b->gdot[q] * b->gdot[q];
-  }
-  r.residual_rms = sqrt(ss / (double)nq);
   r.velocity_scale = vs;
   for (int c = 0; c < 3; ++c) r.momentum_change[c] = dP[c];
   r.energy_removed = dK;
   b->removed_total += dK;
   r.energy_removed_total = b->removed_total;
   r.step = ++b->steps;
-  b->t_correct += tl_wtime() - t0;
-  if (rep) total_momentum(b, r.momentum);
   b->last = r;
-  if (rep) *rep = r;
+  b->state_diagnosed = 0;
+  if (rep) {
+    diagnose(b);
+    *rep = b->last;
+  }
+  b->t_correct += tl_wtime() - t0;
   return TL_OK;
 }
 
-void tl_bdm_last_report(const TlBdm *b, TlBdmReport *rep) { *rep = b->last; }
+void tl_bdm_last_report(TlBdm *b, TlBdmReport *rep)
+{
+  if (b->ready && b->steps > 0 && !b->state_diagnosed) diagnose(b);
+  *rep = b->last;
+}
 
 void tl_bdm_info(const TlBdm *b, TlBdmInfo *info)
 {
@@ -431,6 +486,7 @@ void tl_bdm_info(const TlBdm *b, TlBdmInfo *info)
   info->n_particles = b->n_c;
   info->n_constraints = 3 * b->n_c;
   info->n_excluded = b->n_excluded;
+  info->n_ghost_particles = b->n_g;
   if (b->sys) {
     tl_bdm_system_free_dofs(b->sys, &info->n_dofs);
     tl_bdm_system_rows(b->sys, &info->n_rows_weak);

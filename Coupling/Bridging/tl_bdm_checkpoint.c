@@ -31,7 +31,10 @@ static TlStatus bdm_save(const void *object, TlCheckpointWriter *w, const char *
   TL_CHECK(tl_checkpoint_write_int64(w, group, "n_coupled", (int64_t)b->n_c));
   if (b->ghost_fe)
     TL_CHECK(tl_checkpoint_write_doubles(w, group, "ghost_fe", 3 * tl_solid_mesh(b->solid)->n_nodes, b->ghost_fe));
-  if (b->ghost_dem) TL_CHECK(tl_checkpoint_write_doubles(w, group, "ghost_dem", 3 * b->n_c, b->ghost_dem));
+  if (b->ghost_dem) {
+    TL_CHECK(tl_checkpoint_write_int64(w, group, "n_ghost", (int64_t)b->n_g));
+    TL_CHECK(tl_checkpoint_write_doubles(w, group, "ghost_dem", 3 * b->n_g, b->ghost_dem));
+  }
   TL_CHECK(tl_checkpoint_write_int64(w, group, "steps", b->steps));
   TL_CHECK(tl_checkpoint_write_double(w, group, "energy_removed_total", b->removed_total));
   return TL_OK;
@@ -86,8 +89,14 @@ static TlStatus bdm_load(void *object, TlCheckpointReader *r, const char *group)
     TL_CHECK(tl_checkpoint_check_finite(r, group, "ghost_fe", m, b->ghost_fe));
   }
   if (b->ghost_dem) {
-    TL_CHECK(tl_checkpoint_read_doubles(r, group, "ghost_dem", 3 * b->n_c, b->ghost_dem));
-    TL_CHECK(tl_checkpoint_check_finite(r, group, "ghost_dem", 3 * b->n_c, b->ghost_dem));
+    /* the particle set follows from the reference configuration checked above */
+    int64_t ng = 0;
+    TL_CHECK(tl_checkpoint_read_int64(r, group, "n_ghost", &ng));
+    if (ng != (int64_t)b->n_g)
+      TL_ERROR(TL_ERR_ARG, "%s: the saved coupling subtracts the initial forces of %lld particles; this one %zu", path,
+               (long long)ng, b->n_g);
+    TL_CHECK(tl_checkpoint_read_doubles(r, group, "ghost_dem", 3 * b->n_g, b->ghost_dem));
+    TL_CHECK(tl_checkpoint_check_finite(r, group, "ghost_dem", 3 * b->n_g, b->ghost_dem));
   }
   int64_t steps = 0;
   TL_CHECK(tl_checkpoint_read_int64(r, group, "steps", &steps));

@@ -5,8 +5,10 @@
  * (the eigenstrain forces on the mesh's free end inside the DEM and those
  * of the weighted elements) enter as a constant external load through a
  * wrapper over the coupled block, so the stepper books their work.
- * Particles: the initial weighted force of each coupled particle, minus,
- * in P->f_coupling (added to the particle's force as it is). */
+ * Particles: the initial weighted force of each particle the weighting
+ * reaches (coupled, or with a weighted contact: centre within the largest
+ * radius of a zone), minus, in P->f_coupling (added to the particle's
+ * force as it is). */
 #include <math.h>
 #include <string.h>
 
@@ -51,9 +53,20 @@ static TlStatus record_fe(TlBdm *b)
       if (J < 0 || b->fixed[J]) b->ghost_fe[3 * I + (size_t)c] = 0.0;
     }
   TL_CHECK(tl_solid_add_wrapper(b->solid, b->block, &ghost_ops, b, &b->wrapper));
-  /* the accelerations of the set-up state with the correction in place */
-  TL_CHECK(tl_stepper_set_state(b->st, b->st->t, b->st->u, b->st->v));
-  return TL_OK;
+  /* the accelerations of the set-up state with the correction in place
+   * (copies: set_state copies its arguments into the stepper's arrays) */
+  const size_t n = (size_t)b->st->n;
+  double *u0 = NULL, *v0 = NULL;
+  s = tl_calloc(&u0, n + 1, sizeof *u0);
+  if (s == TL_OK) s = tl_calloc(&v0, n + 1, sizeof *v0);
+  if (s == TL_OK) {
+    memcpy(u0, b->st->u, n * sizeof *u0);
+    memcpy(v0, b->st->v, n * sizeof *v0);
+    s = tl_stepper_set_state(b->st, b->st->t, u0, v0);
+  }
+  tl_free(&u0);
+  tl_free(&v0);
+  return s;
 }
 
 /* Whether the DEM's last forces were evaluated with the coupling's
@@ -71,14 +84,45 @@ static int forces_weighted(const TlBdm *b)
   return 1;
 }
 
+/* The free particles a weighted contact reaches: reference centre within
+ * the largest radius of a zone (a contact point lies within its
+ * particle's radius of the centre). */
+static TlStatus ghost_particles(TlBdm *b)
+{
+  const TlParticles *P = tl_dem_particles(b->dem);
+  double r_max = 0.0;
+  for (size_t i = 0; i < P->n; ++i) r_max = fmax(r_max, P->radius[i]);
+  const double reach = r_max * (1.0 + 1e-9);
+  TL_CHECK(tl_calloc(&b->g_slot, b->n_ref + 1, sizeof *b->g_slot));
+  TL_CHECK(tl_calloc(&b->g_idx, b->n_ref + 1, sizeof *b->g_idx));
+  b->n_g = 0;
+  for (size_t i = 0; i < P->n; ++i) {
+    int64_t id = P->id[i];
+    size_t slot = id >= 0 && id < b->id_cap ? b->slot_of_id[id] : SIZE_MAX;
+    if (slot == SIZE_MAX || P->motion[i] != TL_MOTION_FREE) continue;
+    const double *X = &b->ref_x[slot].x;
+    int near = 0;
+    for (int z = 0; z < b->n_zones && !near; ++z) {
+      const TlBdmZone *Z = &b->zones[z];
+      double a0 = fmin(Z->s_dem, Z->s_fe) - reach, a1 = fmax(Z->s_dem, Z->s_fe) + reach;
+      near = X[Z->axis] >= a0 && X[Z->axis] <= a1;
+    }
+    if (!near) continue;
+    b->g_slot[b->n_g] = slot;
+    b->g_idx[b->n_g++] = i;
+  }
+  return TL_OK;
+}
+
 static TlStatus record_dem(TlBdm *b)
 {
   TlParticles *P = tl_dem_particles(b->dem);
   TL_CHECK(tl_particles_enable_coupling_force(P));
   if (!forces_weighted(b)) TL_CHECK(tl_dem_compute_forces(b->dem));
-  TL_CHECK(tl_calloc(&b->ghost_dem, 3 * b->n_c, sizeof *b->ghost_dem));
-  for (size_t k = 0; k < b->n_c; ++k) {
-    size_t i = b->c_idx[k];
+  TL_CHECK(ghost_particles(b));
+  TL_CHECK(tl_calloc(&b->ghost_dem, 3 * b->n_g + 1, sizeof *b->ghost_dem));
+  for (size_t k = 0; k < b->n_g; ++k) {
+    size_t i = b->g_idx[k];
     /* the force the particle had, less any coupling force already there */
     TlVec3 f = tl_v3_sub(P->f[i], P->f_coupling[i]);
     b->ghost_dem[3 * k] = f.x;
@@ -88,8 +132,8 @@ static TlStatus record_dem(TlBdm *b)
   TL_CHECK(tl_bdm_ghost_apply_dem(b));
   /* the current force as the next evaluation will give it (no second
    * evaluation: a history law would book another increment) */
-  for (size_t k = 0; k < b->n_c; ++k) {
-    size_t i = b->c_idx[k];
+  for (size_t k = 0; k < b->n_g; ++k) {
+    size_t i = b->g_idx[k];
     TlVec3 f0 = {b->ghost_dem[3 * k], b->ghost_dem[3 * k + 1], b->ghost_dem[3 * k + 2]};
     P->f[i] = tl_v3_add(f0, P->f_coupling[i]);
   }
@@ -102,8 +146,8 @@ TlStatus tl_bdm_ghost_apply_dem(TlBdm *b)
   if (!b->ghost_dem) return TL_OK;
   TL_CHECK(tl_particles_enable_coupling_force(P));
   TL_CHECK(tl_bdm_remap(b));
-  for (size_t k = 0; k < b->n_c; ++k)
-    P->f_coupling[b->c_idx[k]] = (TlVec3){-b->ghost_dem[3 * k], -b->ghost_dem[3 * k + 1], -b->ghost_dem[3 * k + 2]};
+  for (size_t k = 0; k < b->n_g; ++k)
+    P->f_coupling[b->g_idx[k]] = (TlVec3){-b->ghost_dem[3 * k], -b->ghost_dem[3 * k + 1], -b->ghost_dem[3 * k + 2]};
   return TL_OK;
 }
 

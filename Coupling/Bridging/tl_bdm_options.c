@@ -32,7 +32,7 @@ TlStatus tl_bdm_register_all(void)
 void tl_bdm_options_default(TlBdmOptions *o)
 {
   *o = (TlBdmOptions){.constraint = TL_BDM_STRONG, .lumping = TL_BDM_LUMP_ROWSUM, .jacobi = 0,
-                      .profile = TL_BDM_ALPHA_LINEAR, .alpha_min = 1e-3, .ghost = TL_BDM_GHOST_FE,
+                      .profile = TL_BDM_ALPHA_LINEAR, .alpha_min = 1e-3, .ghost = TL_BDM_GHOST_BOTH,
                       .mass_weight = TL_BDM_MASS_NODAL, .locate_tol = 1e-9};
 }
 
@@ -85,8 +85,10 @@ TlStatus tl_bdm_options_from_db(TlOptions *db, TlBdmOptions *o)
                                "alpha clamped to [alpha_min, 1 - alpha_min] inside a zone (weighted masses > 0)",
                                &o->alpha_min));
   TL_CHECK(tl_options_get_choice(db, "-ghost_force", ghosts[o->ghost], ghosts,
-                                 "ghost-force correction: subtract the initial forces of the FE nodes, of the coupled "
-                                 "particles, both, or none", &k));
+                                 "ghost-force correction: subtract the initial forces of the FE nodes (the paper's "
+                                 "text), of the particles the weighting reaches, both (the default: either alone "
+                                 "leaves the other model's weighted unbalance, which the overlap as a whole "
+                                 "balanced), or none", &k));
   o->ghost = (TlBdmGhost)k;
   TL_CHECK(tl_options_get_choice(db, "-bdm_mass_weight", mass_weights[o->mass_weight], mass_weights,
                                  "FE weighted masses: nodal alpha(X_I) M_I (the paper) or alpha at the mass points",

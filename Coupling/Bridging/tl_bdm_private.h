@@ -34,6 +34,11 @@ struct TlBdm {
   /* coupled particles: reference slot and current index */
   size_t n_c, n_excluded;
   size_t *c_slot, *c_idx;
+  /* particles whose initial forces are subtracted (-ghost_force dem|both):
+   * every free particle a weighted contact can reach, i.e. whose reference
+   * centre lies within the largest radius of a zone */
+  size_t n_g;
+  size_t *g_slot, *g_idx;
   /* N by rows q = 3k + c in the solid's dof numbering, weighted masses */
   size_t *ptr;
   TlSparseIndex *dof;
@@ -44,10 +49,11 @@ struct TlBdm {
   double *v_q, *v_q0, *gdot, *mu, *g_w, *v_dof0;
   /* ghost forces: subtracted FE internal force at setup (node space, 3 per
    * node) and the coupled particles' initial weighted forces (3 each) */
-  double *ghost_fe, *ghost_dem;
+  double *ghost_fe, *ghost_dem; /* ghost_dem: 3 per ghost-force particle */
   TlSolidWrapper *wrapper;
   /* report */
   TlBdmReport last;
+  int state_diagnosed; /* last's rates, residual and momentum are of the current state */
   long steps;
   double removed_total;
   double t_setup, t_correct;
@@ -60,7 +66,8 @@ TlStatus tl_bdm_ghost_setup(TlBdm *b);
 /* Writes the recorded particle ghost forces into P->f_coupling (after a
  * restart or a renumbering of the particles). */
 TlStatus tl_bdm_ghost_apply_dem(TlBdm *b);
-/* Current indices of the coupled particles (after the DEM renumbered). */
+/* Current indices of the coupled and ghost-force particles (after the DEM
+ * renumbered). */
 TlStatus tl_bdm_remap(TlBdm *b);
 
 #endif
