@@ -112,6 +112,7 @@ void tl_solid_destroy_content(TlMechSystem *sys)
   tl_free(&s->scratch);
   tl_free(&s->blocks);
   tl_free(&s->constraint);
+  tl_free(&s->tie_master);
   tl_free(&s->prescribed);
   tl_free(&s->body);
   tl_free(&s->surface);
@@ -158,9 +159,11 @@ void tl_solid_dofs_to_nodes(const TlSolid *s, const double *u, double *u_nodes)
 
 void tl_solid_nodes_to_dofs(const TlSolid *s, const double *f_nodes, double *f)
 {
+  /* Summed: tied nodes (tl_solid_tie) share their dofs. */
   size_t nc = s->n_nodes * s->dim;
+  memset(f, 0, (size_t)s->base.ndof * sizeof *f);
   for (size_t i = 0; i < nc; ++i)
-    if (s->dof[i] >= 0) f[s->dof[i]] = f_nodes[i];
+    if (s->dof[i] >= 0) f[s->dof[i]] += f_nodes[i];
 }
 
 TlSparseIndex tl_solid_dof(const TlSolid *s, size_t node, int component)

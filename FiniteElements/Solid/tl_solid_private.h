@@ -10,7 +10,8 @@
  *   tl_solid_wrapper.c    wrappers over blocks (coupling element types)
  *   tl_solid_post.c       stresses, energies, work, reactions
  *   tl_solid_checkpoint.c committed material state
- *   tl_solid_rigid.c      the rigid-mode check */
+ *   tl_solid_rigid.c      the rigid-mode check
+ *   tl_solid_tie.c        periodic ties (slave nodes numbered as their masters) */
 #ifndef TL_SOLID_PRIVATE_H
 #define TL_SOLID_PRIVATE_H
 
@@ -123,6 +124,7 @@ struct TlSolid {
   size_t n_nodes, n_elements;
   SolidBlock *blocks;
   unsigned char *constraint; /* n_nodes x dim: 0 free, 1 clamped, 2 prescribed */
+  size_t *tie_master;        /* n_nodes: the node whose dofs a node shares (tl_solid_tie), NULL: no tie */
   Prescribed *prescribed;
   size_t n_prescribed, cap_prescribed;
   BodyForce *body;
@@ -164,6 +166,10 @@ void tl_solid_parallel_error_record(ParallelError *pe, TlStatus s);
 TlStatus tl_solid_parallel_error_raise(const ParallelError *pe);
 /* The content destructor of the system ops. */
 void tl_solid_destroy_content(TlMechSystem *sys);
+
+/* Ties (tl_solid_tie.c): the root node of every node (itself when untied)
+ * into root (n_nodes), refusing a cycle. */
+TlStatus tl_solid_tie_roots(const TlSolid *s, size_t *root);
 
 /* Loads (tl_solid_loads.c). */
 TlStatus tl_solid_setup_dead_loads(TlSolid *s);

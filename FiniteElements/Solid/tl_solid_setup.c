@@ -166,14 +166,46 @@ TlStatus tl_solid_setup(TlSolid *s)
   size_t nc = s->n_nodes * dim;
   TL_CHECK(tl_calloc(&s->dof, nc, sizeof *s->dof));
   TlSparseIndex ndof = 0, ndir = 0;
+  size_t *root = NULL;
+  if (s->tie_master) {
+    /* Tied nodes (tl_solid_tie) take the dofs of their root node, whose
+     * boundary conditions they must share. */
+    TL_CHECK(tl_calloc(&root, s->n_nodes, sizeof *root));
+    TlStatus st = tl_solid_tie_roots(s, root);
+    for (size_t i = 0; st == TL_OK && i < nc; ++i) {
+      size_t r = root[i / dim] * dim + i % dim;
+      if (s->constraint[i] != s->constraint[r])
+        st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                          "solid: component %zu of node %zu is %s but its periodic master, node %zu, is %s: tied "
+                          "nodes must share their boundary conditions",
+                          i % dim, i / dim, s->constraint[i] == 1 ? "clamped" : s->constraint[i] == 2 ? "prescribed" : "free",
+                          r / dim, s->constraint[r] == 1 ? "clamped" : s->constraint[r] == 2 ? "prescribed" : "free");
+    }
+    if (st) {
+      tl_free(&root);
+      return st;
+    }
+  }
   for (size_t i = 0; i < nc; ++i) {
+    if (root && root[i / dim] != i / dim) continue;
     s->dof[i] = s->constraint[i] == 1 ? -1 : ndof++;
     ndir += s->constraint[i] == 2;
   }
-  if (ndof == 0) TL_ERROR(TL_ERR_ARG, "solid: every dof is clamped, nothing to solve");
-  TL_CHECK(tl_calloc(&s->base.dirichlet_dofs, ndir ? ndir : 1, sizeof(TlSparseIndex)));
+  if (root)
+    for (size_t i = 0; i < nc; ++i)
+      if (root[i / dim] != i / dim) s->dof[i] = s->dof[root[i / dim] * dim + i % dim];
+  if (ndof == 0) {
+    tl_free(&root);
+    TL_ERROR(TL_ERR_ARG, "solid: every dof is clamped, nothing to solve");
+  }
+  TlStatus sd = tl_calloc(&s->base.dirichlet_dofs, ndir ? ndir : 1, sizeof(TlSparseIndex));
+  if (sd) {
+    tl_free(&root);
+    return sd;
+  }
   for (size_t i = 0, k = 0; i < nc; ++i)
-    if (s->constraint[i] == 2) s->base.dirichlet_dofs[k++] = s->dof[i];
+    if (s->constraint[i] == 2 && !(root && root[i / dim] != i / dim)) s->base.dirichlet_dofs[k++] = s->dof[i];
+  tl_free(&root);
   s->base.ndof = ndof;
   s->base.n_dirichlet = ndir;
   s->base.symmetric = symmetric;
