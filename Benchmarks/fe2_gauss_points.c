@@ -232,7 +232,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "costly_per_point", per_point1);
   tl_summary_int(&sum, "identical", c1.hash == c2.hash);
   tl_summary_real(&sum, "load", load_average());
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (c1.hash != c2.hash) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "results differ between 1 and 2 threads");
 done:
   tl_options_destroy(&o);

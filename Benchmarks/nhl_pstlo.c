@@ -119,7 +119,7 @@ int main(int argc, char **argv)
   TlStatus s = run(argc, argv, &sum);
   if (s == TL_OK) {
     tl_summary_real(&sum, "wall", tl_wtime() - t0);
-    tl_summary_print(&sum, stdout);
+    s = tl_summary_print(&sum, stdout);
   }
   return tl_driver_exit(s);
 }

@@ -744,7 +744,7 @@ static TlStatus run(int argc, char **argv)
          c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
          steps_post ? (double)iterations_post / steps_post : 0.0, cuts, es.points,
          es.points ? es.t_points / (double)es.points : 0.0, es.t_wall, wall);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (c.check && rp.mat && !(ref_diff <= c.ref_tolerance * ref_peak))
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
                      "-check: the deviator differs from the reference point by %.3e of its peak, above %g",

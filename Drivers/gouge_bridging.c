@@ -323,7 +323,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "us_correct", tm.t_correct * per);
   tl_summary_real(&sum, "wall_loop", wall_loop);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
 done:
   for (int c = 0; c < 3; ++c) tl_timeseries_destroy(&ct[c]);
   tl_timeseries_destroy(&hist);

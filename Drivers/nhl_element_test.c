@@ -338,7 +338,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_int(&sum, "lateral_unconverged", unconverged_lateral);
   tl_summary_int(&sum, "cells_unconverged", unconverged_cells);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  tl_summary_print(&sum, stdout);
+  st = tl_summary_print(&sum, stdout);
 done:
   tl_timeseries_close(&ts);
   tl_particle_writer_destroy(&pw);
