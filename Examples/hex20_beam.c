@@ -345,7 +345,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_int(&sum, "gmsh", gmsh_ok);
   tl_summary_string(&sum, "check", ok ? "pass" : "fail");
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (!ok) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "hex20 example: a check failed (see above)");
 done:
   tl_free(&dir);

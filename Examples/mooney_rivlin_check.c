@@ -206,7 +206,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "err_solid", err_solid);
   tl_summary_string(&sum, "check", ok ? "pass" : "fail");
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
-  tl_summary_print(&sum, stdout);
+  s = tl_summary_print(&sum, stdout);
   if (!ok) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "mooney_rivlin example: a check failed (see above)");
 done:
   tl_material_destroy(&m);
