@@ -81,13 +81,19 @@ typedef struct {
 } Viscous;
 
 /* LAMMPS fix viscous: f = -c v on every free particle, with the half-step
- * velocity the forces at t + dt are evaluated with. */
+ * velocity the forces at t + dt are evaluated with.  The spins decay at the
+ * same rate c/m (LAMMPS's fix leaves them free, damped only by the
+ * tangential dashpots, which leaves the torques out of balance far longer
+ * than the forces). */
 static TlStatus viscous_hook(void *ctx, TlDem *d)
 {
   const Viscous *v = ctx;
   TlParticles *P = d->P;
-  for (size_t i = 0; i < P->n; ++i)
-    P->f_coupling[i] = P->motion[i] == TL_MOTION_FREE ? tl_v3_scale(P->v[i], -v->c) : tl_v3(0, 0, 0);
+  for (size_t i = 0; i < P->n; ++i) {
+    const int free = P->motion[i] == TL_MOTION_FREE;
+    P->f_coupling[i] = free ? tl_v3_scale(P->v[i], -v->c) : tl_v3(0, 0, 0);
+    if (P->w && free) P->w[i] = tl_v3_scale(P->w[i], fmax(0.0, 1.0 - v->c * d->dt * P->inv_mass[i]));
+  }
   return TL_OK;
 }
 
