@@ -1,23 +1,46 @@
 /* A periodic packing compressed isotropically to a target pressure and
- * relaxed, the way seeds/000 §3.1 prepares its gouge: polydisperse Hertz
- * spheres with friction (seeds/000 supplementary Eqs. 18-20, Table 1) start
- * as a loose random gas in a cubic periodic cell; the cell shrinks at a
- * strain rate set by an inertial number (seeds/004 Eq. 18,
- * ε̇ = I sqrt(p/ρ)/<d>) until the pressure reaches the target, then a
- * servo holds the pressure (ḣ = ε̇ h with ε̇ proportional to the pressure
- * error) while the packing relaxes, until the static balance of every
- * particle (seeds/004 Eq. 19, Δ_n < tolerance) and the pressure error are
- * both met, or -t_end.
+ * relaxed, the way seeds/000 §3.1 prepares its gouge, by one of two
+ * protocols (-protocol):
+ *
+ * servo (default): polydisperse Hertz spheres with friction (seeds/000
+ * supplementary Eqs. 18-20, Table 1) start as a loose random gas without
+ * overlaps in a cubic periodic cell; the cell shrinks at a strain rate set
+ * by an inertial number (seeds/004 Eq. 18, ε̇ = I sqrt(p/ρ)/<d>) until the
+ * pressure reaches the target, then a servo holds the pressure (ḣ = ε̇ h with
+ * ε̇ proportional to the pressure error) while the packing relaxes, until the
+ * static balance of every particle (seeds/004 Eq. 19, Δ_n < tolerance) and
+ * the pressure error are both met, or -t_end.
+ *
+ * scripts: the authors' LAMMPS preparation (create_random.py, relax.in, and
+ * the relaxation of in.elastic in ManonVL/fem-dem-bridging-coupling):
+ * bidisperse grains (d_min or d_max with probability 1/2 each) at random
+ * centres, overlaps allowed, until the solid volume is -fill_fraction of a
+ * cube of side -box d0; the frictionless gouge law (gran/hertz/history Kn 0
+ * gamma_n 0 0 0) with a global viscous force -c v (fix viscous c); -push_steps
+ * to push overlaps apart; then -cycles times {-relax_steps steps; compress
+ * at engineering rate -erate on x, y and z (fix deform erate) until the mean
+ * pressure reaches -pressure (fix halt) or -compress_steps}; then damped
+ * chunks of -chunk_steps until the kinetic energy is below -ke_rest, the
+ * damping off, undamped chunks until the kinetic energy stops decreasing.
+ * The frictionless packing is written; friction is switched on (the law of
+ * -contact/-friction, by default the gouge law lammps_hertz + lammps_history
+ * of Table 1, = gran/hertz/history Kn Kt 0.2 NULL 0.5 1), the damping again
+ * for -friction_damped_steps, chunks until at rest, undamped chunks until at
+ * rest, and the frictional packing is written.  One difference from the
+ * scripts: a random centre whose grain would overlap another by more than
+ * -max_initial_overlap of the smaller radius is drawn again (Talus refuses
+ * overlaps larger than a radius at set-up; the scripts allow any overlap).
  *
  * Defaults are seeds/000 Table 1: E = 50 GPa, ν = 0.3, ρ = 2500 kg/m³,
  * d ∈ [2.5, 3.5] mm, μ = 0.5, γ_n = 0.2, γ_t = 0.1 (1/(m s), the Hertz
  * form's damping), dt = 1e-8 s, 5 MPa; the cell side is 12 d0 (the size at
- * which the paper's moduli plateau).  With the paper's tiny damping the
- * relaxation is long (the paper quotes about 3e6 steps for a 12 d0 box).
+ * which the paper's moduli plateau).
  *
  * Output in -output_dir: compress.csv/.h5 (time, pressure, packing
- * fraction, kinetic energy, coordination, largest Δ_n, strain rate) and the
- * final packing (packing_*.h5 + packing.xmf).  Last line:
+ * fraction, kinetic energy, coordination, largest Δ_n, strain rate, stage)
+ * and the final packing (packing_*.h5 + packing.xmf, with the cell: see
+ * tl_dem_packing.h; scripts: also packing_frictionless_*.h5 and packing.data
+ * for LAMMPS).  Last line:
  * summary: n=... pressure=... packing_fraction=... coordination=... wall=... */
 #include <math.h>
 #include <stdio.h>
@@ -26,13 +49,23 @@
 #include "talus.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
+#include "tl_dem_packing.h"
 #include "tl_particle_snapshot.h"
 #include "tl_timeseries.h"
 
+enum { PROTOCOL_SERVO, PROTOCOL_SCRIPTS };
+enum { DIST_UNIFORM, DIST_BIDISPERSE };
+/* the stage column of compress.csv */
+enum { STAGE_COMPRESS, STAGE_SERVO, STAGE_PUSH, STAGE_RELAX, STAGE_DEFORM, STAGE_SETTLE, STAGE_UNDAMPED,
+       STAGE_FRICTION_DAMPED, STAGE_FRICTION_UNDAMPED };
+
 typedef struct {
+  int protocol, distribution, friction_stage;
   double d_min, d_max, density, pressure, dt, box_d0, phi0, inertial, inertial_gas;
   double t_end, tolerance, pressure_tolerance;
+  double fill, max_overlap, viscous, mu_compaction, erate, ke_rest;
   long seed, control_every;
+  long push_steps, cycles, relax_steps, compress_steps, halt_every, chunk_steps, max_chunks, friction_damped_steps;
   int threads;
   const char *out;
   TlContactLaw *law;
@@ -43,27 +76,75 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Isotropic compression of a periodic Hertz packing to a target pressure, then "
-                             "relaxation under a pressure servo (seeds/000 §3.1 preparation).",
+                             "relaxation (seeds/000 §3.1 preparation): under a pressure servo (-protocol servo) or "
+                             "by the authors' LAMMPS scripts (-protocol scripts: frictionless compaction under "
+                             "viscous damping until the pressure is reached, then friction on and relaxation).",
                              o));
+  static const char *const protocols[] = {"servo", "scripts", NULL};
+  TL_CHECK(tl_options_get_choice(*o, "-protocol", "servo", protocols,
+                                 "servo: inertial-number compression and pressure servo; scripts: the LAMMPS "
+                                 "preparation of seeds/000's scripts (see the options marked [scripts])",
+                                 &s->protocol));
+  const int scripts = s->protocol == PROTOCOL_SCRIPTS;
+  static const char *const dists[] = {"uniform", "bidisperse", NULL};
+  TL_CHECK(tl_options_get_choice(*o, "-distribution", scripts ? "bidisperse" : "uniform", dists,
+                                 "grain diameters: uniform in [d_min, d_max], or d_min or d_max with probability 1/2 "
+                                 "each (the scripts' bi_size); default bidisperse with -protocol scripts",
+                                 &s->distribution));
   TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
   TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
   TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (Table 1)", &s->density));
-  /* Hertz with viscous damping and Coulomb friction, seeds/000 Table 1:
-   * E = 50 GPa, nu = 0.3, mu_g = 0.5, gamma_n = 0.2, gamma_t = 0.1 1/(m s) */
-  const TlContactValue law_values[] = {{"E", 50e9}, {"nu", 0.3}, {"mu", 0.5}, {"gamma_n", 0.2}, {"gamma_t", 0.1}};
-  const TlContactSpec law_spec = {"hertz", "coulomb", NULL, NULL, law_values, 5};
-  TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
+  if (scripts) {
+    /* the gouge law of Table 1 = gran/hertz/history 3.663e10 4.5249e10 0.2 NULL 0.5 1 */
+    TL_CHECK(tl_contact_law_from_options(*o, &tl_gouge_law_spec, &s->law));
+  } else {
+    /* Hertz with viscous damping and Coulomb friction, seeds/000 Table 1:
+     * E = 50 GPa, nu = 0.3, mu_g = 0.5, gamma_n = 0.2, gamma_t = 0.1 1/(m s) */
+    const TlContactValue law_values[] = {{"E", 50e9}, {"nu", 0.3}, {"mu", 0.5}, {"gamma_n", 0.2}, {"gamma_t", 0.1}};
+    const TlContactSpec law_spec = {"hertz", "coulomb", NULL, NULL, law_values, 5};
+    TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
+  }
   TL_CHECK(tl_options_get_real(*o, "-pressure", 5e6, 1.0, 1e12, "Pa", "target confining pressure (seeds/000: 5 MPa)", &s->pressure));
   TL_CHECK(tl_options_get_real(*o, "-dt", 1e-8, 1e-15, 1.0, "s", "time step (Table 1)", &s->dt));
-  TL_CHECK(tl_options_get_real(*o, "-box", 12.0, 2.5, 1000.0, "d0", "cell side in mean diameters d0", &s->box_d0));
-  TL_CHECK(tl_options_get_real(*o, "-phi0", 0.3, 0.01, 0.5, "", "initial packing fraction of the gas", &s->phi0));
+  TL_CHECK(tl_options_get_real(*o, "-box", scripts ? 6.0 : 12.0, 2.0, 1000.0, "d0",
+                               "cell side in mean diameters d0 (servo: of the final packing, default 12; scripts: of "
+                               "the initial box at -fill_fraction, default 6, as the scripts' box_0.018)", &s->box_d0));
+  TL_CHECK(tl_options_get_real(*o, "-phi0", 0.3, 0.01, 0.5, "", "[servo] initial packing fraction of the gas", &s->phi0));
   TL_CHECK(tl_options_get_real(*o, "-inertial", 1e-3, 1e-7, 1.0, "",
-                               "inertial number setting the strain rate near the target (seeds/004 Eq. 18)", &s->inertial));
+                               "[servo] inertial number setting the strain rate near the target (seeds/004 Eq. 18)", &s->inertial));
   TL_CHECK(tl_options_get_real(*o, "-inertial_gas", 3e-2, 1e-7, 10.0, "",
-                               "inertial number of the initial compression, while the pressure is low", &s->inertial_gas));
-  TL_CHECK(tl_options_get_real(*o, "-t_end", 0.05, 0.0, 1e6, "s", "longest simulated time", &s->t_end));
-  TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-3, 1e-12, 1.0, "", "static balance Δ_n of every particle (seeds/004 Eq. 19)", &s->tolerance));
-  TL_CHECK(tl_options_get_real(*o, "-pressure_tolerance", 1e-2, 1e-9, 1.0, "", "relative pressure error at the end", &s->pressure_tolerance));
+                               "[servo] inertial number of the initial compression, while the pressure is low", &s->inertial_gas));
+  TL_CHECK(tl_options_get_real(*o, "-t_end", 0.05, 0.0, 1e6, "s", "[servo] longest simulated time", &s->t_end));
+  TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-3, 1e-12, 1.0, "", "[servo] static balance Δ_n of every particle (seeds/004 Eq. 19)", &s->tolerance));
+  TL_CHECK(tl_options_get_real(*o, "-pressure_tolerance", 1e-2, 1e-9, 1.0, "", "[servo] relative pressure error at the end", &s->pressure_tolerance));
+  TL_CHECK(tl_options_get_real(*o, "-fill_fraction", 0.6, 0.01, 0.9, "",
+                               "[scripts] solid volume / box volume at which the random insertion stops (scripts: 0.60)", &s->fill));
+  TL_CHECK(tl_options_get_real(*o, "-max_initial_overlap", 0.5, 0.0, 0.95, "",
+                               "[scripts] largest initial overlap of two grains, in units of the smaller radius "
+                               "(Talus refuses more than 1 at set-up)", &s->max_overlap));
+  TL_CHECK(tl_options_get_real(*o, "-viscous", 0.5, 0.0, 1e9, "N s/m",
+                               "[scripts] global viscous damping c: force -c v on every grain (LAMMPS fix viscous 0.5)", &s->viscous));
+  TL_CHECK(tl_options_get_real(*o, "-mu_compaction", 0.0, 0.0, 1e4, "",
+                               "[scripts] friction coefficient during the compaction (scripts: 0, no tangential force; > 0: "
+                               "the friction part of -friction with this mu)", &s->mu_compaction));
+  TL_CHECK(tl_options_get_real(*o, "-erate", 10.0, 1e-6, 1e6, "1/s",
+                               "[scripts] engineering compression rate of each box side (LAMMPS fix deform erate -10)", &s->erate));
+  TL_CHECK(tl_options_get_real(*o, "-ke_rest", 1e-15, 0.0, 1e3, "J",
+                               "[scripts] translational kinetic energy below which the packing is at rest (scripts: 1e-15)", &s->ke_rest));
+  TL_CHECK(tl_options_get_int(*o, "-push_steps", 100000, 0, 1000000000, "[scripts] steps pushing the initial overlaps apart", &s->push_steps));
+  TL_CHECK(tl_options_get_int(*o, "-cycles", 100, 1, 1000000, "[scripts] relax + compress cycles (scripts: loop a, 100)", &s->cycles));
+  TL_CHECK(tl_options_get_int(*o, "-relax_steps", 100000, 0, 1000000000, "[scripts] relaxation steps of each cycle", &s->relax_steps));
+  TL_CHECK(tl_options_get_int(*o, "-compress_steps", 500000, 0, 1000000000,
+                              "[scripts] longest compression of each cycle, in steps (it halts at -pressure)", &s->compress_steps));
+  TL_CHECK(tl_options_get_int(*o, "-halt_every", 1, 1, 1000000,
+                              "[scripts] steps between pressure checks while compressing (LAMMPS fix halt 1)", &s->halt_every));
+  TL_CHECK(tl_options_get_int(*o, "-chunk_steps", 100000, 1, 1000000000,
+                              "[scripts] steps between kinetic-energy checks of the relaxations", &s->chunk_steps));
+  TL_CHECK(tl_options_get_int(*o, "-max_chunks", 50, 0, 1000000, "[scripts] most chunks of each relaxation loop (scripts: 50)", &s->max_chunks));
+  TL_CHECK(tl_options_get_int(*o, "-friction_damped_steps", 1000000, 0, 1000000000,
+                              "[scripts] damped steps after friction is switched on (in.elastic's in.relax: 1e6)", &s->friction_damped_steps));
+  TL_CHECK(tl_options_get_bool(*o, "-friction_stage", 1, "[scripts] switch friction on and relax again after the compaction",
+                               &s->friction_stage));
   TL_CHECK(tl_options_get_int(*o, "-control_every", 100, 1, 1000000, "steps between servo updates and table rows", &s->control_every));
   TL_CHECK(tl_options_get_int(*o, "-seed", 1, 0, 1000000000, "random seed of the initial gas", &s->seed));
   long th;
@@ -80,39 +161,360 @@ static double pressure_of(TlDem *dem)
   return -(tl_m3_trace(sc) + tl_m3_trace(sk)) / 3.0;
 }
 
-static TlStatus run(int argc, char **argv)
+static double kinetic_of(const TlParticles *P)
 {
-  double wall0 = tl_wtime();
-  TlOptions *o = NULL;
-  Settings s;
-  TlStatus st = options(argc, argv, &o, &s);
-  if (st != TL_OK) {
-    tl_contact_law_destroy(&s.law);
-    tl_options_destroy(&o);
-    return st;
+  double ke = 0.0;
+  for (size_t i = 0; i < P->n; ++i) ke += 0.5 * P->mass[i] * tl_v3_norm2(P->v[i]);
+  return ke;
+}
+
+/* A radius of the size distribution: uniform in diameter, or one of the two
+ * sizes with probability 1/2 (the scripts' np.random.choice([dmin, dmax])). */
+static double sample_radius(const Settings *s, const TlSpecies *sp, uint64_t *rng)
+{
+  if (s->distribution == DIST_BIDISPERSE) return tl_random_uniform(rng) < 0.5 ? 0.5 * s->d_min : 0.5 * s->d_max;
+  return tl_species_sample_radius(sp, rng);
+}
+
+/* Mean grain volume of the size distribution. */
+static double mean_volume(const Settings *s, double d0)
+{
+  if (s->distribution == DIST_BIDISPERSE) return TL_PI / 12.0 * (pow(s->d_min, 3) + pow(s->d_max, 3));
+  if (s->d_max - s->d_min < 1e-12 * d0) return TL_PI / 6.0 * d0 * d0 * d0;
+  return TL_PI / 6.0 * (pow(s->d_max, 4) - pow(s->d_min, 4)) / (4.0 * (s->d_max - s->d_min + 1e-300));
+}
+
+/* ------------------------------------------------------------ the run state */
+
+typedef struct {
+  const Settings *s;
+  TlDem *dem;
+  TlTimeSeries *ts;
+  double vol_grains, rate, c_visc; /* c_visc: the viscous coefficient in force, N s/m */
+  long steps;                      /* steps done by every world of the run */
+  /* the first halt of a compression: the pressure there and at the check before */
+  double halt_pressure, halt_pressure_before;
+} Run;
+
+static TlStatus viscous_hook(void *ctx, TlDem *dem)
+{
+  const Run *r = ctx;
+  TlParticles *P = tl_dem_particles(dem);
+  /* LAMMPS fix viscous: -c v with the half-step velocity, added after the
+   * forces of the step (here before them: the same sum) */
+  for (size_t i = 0; i < P->n; ++i)
+    P->f_coupling[i] = P->motion[i] == TL_MOTION_FREE ? tl_v3_scale(P->v[i], -r->c_visc) : tl_v3(0, 0, 0);
+  return TL_OK;
+}
+
+static void set_viscous(Run *r, double c)
+{
+  TlParticles *P = tl_dem_particles(r->dem);
+  r->c_visc = c;
+  if (!(c > 0.0))
+    for (size_t i = 0; i < P->n; ++i) P->f_coupling[i] = tl_v3(0, 0, 0);
+  tl_dem_set_step_hook(r->dem, c > 0.0 ? viscous_hook : NULL, r);
+}
+
+static TlStatus log_row(Run *r, int stage, double pr)
+{
+  double imbalance, z;
+  TL_CHECK(tl_dem_max_force_imbalance(r->dem, &imbalance));
+  TL_CHECK(tl_dem_coordination(r->dem, &z, NULL));
+  const TlDomain *D = tl_dem_domain(r->dem);
+  double row[] = {tl_dem_time(r->dem), pr,      r->vol_grains / tl_domain_volume(D), kinetic_of(tl_dem_particles(r->dem)),
+                  z,                   imbalance, r->rate,                           (double)stage};
+  return tl_timeseries_append(r->ts, row);
+}
+
+/* n steps in blocks of control_every, a table row before each block. */
+static TlStatus advance(Run *r, long n, int stage)
+{
+  for (long k = 0; k < n;) {
+    long b = n - k < r->s->control_every ? n - k : r->s->control_every;
+    TL_CHECK(log_row(r, stage, pressure_of(r->dem)));
+    TL_CHECK(tl_dem_step(r->dem, b));
+    k += b;
+    r->steps += b;
   }
-  if (s.d_max < s.d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
-  const double d0 = 0.5 * (s.d_min + s.d_max);
+  return TL_OK;
+}
+
+/* Compression at engineering rate -erate of every side (ḣ = -erate h0 for
+ * the whole stage, as fix deform erate) until the mean pressure reaches the
+ * target, checked every -halt_every steps (fix halt), or -compress_steps. */
+static TlStatus compress(Run *r, int *reached)
+{
+  const Settings *s = r->s;
+  TlDomain *D = tl_dem_domain(r->dem);
+  *reached = 0;
+  double pr = pressure_of(r->dem);
+  if (pr >= s->pressure) {
+    *reached = 1;
+    return TL_OK;
+  }
+  TL_CHECK(tl_domain_set_h_rate(D, tl_m3_scale(D->h, -s->erate)));
+  r->rate = -s->erate;
+  long k = 0, since_row = s->control_every;
+  while (k < s->compress_steps) {
+    if (since_row >= s->control_every) {
+      TL_CHECK(log_row(r, STAGE_DEFORM, pr));
+      since_row = 0;
+    }
+    long b = s->halt_every;
+    if (b > s->compress_steps - k) b = s->compress_steps - k;
+    TL_CHECK(tl_dem_step(r->dem, b));
+    k += b, r->steps += b, since_row += b;
+    const double before = pr;
+    pr = pressure_of(r->dem);
+    if (pr >= s->pressure) {
+      *reached = 1;
+      if (isnan(r->halt_pressure)) r->halt_pressure = pr, r->halt_pressure_before = before;
+      break;
+    }
+  }
+  r->rate = 0.0;
+  TL_CHECK(tl_domain_set_h_rate(D, tl_m3_zero()));
+  return TL_OK;
+}
+
+/* Chunks of -chunk_steps (at most -max_chunks) until the kinetic energy is
+ * below -ke_rest, or (stop_on_rise) no longer decreases. */
+static TlStatus settle(Run *r, int stage, int stop_on_rise, int *at_rest)
+{
+  const Settings *s = r->s;
+  const TlParticles *P = tl_dem_particles(r->dem);
+  double ke = kinetic_of(P);
+  *at_rest = ke < s->ke_rest;
+  for (long c = 0; c < s->max_chunks && !*at_rest; ++c) {
+    TL_CHECK(advance(r, s->chunk_steps, stage));
+    double ke1 = kinetic_of(P);
+    *at_rest = ke1 < s->ke_rest;
+    if (stop_on_rise && !(ke1 < ke)) break;
+    ke = ke1;
+  }
+  return TL_OK;
+}
+
+/* Random centres in the cube [0, L)^3, overlaps allowed up to max_overlap
+ * of the smaller radius, until the grains' volume reaches fill L^3. */
+static TlStatus insert_overlapping(const Settings *s, TlDem *dem, int sp, double L, uint64_t *rng)
+{
+  TlParticles *P = tl_dem_particles(dem);
+  const TlDomain *dom = tl_dem_domain(dem);
+  double vol = 0.0;
+  while (vol < s->fill * L * L * L) {
+    double r = sample_radius(s, &P->species_table[sp], rng);
+    int placed = 0;
+    for (int attempt = 0; attempt < 100000 && !placed; ++attempt) {
+      TlVec3 x = {L * tl_random_uniform(rng), L * tl_random_uniform(rng), L * tl_random_uniform(rng)};
+      placed = 1;
+      for (size_t i = 0; i < P->n && placed; ++i)
+        placed = tl_v3_norm(tl_domain_branch(dom, P->x[i], x)) > P->radius[i] + r - s->max_overlap * fmin(P->radius[i], r);
+      if (placed) TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, 0), r, sp, NULL));
+    }
+    if (!placed)
+      TL_ERROR(TL_ERR_ARG, "could not place grain %zu: -fill_fraction %g too dense for -max_initial_overlap %g", P->n,
+               s->fill, s->max_overlap);
+    vol += 4.0 / 3.0 * TL_PI * r * r * r;
+  }
+  return TL_OK;
+}
+
+static void count_sizes(const Settings *s, const TlParticles *P, long *n_small, long *n_large)
+{
+  *n_small = *n_large = 0;
+  for (size_t i = 0; i < P->n; ++i) {
+    if (P->radius[i] == 0.5 * s->d_min) ++*n_small;
+    if (P->radius[i] == 0.5 * s->d_max) ++*n_large;
+  }
+}
+
+static TlStatus open_table(const Settings *s, TlTimeSeries **ts)
+{
+  TL_CHECK(tl_mkdir_p(s->out));
+  char base[4096];
+  snprintf(base, sizeof base, "%s/compress", s->out);
+  static const TlColumn cols[] = {{"time", "s"},         {"pressure", "Pa"},      {"packing_fraction", ""},
+                                  {"kinetic", "J"},      {"coordination", ""},    {"max_imbalance", ""},
+                                  {"strain_rate", "1/s"}, {"stage", ""}};
+  return tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, ts);
+}
+
+static double grain_volume(const TlParticles *P)
+{
+  double v = 0.0;
+  for (size_t i = 0; i < P->n; ++i) v += 4.0 / 3.0 * TL_PI * pow(P->radius[i], 3);
+  return v;
+}
+
+static void configure(TlDem *dem, const Settings *s)
+{
+  tl_dem_set_threads(dem, s->threads);
+  tl_dem_track_energy(dem, 0);
+}
+
+/* ------------------------------------------------------- -protocol scripts */
+
+static TlStatus run_scripts(Settings *s, double wall0)
+{
+  const double d0 = 0.5 * (s->d_min + s->d_max), L = s->box_d0 * d0;
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
   int sp;
-  TL_CHECK(tl_particles_add_species(P, "gouge", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp));
+  TL_CHECK(tl_particles_add_species(P, "gouge", s->density, 0.5 * s->d_min, 0.5 * s->d_max, &sp));
+  TlDomain dom;
+  TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), L)));
+  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  uint64_t rng = (uint64_t)s->seed * 0x9e3779b97f4a7c15ULL + 1;
+  TL_CHECK(insert_overlapping(s, dem, sp, L, &rng));
+  const size_t n = P->n;
+  /* compaction law: the normal part of the gouge law, friction off (or
+   * -mu_compaction) */
+  double kn, gn;
+  TlStatus st = tl_contact_law_get(s->law, "k_n", &kn);
+  if (st == TL_OK) st = tl_contact_law_get(s->law, "gamma_n", &gn);
+  if (st != TL_OK)
+    TL_ERROR(TL_ERR_ARG, "-protocol scripts compacts with the normal part lammps_hertz and needs k_n and gamma_n from "
+             "the chosen law (use -contact lammps_hertz)");
+  TlContactLaw *law_c;
+  {
+    double kt = 0.0, gt = -1.0;
+    tl_contact_law_get(s->law, "k_t", &kt);
+    tl_contact_law_get(s->law, "gamma_t", &gt);
+    const TlContactValue v[] = {{"k_n", kn}, {"gamma_n", gn}, {"k_t", kt}, {"gamma_t", gt}, {"mu", s->mu_compaction}};
+    const TlContactSpec spec = {"lammps_hertz", s->mu_compaction > 0.0 ? "lammps_history" : NULL, NULL, NULL, v,
+                                s->mu_compaction > 0.0 ? 5 : 2};
+    TL_CHECK(tl_contact_law_build(&spec, &law_c));
+  }
+  TL_CHECK(tl_dem_add_law(dem, law_c, NULL));
+  TL_CHECK(tl_particles_enable_coupling_force(P));
+  configure(dem, s);
+  TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  long n_small, n_large;
+  count_sizes(s, P, &n_small, &n_large);
+  printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
+         "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
+         n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
+  Run r = {s, dem, NULL, grain_volume(P), 0.0, 0.0, 0, NAN, NAN};
+  TL_CHECK(open_table(s, &r.ts));
+  set_viscous(&r, s->viscous);
+  TL_CHECK(advance(&r, s->push_steps, STAGE_PUSH));
+  int reached = 0;
+  long cycles_reaching = 0;
+  for (long c = 0; c < s->cycles; ++c) {
+    TL_CHECK(advance(&r, s->relax_steps, STAGE_RELAX));
+    TL_CHECK(compress(&r, &reached));
+    cycles_reaching += reached;
+    printf("cycle %ld: pressure %.6g Pa%s, packing fraction %.4f, step %ld\n", c + 1, pressure_of(dem),
+           reached ? " (target reached)" : "", r.vol_grains / tl_domain_volume(tl_dem_domain(dem)), r.steps);
+    fflush(stdout);
+  }
+  int rest_damped, rest;
+  TL_CHECK(settle(&r, STAGE_SETTLE, 0, &rest_damped));
+  set_viscous(&r, 0.0);
+  TL_CHECK(advance(&r, s->chunk_steps, STAGE_UNDAMPED));
+  TL_CHECK(settle(&r, STAGE_UNDAMPED, 1, &rest));
+  const double p_frictionless = pressure_of(dem);
+  const double phi_frictionless = r.vol_grains / tl_domain_volume(tl_dem_domain(dem));
+  printf("frictionless packing after %ld steps: pressure %.6g Pa, packing fraction %.4f, kinetic energy %.3g J\n",
+         r.steps, p_frictionless, phi_frictionless, kinetic_of(P));
+  TlParticleWriter *writer;
+  TL_CHECK(tl_particle_writer_create(s->out, "packing_frictionless", &writer));
+  const char *file;
+  TL_CHECK(tl_dem_packing_write(dem, writer, r.steps, &file));
+  char path[4096];
+  snprintf(path, sizeof path, "%s", file);
+  tl_particle_writer_destroy(&writer);
+  if (s->friction_stage) {
+    /* friction on: a new world from the frictionless packing (its contacts
+     * carry no tangential history: the scripts' read of the data file) */
+    tl_dem_destroy(&dem);
+    TL_CHECK(tl_dem_create(&dem));
+    TL_CHECK(tl_dem_packing_load(dem, path, s->density, NULL));
+    P = tl_dem_particles(dem);
+    TL_CHECK(tl_dem_add_law(dem, s->law, NULL));
+    s->law = NULL;
+    TL_CHECK(tl_particles_enable_coupling_force(P));
+    configure(dem, s);
+    TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
+    TL_CHECK(tl_dem_setup(dem));
+    r.dem = dem;
+    set_viscous(&r, s->viscous);
+    TL_CHECK(advance(&r, s->friction_damped_steps, STAGE_FRICTION_DAMPED));
+    TL_CHECK(settle(&r, STAGE_FRICTION_DAMPED, 0, &rest_damped));
+    set_viscous(&r, 0.0);
+    TL_CHECK(advance(&r, s->chunk_steps, STAGE_FRICTION_UNDAMPED));
+    TL_CHECK(settle(&r, STAGE_FRICTION_UNDAMPED, 1, &rest));
+  }
+  const double pr = pressure_of(dem);
+  TL_CHECK(log_row(&r, s->friction_stage ? STAGE_FRICTION_UNDAMPED : STAGE_UNDAMPED, pr));
+  TL_CHECK(tl_timeseries_close(&r.ts));
+  TL_CHECK(tl_particle_writer_create(s->out, "packing", &writer));
+  TL_CHECK(tl_dem_packing_write(dem, writer, r.steps, NULL));
+  tl_particle_writer_destroy(&writer);
+  snprintf(path, sizeof path, "%s/packing.data", s->out);
+  TL_CHECK(tl_dem_packing_write_lammps(dem, s->density, path));
+  double z, imbalance;
+  TL_CHECK(tl_dem_coordination(dem, &z, NULL));
+  TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
+  const TlDomain *D = tl_dem_domain(dem);
+  const double phi = r.vol_grains / tl_domain_volume(D), side = cbrt(tl_domain_volume(D)), ke = kinetic_of(P);
+  printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n "
+         "%.3g, kinetic energy %.3g J, cell %.6g m = %.4f d0\n",
+         rest ? "at rest" : "not at rest", r.steps, pr, s->pressure, phi, z, imbalance, ke, side, side / d0);
+  TlSummary sum;
+  tl_summary_init(&sum);
+  tl_summary_int(&sum, "n", (long)n);
+  tl_summary_int(&sum, "n_small", n_small);
+  tl_summary_int(&sum, "n_large", n_large);
+  tl_summary_int(&sum, "steps", r.steps);
+  tl_summary_int(&sum, "cycles_reaching", cycles_reaching);
+  if (!isnan(r.halt_pressure)) {
+    tl_summary_real(&sum, "halt_pressure", r.halt_pressure);
+    tl_summary_real(&sum, "halt_pressure_before", r.halt_pressure_before);
+  }
+  tl_summary_int(&sum, "at_rest", rest);
+  tl_summary_real(&sum, "pressure_frictionless", p_frictionless);
+  tl_summary_real(&sum, "packing_fraction_frictionless", phi_frictionless);
+  tl_summary_real(&sum, "pressure", pr);
+  tl_summary_real(&sum, "packing_fraction", phi);
+  tl_summary_real(&sum, "coordination", z);
+  tl_summary_real(&sum, "max_imbalance", imbalance);
+  tl_summary_real(&sum, "kinetic", ke);
+  tl_summary_real(&sum, "cell_d0", side / d0);
+  tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+  tl_summary_print(&sum, stdout);
+  tl_dem_destroy(&dem);
+  return TL_OK;
+}
+
+/* --------------------------------------------------------- -protocol servo */
+
+static TlStatus run_servo(Settings *s, double wall0)
+{
+  const double d0 = 0.5 * (s->d_min + s->d_max);
+  TlDem *dem;
+  TL_CHECK(tl_dem_create(&dem));
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK(tl_particles_add_species(P, "gouge", s->density, 0.5 * s->d_min, 0.5 * s->d_max, &sp));
   /* number of grains: a dense packing (φ ≈ 0.64) of the final cell */
-  double L_final = s.box_d0 * d0;
-  double mean_vol = TL_PI / 6.0 * (pow(s.d_max, 4) - pow(s.d_min, 4)) / (4.0 * (s.d_max - s.d_min + 1e-300));
-  if (s.d_max - s.d_min < 1e-12 * d0) mean_vol = TL_PI / 6.0 * d0 * d0 * d0;
+  double L_final = s->box_d0 * d0;
+  double mean_vol = mean_volume(s, d0);
   long n = (long)(0.64 * L_final * L_final * L_final / mean_vol);
   if (n < 2) n = 2;
-  double L0 = cbrt((double)n * mean_vol / s.phi0);
+  double L0 = cbrt((double)n * mean_vol / s->phi0);
   TlDomain dom;
   TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), L0)));
   TL_CHECK(tl_dem_set_domain(dem, &dom));
   /* random sequential insertion without overlap (periodic images) */
-  uint64_t rng = (uint64_t)s.seed * 0x9e3779b97f4a7c15ULL + 1;
+  uint64_t rng = (uint64_t)s->seed * 0x9e3779b97f4a7c15ULL + 1;
   TL_CHECK(tl_particles_reserve(P, (size_t)n));
   for (long k = 0; k < n; ++k) {
-    double r = tl_species_sample_radius(&P->species_table[sp], &rng);
+    double r = sample_radius(s, &P->species_table[sp], &rng);
     int placed = 0;
     for (int attempt = 0; attempt < 100000 && !placed; ++attempt) {
       TlVec3 x = {L0 * tl_random_uniform(&rng), L0 * tl_random_uniform(&rng), L0 * tl_random_uniform(&rng)};
@@ -121,57 +523,50 @@ static TlStatus run(int argc, char **argv)
         placed = tl_v3_norm(tl_domain_branch(&dom, P->x[i], x)) > P->radius[i] + r;
       if (placed) TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, 0), r, sp, NULL));
     }
-    if (!placed) TL_ERROR(TL_ERR_ARG, "could not place particle %ld in the gas: -phi0 %g too dense", k, s.phi0);
+    if (!placed) TL_ERROR(TL_ERR_ARG, "could not place particle %ld in the gas: -phi0 %g too dense", k, s->phi0);
   }
-  TL_CHECK(tl_dem_add_law(dem, s.law, NULL));
-  tl_dem_set_threads(dem, s.threads);
-  tl_dem_track_energy(dem, 0);
-  TL_CHECK(tl_dem_set_timestep(dem, s.dt, 0));
+  TL_CHECK(tl_dem_add_law(dem, s->law, NULL));
+  s->law = NULL;
+  configure(dem, s);
+  TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
   TL_CHECK(tl_dem_setup(dem));
   printf("periodic_compress: %ld grains, d in [%g, %g] m, cell %.4g m -> about %.4g m, target %g Pa, dt %g s\n", n,
-         s.d_min, s.d_max, L0, L_final, s.pressure, s.dt);
-  TL_CHECK(tl_mkdir_p(s.out));
-  char base[4096];
-  snprintf(base, sizeof base, "%s/compress", s.out);
-  static const TlColumn cols[] = {{"time", "s"}, {"pressure", "Pa"}, {"packing_fraction", ""}, {"kinetic", "J"},
-                                  {"coordination", ""}, {"max_imbalance", ""}, {"strain_rate", "1/s"}};
+         s->d_min, s->d_max, L0, L_final, s->pressure, s->dt);
   TlTimeSeries *ts;
-  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, &ts));
-  double vol_grains = 0.0;
-  for (size_t i = 0; i < P->n; ++i) vol_grains += 4.0 / 3.0 * TL_PI * pow(P->radius[i], 3);
-  long steps_max = (long)ceil(s.t_end / s.dt);
+  TL_CHECK(open_table(s, &ts));
+  double vol_grains = grain_volume(P);
+  long steps_max = (long)ceil(s->t_end / s->dt);
   TlProgress prog;
   tl_progress_init(&prog, "compress", (double)steps_max);
-  const double rate_target = s.inertial * sqrt(s.pressure / s.density) / d0;
-  const double rate_gas = s.inertial_gas * sqrt(s.pressure / s.density) / d0;
+  const double rate_target = s->inertial * sqrt(s->pressure / s->density) / d0;
+  const double rate_gas = s->inertial_gas * sqrt(s->pressure / s->density) / d0;
   int reached = 0, converged = 0;
   double pr = 0.0, imbalance = 1.0, z = 0.0, rate = 0.0;
   long k = 0;
-  for (k = 0; k < steps_max; k += s.control_every) {
+  for (k = 0; k < steps_max; k += s->control_every) {
     pr = pressure_of(dem);
     TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
     TL_CHECK(tl_dem_coordination(dem, &z, NULL));
-    double err = (pr - s.pressure) / s.pressure;
-    if (!reached && pr >= s.pressure) reached = 1;
+    double err = (pr - s->pressure) / s->pressure;
+    if (!reached && pr >= s->pressure) reached = 1;
     if (!reached) {
       /* compress: fast while the pressure is far below, slower near it */
-      double frac = fmax(pr, 0.0) / s.pressure;
+      double frac = fmax(pr, 0.0) / s->pressure;
       rate = -(rate_gas * (1.0 - frac) + rate_target * frac);
     } else {
       /* servo: expand when above the target, compress when below */
       rate = fmax(-rate_target, fmin(rate_target, rate_target * 2.0 * err));
     }
-    if (reached && fabs(err) < s.pressure_tolerance && imbalance < s.tolerance) {
+    if (reached && fabs(err) < s->pressure_tolerance && imbalance < s->tolerance) {
       converged = 1;
       break;
     }
     TlDomain *D = tl_dem_domain(dem);
     TL_CHECK(tl_domain_set_h_rate(D, tl_m3_scale(D->h, rate)));
-    double ke = 0.0;
-    for (size_t i = 0; i < P->n; ++i) ke += 0.5 * P->mass[i] * tl_v3_norm2(P->v[i]);
-    double row[] = {tl_dem_time(dem), pr, vol_grains / tl_domain_volume(D), ke, z, imbalance, rate};
+    double row[] = {tl_dem_time(dem), pr, vol_grains / tl_domain_volume(D), kinetic_of(P), z, imbalance, rate,
+                    (double)(reached ? STAGE_SERVO : STAGE_COMPRESS)};
     TL_CHECK(tl_timeseries_append(ts, row));
-    TL_CHECK(tl_dem_step(dem, s.control_every));
+    TL_CHECK(tl_dem_step(dem, s->control_every));
     tl_progress_update(&prog, (double)k);
   }
   tl_progress_finish(&prog);
@@ -179,14 +574,13 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_domain_set_h_rate(D, tl_m3_zero()));
   TL_CHECK(tl_timeseries_close(&ts));
   TlParticleWriter *writer;
-  TL_CHECK(tl_particle_writer_create(s.out, "packing", &writer));
-  TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
-  TL_CHECK(tl_particle_writer_write(writer, k, tl_dem_time(dem), &view));
+  TL_CHECK(tl_particle_writer_create(s->out, "packing", &writer));
+  TL_CHECK(tl_dem_packing_write(dem, writer, k, NULL));
   tl_particle_writer_destroy(&writer);
   double phi = vol_grains / tl_domain_volume(D);
   double side = cbrt(tl_domain_volume(D));
   printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n %.3g, cell %.4g m = %.2f d0\n",
-         converged ? "converged" : "stopped at t_end", k, pr, s.pressure, phi, z, imbalance, side, side / d0);
+         converged ? "converged" : "stopped at t_end", k, pr, s->pressure, phi, z, imbalance, side, side / d0);
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", n);
@@ -200,8 +594,21 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
-  tl_options_destroy(&o);
   return TL_OK;
+}
+
+static TlStatus run(int argc, char **argv)
+{
+  double wall0 = tl_wtime();
+  TlOptions *o = NULL;
+  Settings s;
+  TlStatus st = options(argc, argv, &o, &s);
+  if (st == TL_OK && s.d_max < s.d_min)
+    st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
+  if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, wall0);
+  tl_contact_law_destroy(&s.law);
+  tl_options_destroy(&o);
+  return st;
 }
 
 int main(int argc, char **argv)

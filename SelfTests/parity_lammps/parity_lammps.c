@@ -18,7 +18,10 @@
  * of a dense packing of 216 polydisperse spheres, periodic in x and y,
  * sheared between two plane walls moving at -V and +V along x
  * (hertz/history, fix wall/gran ... shear x V), once from no contact and
- * once compressed, overlapping from the start.
+ * once compressed, overlapping from the start; and (given a packing file as
+ * the argument) the gouge of seeds/000: a Talus-made 5 MPa packing of
+ * bidisperse grains, periodic in x, y and z, with the gouge law of Table 1
+ * (explicit Kt), stirred by random velocities and spins, 2000 steps.
  *
  * Norm: for each of velocity, spin, force and torque, the largest over the
  * particles of |Talus - LAMMPS| (Euclidean), over the largest |LAMMPS| of
@@ -33,6 +36,7 @@
 
 #include "talus.h"
 #include "tl_dem.h"
+#include "tl_dem_packing.h"
 #include "tl_test.h"
 #include "tl_wall.h"
 
@@ -50,8 +54,10 @@ typedef struct {
   const char *name;
   Style style;
   double kn, gamma_n, mu;
+  double kt;   /* LAMMPS Kt; 0: NULL (2/7 Kn) */
+  double skin; /* LAMMPS neighbor skin, m (0: 0.1) */
   double lo[3], hi[3];
-  int periodic[2]; /* x, y */
+  int periodic[3]; /* x, y, z */
   double gravity;  /* along -z, m/s^2 */
   double dt;
   long steps;
@@ -109,8 +115,10 @@ static int have_lammps(void)
 
 static void style_args(const Scene *s, char *out, size_t cap)
 {
-  /* Kn Kt gamma_n gamma_t xmu dampflag: Kt and gamma_t NULL (2/7 Kn, gamma_n/2) */
-  snprintf(out, cap, "%s %.17g NULL %.17g NULL %.17g 1", lammps_style[s->style], s->kn, s->gamma_n, s->mu);
+  /* Kn Kt gamma_n gamma_t xmu dampflag: gamma_t NULL (gamma_n/2), Kt NULL (2/7 Kn) unless given */
+  char kt[32] = "NULL";
+  if (s->kt > 0.0) snprintf(kt, sizeof kt, "%.17g", s->kt);
+  snprintf(out, cap, "%s %.17g %s %.17g NULL %.17g 1", lammps_style[s->style], s->kn, kt, s->gamma_n, s->mu);
 }
 
 static TlStatus run_lammps(const Scene *s, double *out /* 12 per particle: v w f t */)
@@ -136,9 +144,10 @@ static TlStatus run_lammps(const Scene *s, double *out /* 12 per particle: v w f
   style_args(s, args, sizeof args);
   f = fopen(deck, "w");
   if (!f) TL_ERROR(TL_ERR_IO, "cannot write %s", deck);
-  fprintf(f, "units si\natom_style sphere\nboundary %s %s f\ncomm_modify vel yes\nread_data %s\n",
-          s->periodic[0] ? "p" : "f", s->periodic[1] ? "p" : "f", data);
-  fprintf(f, "pair_style gran/%s\npair_coeff * *\nneighbor 0.1 bin\nneigh_modify delay 0 every 1 check yes\n", args);
+  fprintf(f, "units si\natom_style sphere\nboundary %s %s %s\ncomm_modify vel yes\nread_data %s\n",
+          s->periodic[0] ? "p" : "f", s->periodic[1] ? "p" : "f", s->periodic[2] ? "p" : "f", data);
+  fprintf(f, "pair_style gran/%s\npair_coeff * *\nneighbor %.17g bin\nneigh_modify delay 0 every 1 check yes\n", args,
+          s->skin > 0.0 ? s->skin : 0.1);
   fprintf(f, "fix integrate all nve/sphere\n");
   if (s->gravity > 0.0) fprintf(f, "fix gravity all gravity %.17g vector 0 0 -1\n", s->gravity);
   for (int k = 0; k < s->n_walls; ++k) {
@@ -196,8 +205,8 @@ static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
   const TlVec3 lo = tl_v3(s->lo[0], s->lo[1], s->lo[2]), hi = tl_v3(s->hi[0], s->hi[1], s->hi[2]);
-  if (s->periodic[0] || s->periodic[1]) {
-    int per[3] = {s->periodic[0], s->periodic[1], 0};
+  if (s->periodic[0] || s->periodic[1] || s->periodic[2]) {
+    int per[3] = {s->periodic[0], s->periodic[1], s->periodic[2]};
     TL_CHECK(tl_domain_init_periodic_box(&dom, lo, hi, per));
   } else {
     TL_CHECK(tl_domain_init_open(&dom, lo, hi));
@@ -212,8 +221,8 @@ static TlStatus run_talus(const Scene *s, double *out, size_t *touching)
                                  tl_v3(s->v[3 * i], s->v[3 * i + 1], s->v[3 * i + 2]), s->r[i], sp, NULL));
   TL_CHECK(tl_particles_enable_rotation(P));
   for (size_t i = 0; i < s->n; ++i) P->w[i] = tl_v3(s->w[3 * i], s->w[3 * i + 1], s->w[3 * i + 2]);
-  const TlContactValue values[] = {{"k_n", s->kn}, {"gamma_n", s->gamma_n}, {"mu", s->mu}};
-  const TlContactSpec spec = {normal[s->style], friction[s->style], NULL, NULL, values, 3};
+  const TlContactValue values[] = {{"k_n", s->kn}, {"gamma_n", s->gamma_n}, {"mu", s->mu}, {"k_t", s->kt}};
+  const TlContactSpec spec = {normal[s->style], friction[s->style], NULL, NULL, values, s->kt > 0.0 ? 4 : 3};
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_build(&spec, &law));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
@@ -389,10 +398,62 @@ static void packing(const char *name, double a, double r0)
   scene_free(&s);
 }
 
-int main(void)
+/* The gouge of seeds/000: a packing made by periodic_compress -protocol
+ * scripts (bidisperse Table 1 grains at 5 MPa, periodic in x, y and z) with
+ * the gouge law of Table 1 (gran/hertz/history 3.663e10 4.5249e10 0.2 NULL
+ * 0.5 1 = lammps_hertz + lammps_history, dt = 1e-8 s), stirred by random
+ * velocities (±0.2 m/s) and spins (±100 rad/s) so that contacts load, slide
+ * and open: 2000 steps from the packing's overlaps. */
+static void gouge(const char *path)
+{
+  TlParticleSnapshot snap;
+  TlVec3 o;
+  TlMat3 h;
+  TL_TEST_STATUS(tl_dem_packing_read(path, &snap, &o, &h), TL_OK);
+  if (snap.n == 0) return;
+  Scene s;
+  memset(&s, 0, sizeof s);
+  s.name = "gouge_packing";
+  s.style = HERTZ_HISTORY;
+  s.density = 2500.0;
+  s.kn = tl_gouge_law_spec.values[0].value;
+  s.gamma_n = tl_gouge_law_spec.values[1].value;
+  s.kt = tl_gouge_law_spec.values[2].value;
+  s.mu = tl_gouge_law_spec.values[3].value;
+  s.skin = 3e-4;
+  s.lo[0] = o.x, s.lo[1] = o.y, s.lo[2] = o.z;
+  for (int k = 0; k < 3; ++k) s.hi[k] = s.lo[k] + h.m[k][k], s.periodic[k] = 1;
+  s.dt = 1e-8;
+  s.steps = 2000;
+  scene_alloc(&s, snap.n);
+  unsigned long long seed = 20261202ULL;
+  for (size_t i = 0; i < snap.n; ++i) {
+    s.r[i] = snap.radius[i];
+    const double x[3] = {snap.position[i].x, snap.position[i].y, snap.position[i].z};
+    for (int k = 0; k < 3; ++k) {
+      /* inside [lo, hi): LAMMPS's read_data and Talus's box see the same doubles */
+      double L = s.hi[k] - s.lo[k], u = (x[k] - s.lo[k]) / L;
+      u -= floor(u);
+      s.x[3 * i + k] = s.lo[k] + L * u;
+      if (!(s.x[3 * i + k] < s.hi[k])) s.x[3 * i + k] = s.lo[k];
+      s.v[3 * i + k] = 0.2 * (2.0 * urand(&seed) - 1.0);
+      s.w[3 * i + k] = 100.0 * (2.0 * urand(&seed) - 1.0);
+    }
+  }
+  tl_particle_snapshot_free(&snap);
+  compare(&s);
+  scene_free(&s);
+}
+
+int main(int argc, char **argv)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
   if (!have_lammps()) return 77;
+  if (argc > 1) {
+    /* the gouge packing alone (its own ctest) */
+    gouge(argv[1]);
+    return tl_test_report();
+  }
   impact(HOOKE, "impact_hooke");
   impact(HOOKE_HISTORY, "impact_hooke_history");
   impact(HERTZ_HISTORY, "impact_hertz_history");
