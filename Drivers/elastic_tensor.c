@@ -2,8 +2,8 @@
  * (seeds/000 §3.2; the protocols of tl_dem_probe.h).
  *
  * Reads a packing, either a Talus particle snapshot (.h5, as written by
- * periodic_compress; the cell from its /cell/h dataset, 3 x 3 with the edge
- * vectors as columns, and /cell/origin, or from -cell_side for a cubic cell
+ * periodic_compress, a packing file of tl_dem_packing.h with its cell in
+ * /cell/origin and /cell/h; a plain snapshot with -cell_side, a cubic cell
  * at the origin) or a LAMMPS data file (atom_style sphere; the box and tilt
  * factors from its header, the density of each atom from its Atoms line),
  * builds the periodic cell with the gouge contact law (LAMMPS's
@@ -36,8 +36,8 @@
 
 #include "talus.h"
 #include "tl_dem.h"
+#include "tl_dem_packing.h"
 #include "tl_dem_probe.h"
-#include "tl_hdf5_util.h"
 #include "tl_lammps_data.h"
 #include "tl_particle_snapshot.h"
 
@@ -60,16 +60,13 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                              o));
   TL_CHECK(tl_options_get_string(*o, "-input", "", "packing: Talus particle snapshot (.h5) or LAMMPS data file", &s->input));
   TL_CHECK(tl_options_get_real(*o, "-cell_side", 0.0, 0.0, 1e6, "m",
-                               "cubic cell side for a snapshot without /cell/h (0: read it from the file)", &s->cell_side));
+                               "cubic cell side of a plain snapshot without /cell (0: the packing file's cell)", &s->cell_side));
   TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3",
                                "grain density of a Talus snapshot (LAMMPS data carry theirs; Table 1: 2500)", &s->density));
   TL_CHECK(tl_options_get_bool(*o, "-velocities", 1, "keep the velocities and spins stored in the packing", &s->velocities));
   /* the gouge law, the authors' contact_law.mod: gran/hertz/history
-   * 3.663e10 4.5249e10 0.2 NULL 0.5 1 */
-  const TlContactValue law_values[] = {{"k_n", 36630036630.03663}, {"gamma_n", 0.2}, {"k_t", 45248868778.28054},
-                                       {"gamma_t", -1.0}, {"mu", 0.5}, {"dampflag", 1.0}};
-  const TlContactSpec law_spec = {"lammps_hertz", "lammps_history", NULL, NULL, law_values, 6};
-  TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
+   * 3.663e10 4.5249e10 0.2 NULL 0.5 1 (tl_dem_packing.h) */
+  TL_CHECK(tl_contact_law_from_options(*o, &tl_gouge_law_spec, &s->law));
   TL_CHECK(tl_options_get_real(*o, "-dt", 1e-8, 1e-15, 1.0, "s", "time step of the relaxed probe (Table 1)", &s->dt));
   tl_probe_settings_default(&s->ps);
   TL_CHECK(tl_options_get_choice(*o, "-probe", "affine", probes,
@@ -167,33 +164,22 @@ static TlStatus read_lammps(const char *path, Packing *p)
   return st == TL_OK ? TL_OK : tl_error_trace(st, __FILE__, __LINE__);
 }
 
+/* A packing file (snapshot + /cell, tl_dem_packing.h), or with -cell_side a
+ * plain particle snapshot in a cubic cell at the origin. */
 static TlStatus read_snapshot(const char *path, double side, double density, Packing *p)
 {
   TlParticleSnapshot snap;
   memset(&snap, 0, sizeof snap);
-  TL_CHECK(tl_particle_snapshot_read(path, &snap));
-  TlStatus st = TL_OK;
-  p->n = snap.n;
+  p->n = 0;
   p->density = density;
   p->origin = tl_v3(0, 0, 0);
   if (side > 0.0) {
+    TL_CHECK(tl_particle_snapshot_read(path, &snap));
     p->h = tl_m3_scale(tl_m3_identity(), side);
-  } else {
-    TlH5File f;
-    st = tl_h5_open(path, &f);
-    if (st == TL_OK) {
-      if (!tl_h5_exists(&f, "/cell/h"))
-        st = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
-                          "%s holds no cell (/cell/h): give the cubic cell side with -cell_side", path);
-      else {
-        const hsize_t d33[2] = {3, 3}, d3[1] = {3};
-        st = tl_h5_read(&f, "/cell/h", H5T_NATIVE_DOUBLE, 2, d33, &p->h.m[0][0]);
-        if (st == TL_OK && tl_h5_exists(&f, "/cell/origin"))
-          st = tl_h5_read(&f, "/cell/origin", H5T_NATIVE_DOUBLE, 1, d3, &p->origin.x);
-      }
-      tl_h5_close(&f);
-    }
-  }
+  } else
+    TL_CHECK(tl_dem_packing_read(path, &snap, &p->origin, &p->h));
+  TlStatus st = TL_OK;
+  p->n = snap.n;
   if (st == TL_OK) st = tl_calloc(&p->x, p->n ? p->n : 1, sizeof *p->x);
   if (st == TL_OK) st = tl_calloc(&p->v, p->n ? p->n : 1, sizeof *p->v);
   if (st == TL_OK) st = tl_calloc(&p->w, p->n ? p->n : 1, sizeof *p->w);
@@ -223,34 +209,6 @@ static TlStatus read_tensor(const char *path, double C[6][6])
   }
   fclose(f);
   if (k != 36) TL_ERROR(TL_ERR_FORMAT, "%s: %d numbers, expected 36 (a 6 x 6 tensor)", path, k);
-  return TL_OK;
-}
-
-static TlStatus write_data(const char *path, TlDem *dem, double density)
-{
-  const TlParticles *P = tl_dem_particles(dem);
-  const TlDomain *D = tl_dem_domain(dem);
-  if (D->h.m[1][0] != 0.0 || D->h.m[2][0] != 0.0 || D->h.m[2][1] != 0.0)
-    TL_ERROR(TL_ERR_UNSUPPORTED, "-write_data: the cell is not upper triangular (LAMMPS's restricted triclinic)");
-  FILE *f = fopen(path, "w");
-  if (!f) TL_ERROR(TL_ERR_IO, "cannot write %s", path);
-  const TlVec3 o = D->origin;
-  fprintf(f, "Talus elastic_tensor reference state\n\n%zu atoms\n1 atom types\n\n", P->n);
-  fprintf(f, "%.17g %.17g xlo xhi\n%.17g %.17g ylo yhi\n%.17g %.17g zlo zhi\n", o.x, o.x + D->h.m[0][0], o.y,
-          o.y + D->h.m[1][1], o.z, o.z + D->h.m[2][2]);
-  fprintf(f, "%.17g %.17g %.17g xy xz yz\n\nAtoms # sphere\n\n", D->h.m[0][1], D->h.m[0][2], D->h.m[1][2]);
-  for (size_t i = 0; i < P->n; ++i) {
-    TlVec3 x = tl_domain_wrap(D, P->x[i]);
-    fprintf(f, "%lld 1 %.17g %.17g %.17g %.17g %.17g 0 0 0\n", (long long)P->id[i] + 1, 2.0 * P->radius[i], density,
-            x.x, x.y, x.z);
-  }
-  fprintf(f, "\nVelocities\n\n");
-  for (size_t i = 0; i < P->n; ++i) {
-    TlVec3 w = P->w ? P->w[i] : tl_v3(0, 0, 0);
-    fprintf(f, "%lld %.17g %.17g %.17g %.17g %.17g %.17g\n", (long long)P->id[i] + 1, P->v[i].x, P->v[i].y,
-            P->v[i].z, w.x, w.y, w.z);
-  }
-  if (fclose(f) != 0) TL_ERROR(TL_ERR_IO, "writing %s failed", path);
   return TL_OK;
 }
 
@@ -346,7 +304,7 @@ static TlStatus run(int argc, char **argv)
            (long long)s.ps.jiggle_seed, s.ps.kind == TL_PROBE_RELAXED ? ", relaxed to static balance" : "");
     st = tl_dem_probe_elastic(dem, &s.ps, &r);
   }
-  if (st == TL_OK && s.write_data[0]) st = write_data(s.write_data, dem, pk.density);
+  if (st == TL_OK && s.write_data[0]) st = tl_dem_packing_write_lammps(dem, pk.density, s.write_data);
   if (st == TL_OK && s.output[0]) st = write_tensors(s.output, &r);
   double coord = 0.0;
   if (st == TL_OK) st = tl_dem_coordination(dem, &coord, NULL);
