@@ -15,7 +15,10 @@ or any Talus packing named on the command line with --packing L:seed:path.
       [--seeds 1-20] [--protocols jiggled,affine,relaxed]
       [--relaxed_seeds 1-3] [--relaxed_sizes 0.006,0.009,0.018]
       [--exe build/bin/elastic_tensor] [--plot_only]
-Writes DIR/runs.csv (one row per packing and protocol, with wall times),
+DIR/runs.csv gains one row per packing and protocol as each run ends (with
+its wall time); rows already there are kept and not run again, so a study
+can be stopped and continued, or extended by another protocol or size.
+Writes
 DIR/table.md (mean ± sd per size and protocol) and DIR/size_study.png.
 Protocols: jiggled = -probe affine -probe_jiggle 1e-5 (the scripts'),
 affine = -probe affine -probe_jiggle 0, relaxed = -probe relaxed
@@ -202,26 +205,36 @@ def main():
         for spec in a.packing:
             L, s, path = spec.split(":", 2)
             jobs.append((float(L), int(s), path, None))
-        rows = []
+        done = set()
+        if os.path.exists(runs):
+            with open(runs, newline="") as f:
+                for r in csv.DictReader(f):
+                    done.add((r["protocol"], round(float(r["L"]), 6), int(r["seed"])))
+        else:
+            with open(runs, "w", newline="") as f:
+                csv.DictWriter(f, fieldnames=fields).writeheader()
+
+        def append(row):
+            with open(runs, "a", newline="") as f:
+                csv.DictWriter(f, fieldnames=fields, extrasaction="ignore").writerow(row)
+                f.flush()
+                os.fsync(f.fileno())
+
         extra = a.extra.split()
         for L, s, data, sd in jobs:
-            if sd:
+            if sd and ("authors", round(L, 6), s) not in done:
                 ar = authors_row(sd)
                 if ar:
-                    rows.append(dict(protocol="authors", L=L, seed=s, path=data, **ar))
+                    append(dict(protocol="authors", L=L, seed=s, path=data, **ar))
             for p in protos:
                 if p == "relaxed" and (s not in rseeds or L not in rsizes):
                     continue
+                if (p, round(L, 6), s) in done:
+                    continue
                 r = run_one(a.exe, data, p, extra)
-                rows.append(dict(protocol=p, L=L, seed=s, path=data, **r))
+                append(dict(protocol=p, L=L, seed=s, path=data, **r))
                 print(f"L={L / 0.003:.0f}d0 seed {s} {p}: E={r['E']:.5g} nu={r['nu']:.4f} Z={r['zener']:.4f} "
                       f"wall {r['wall']:.2f} s", flush=True)
-        with open(runs + ".tmp", "w", newline="") as f:
-            w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
-            w.writeheader()
-            for r in rows:
-                w.writerow(r)
-        os.replace(runs + ".tmp", runs)
     with open(runs, newline="") as f:
         rows = list(csv.DictReader(f))
     write_table(rows, os.path.join(a.out, "table.md"))
