@@ -44,8 +44,16 @@ def change_box(J, delta_sign, up):
     return f"change_box all xy delta $(v_e*ly) remap units box", e
 
 
-def lammps_input(data, up):
-    setup = f"""clear
+def lammps_input(data, up, restart):
+    if restart:
+        # a LAMMPS restart keeps the box (triclinic), the atoms and the
+        # pair style's contact histories; the style itself is given again
+        read = f"""clear
+box tilt large
+read_restart {data}
+"""
+    else:
+        read = f"""clear
 units si
 boundary p p p
 atom_style sphere
@@ -53,7 +61,8 @@ atom_modify map array
 box tilt large
 read_data {data}
 change_box all triclinic
-pair_style gran/hertz/history 36630036630.03663 45248868778.28054 0.2 NULL 0.5 1
+"""
+    setup = read + f"""pair_style gran/hertz/history 36630036630.03663 45248868778.28054 0.2 NULL 0.5 1
 pair_coeff * *
 comm_modify vel yes
 neighbor 0.001 bin
@@ -62,6 +71,8 @@ timestep 1e-08
 fix integr all nve/sphere
 thermo_style custom step pxx pyy pzz pyz pxz pxy
 """
+    if restart:
+        setup += "run 0\n"  # change_box refuses to run before the restart's per-atom data are in place
     out = []
     out.append(setup + "run 0\n" + 'print "PROBE ref 0 ' + " ".join(f"$({c}:%.17g)" for c in PCOMP) + '"\n')
     for J in range(6):
@@ -72,11 +83,11 @@ thermo_style custom step pxx pyy pzz pyz pxz pxy
     return "".join(out)
 
 
-def run_lammps(lmp, data, up):
+def run_lammps(lmp, data, up, restart=False):
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "probe.in")
         with open(path, "w") as f:
-            f.write(lammps_input(os.path.abspath(data), up))
+            f.write(lammps_input(os.path.abspath(data), up, restart))
         res = subprocess.run([lmp, "-in", path, "-log", "none"], capture_output=True, text=True, cwd=tmp)
     if res.returncode != 0:
         sys.exit(f"lammps failed: {res.stderr[-2000:]}{res.stdout[-2000:]}")
@@ -129,6 +140,10 @@ def main():
     ap.add_argument("--talus", default="build/bin/elastic_tensor")
     ap.add_argument("--lmp", default="lmp")
     ap.add_argument("--strain", type=float, default=1e-6)
+    ap.add_argument("--restart", default="",
+                    help="also probe this LAMMPS restart of the same state (it keeps the contact histories)")
+    ap.add_argument("--compare", default="",
+                    help="a stored 6x6 tensor (36 numbers after '#' lines, the authors' stiffness_matrix_sym.txt)")
     a = ap.parse_args()
     if not (0 < a.strain <= 0.1):
         sys.exit(f"--strain {a.strain} outside (0, 0.1]")
@@ -148,9 +163,38 @@ def main():
     ml, mt = moduli(SL), moduli(ST)
     print("moduli LAMMPS: " + " ".join(f"{k}={v:.8g}" for k, v in ml.items()))
     print("moduli Talus:  " + " ".join(f"{k}={v:.8g}" for k, v in mt.items()))
+    extra = ""
+    if a.restart:
+        CR, _ = run_lammps(a.lmp, a.restart, a.strain, restart=True)
+        SR = sym(CR)
+        dh = max(abs(SR[i][j] - SL[i][j]) for i in range(6) for j in range(6)) / big
+        print(f"LAMMPS on the restart (with contact histories) against LAMMPS on the data file: largest "
+              f"difference {dh:.3e} of the largest entry; moduli: " +
+              " ".join(f"{k}={v:.8g}" for k, v in moduli(SR).items()))
+        extra += f" history_effect={dh:.3e}"
+    if a.compare:
+        with open(a.compare) as f:
+            v = [float(x) for l in f if not l.startswith("#") for x in l.split()]
+        if len(v) != 36:
+            sys.exit(f"--compare {a.compare}: {len(v)} numbers, expected 36")
+        CS = [v[6 * i:6 * i + 6] for i in range(6)]
+        print(f"against {a.compare}: entry, stored, LAMMPS-restart, Talus, relative to the largest entry")
+        base = SR if a.restart else SL
+        wr, wt = 0.0, 0.0
+        for i in range(6):
+            for j in range(6):
+                er = abs(base[i][j] - CS[i][j]) / big
+                et = abs(ST[i][j] - CS[i][j]) / big
+                # the stored file prints C13 where C32 (= C23) belongs
+                note = " (the file holds C13 here)" if (i, j) == (2, 1) else ""
+                if not note:
+                    wr, wt = max(wr, er), max(wt, et)
+                print(f"C{i+1}{j+1} {CS[i][j]:.15g} {base[i][j]:.15g} {ST[i][j]:.15g} {er:.2e} {et:.2e}{note}")
+        print("stored moduli: " + " ".join(f"{k}={v:.8g}" for k, v in moduli(CS).items()))
+        extra += f" stored_vs_lammps={wr:.3e} stored_vs_talus={wt:.3e}"
     n = re.search(r"n=(\d+)", summary).group(1)
     print(f"summary: n={n} max_rel={worst:.3e} E_talus={mt['E']:.10g} E_lammps={ml['E']:.10g} "
-          f"nu_talus={mt['nu']:.8f} nu_lammps={ml['nu']:.8f}")
+          f"nu_talus={mt['nu']:.8f} nu_lammps={ml['nu']:.8f}{extra}")
 
 
 if __name__ == "__main__":
