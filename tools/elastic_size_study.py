@@ -105,7 +105,7 @@ def write_table(rows, path):
         groups.setdefault((r["protocol"], float(r["L"])), []).append(r)
     order = ["authors", "jiggled", "affine", "relaxed"]
     lines = ["| protocol | L/d0 | seeds | E (GPa) | nu | K (GPa) | G1 = C44 (GPa) | G2 (GPa) | Zener | "
-             "density (kg/m3) | p (MPa) | wall per probe (s) |",
+             "density (kg/m3) | p (MPa) | wall per run (s) |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for proto in order:
         for L in sorted({k[1] for k in groups if k[0] == proto}):
@@ -178,7 +178,14 @@ def main():
     ap.add_argument("--extra", default="", help="further elastic_tensor options, space separated")
     ap.add_argument("--packing", action="append", default=[], help="L:seed:path of a Talus packing")
     ap.add_argument("--plot_only", action="store_true")
+    ap.add_argument("--check_table2", action="store_true",
+                    help="exit 1 unless the jiggled probe at 12 d0 gives Table 2 (E 0.977 GPa within 1 %%, "
+                         "nu 0.255 within 0.005); exit 77 (skip) when --root does not exist")
     a = ap.parse_args()
+    if a.check_table2 and not os.path.isdir(a.root):
+        print(f"SKIPPED: no packings at --root '{a.root}' (unpack the authors' data/elastic_properties/box_*.zip "
+              "there and set TALUS_ELASTIC_AUTHORS_DIR)")
+        sys.exit(77)
     os.makedirs(a.out, exist_ok=True)
     runs = os.path.join(a.out, "runs.csv")
     fields = ["protocol", "L", "seed", "path"] + KEYS + ["wall", "relax_steps"]
@@ -242,6 +249,14 @@ def main():
         plot(rows, os.path.join(a.out, "size_study.png"))
     except ImportError:
         print("matplotlib not found: no plot (table.md and runs.csv written)")
+    if a.check_table2:
+        g = [r for r in rows if r["protocol"] == "jiggled" and abs(float(r["L"]) - 0.036) < 1e-9]
+        E, _ = stats([float(r["E"]) for r in g])
+        nu, _ = stats([float(r["nu"]) for r in g])
+        ok = len(g) >= 3 and abs(E - 0.977e9) <= 0.01 * 0.977e9 and abs(nu - 0.255) <= 0.005
+        print(f"Table 2 check: jiggled probe at 12 d0 over {len(g)} seeds: E = {E:.6g} Pa (0.977e9 within 1 %), "
+              f"nu = {nu:.5f} (0.255 within 0.005): {'ok' if ok else 'FAILED'}")
+        sys.exit(0 if ok else 1)
 
 
 if __name__ == "__main__":
