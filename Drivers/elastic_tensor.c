@@ -321,9 +321,15 @@ static TlStatus run(int argc, char **argv)
     printf("moduli: K %.6g  G1 = C44 %.6g  G2 = (C11-C12)/2 %.6g  G %.6g  E %.6g Pa  nu %.6f  Zener %.6f\n", m->K, m->G1,
            m->G2, m->G, m->E, m->nu, m->zener);
     printf("Table 2 (seeds/000): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
-    if (s.ps.kind == TL_PROBE_RELAXED)
-      printf("relaxations: up to %ld steps, largest final Delta_n %.3g, all converged: %s\n", r.relax_steps,
+    if (s.ps.kind == TL_PROBE_RELAXED) {
+      static const char *lab[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
+      printf("relaxations (steps, final Delta_n): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);
+      for (int J = 0; J < 6; ++J)
+        printf("; %s -eps %ld, %.2g, +eps %ld, %.2g", lab[J], r.probe_steps[J][0], r.probe_imbalance[J][0],
+               r.probe_steps[J][1], r.probe_imbalance[J][1]);
+      printf("\nrelaxations: up to %ld steps, largest final Delta_n %.3g, all converged: %s\n", r.relax_steps,
              r.relax_imbalance, r.relax_converged ? "yes" : "no");
+    }
     if (s.compare[0]) {
       double big = 0.0, err = 0.0;
       printf("against %s: entry, this, that, difference relative to the largest entry\n", s.compare);

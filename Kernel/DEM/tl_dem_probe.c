@@ -98,7 +98,7 @@ static TlStatus viscous_hook(void *ctx, TlDem *d)
 }
 
 /* Relaxes at fixed cell until every particle's Δ_n is below the tolerance. */
-static TlStatus relax(TlDem *d, const TlProbeSettings *s, TlProbeResult *r)
+static TlStatus relax(TlDem *d, const TlProbeSettings *s, TlProbeResult *r, long *steps, double *imbalance)
 {
   Viscous visc = {s->viscous};
   tl_dem_set_step_hook(d, viscous_hook, &visc);
@@ -117,6 +117,8 @@ static TlStatus relax(TlDem *d, const TlProbeSettings *s, TlProbeResult *r)
   memset(P->f_coupling, 0, P->n * sizeof *P->f_coupling);
   /* the stress is read from forces without the viscous part */
   TL_CHECK(tl_dem_compute_forces(d));
+  *steps = k;
+  *imbalance = imb;
   if (k > r->relax_steps) r->relax_steps = k;
   if (!(imb <= r->relax_imbalance)) r->relax_imbalance = imb;
   if (!(imb < s->tolerance)) r->relax_converged = 0;
@@ -160,7 +162,7 @@ static TlStatus probe(TlDem *d, const TlProbeSettings *s, TlProbeResult *r, TlCh
     }
     d->need_rebuild = 1;
   }
-  if (relaxed && s->relax_reference) TL_CHECK(relax(d, s, r));
+  if (relaxed && s->relax_reference) TL_CHECK(relax(d, s, r, &r->reference_steps, &r->reference_imbalance));
   else TL_CHECK(tl_dem_compute_forces(d));
   TL_CHECK(voigt_stress(d, r->stress0, &r->max_skew));
   r->pressure0 = -(r->stress0[0] + r->stress0[1] + r->stress0[2]) / 3.0;
@@ -171,7 +173,7 @@ static TlStatus probe(TlDem *d, const TlProbeSettings *s, TlProbeResult *r, TlCh
     for (int sign = -1; sign <= 1; sign += 2) {
       TL_CHECK(tl_checkpoint_load(cp, s->scratch, NULL, NULL));
       TL_CHECK(tl_dem_map_affine(d, tl_probe_strain_map(J, sign * e)));
-      if (relaxed) TL_CHECK(relax(d, s, r));
+      if (relaxed) TL_CHECK(relax(d, s, r, &r->probe_steps[J][sign > 0], &r->probe_imbalance[J][sign > 0]));
       else TL_CHECK(tl_dem_compute_forces(d));
       TL_CHECK(voigt_stress(d, sign > 0 ? sp : sm, &r->max_skew));
     }

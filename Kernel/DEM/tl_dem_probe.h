@@ -97,6 +97,9 @@ typedef struct {
   long relax_steps;
   double relax_imbalance;
   int relax_converged;
+  /* each relaxation: the reference, then probe J with -ε ([J][0]) and +ε ([J][1]) */
+  long reference_steps, probe_steps[6][2];
+  double reference_imbalance, probe_imbalance[6][2];
 } TlProbeResult;
 
 /* Probes dem (set up, in a deformable periodic cell: tl_domain_init_cell)
