@@ -85,7 +85,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-viscous", 0.5, 1e-12, 1e12, "N s/m",
                                "relaxed probe: global viscous force -c v (LAMMPS fix viscous 0.5 in the scripts)", &s->ps.viscous));
   TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-4, 1e-15, 1.0, "",
-                               "relaxed probe: static balance, largest Delta_n (seeds/004 Eq. 19)", &s->ps.tolerance));
+                               "relaxed probe: static balance, largest Delta_n (seeds/004 Eq. 19) of the grains whose largest contact carries >= 1e-3 of the mean contact force", &s->ps.tolerance));
   TL_CHECK(tl_options_get_int(*o, "-max_steps", 2000000, 1, 2000000000, "relaxed probe: longest relaxation, steps", &s->ps.max_steps));
   TL_CHECK(tl_options_get_int(*o, "-check_every", 200, 1, 100000000, "relaxed probe: steps between balance checks", &s->ps.check_every));
   TL_CHECK(tl_options_get_int(*o, "-relax_reference", 1, 0, 1, "relaxed probe: relax the reference state first (1) or not (0)", &seed));
@@ -323,11 +323,11 @@ static TlStatus run(int argc, char **argv)
     printf("Table 2 (seeds/000): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
     if (s.ps.kind == TL_PROBE_RELAXED) {
       static const char *lab[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
-      printf("relaxations (steps, final Delta_n): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);
+      printf("relaxations (steps, final imbalance): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);
       for (int J = 0; J < 6; ++J)
         printf("; %s -eps %ld, %.2g, +eps %ld, %.2g", lab[J], r.probe_steps[J][0], r.probe_imbalance[J][0],
                r.probe_steps[J][1], r.probe_imbalance[J][1]);
-      printf("\nrelaxations: up to %ld steps, largest final Delta_n %.3g, all converged: %s\n", r.relax_steps,
+      printf("\nrelaxations: up to %ld steps, largest final imbalance %.3g, all converged: %s\n", r.relax_steps,
              r.relax_imbalance, r.relax_converged ? "yes" : "no");
     }
     if (s.compare[0]) {

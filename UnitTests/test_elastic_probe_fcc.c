@@ -175,9 +175,9 @@ int main(void)
   TL_TEST_STATUS(tl_dem_probe_elastic(dem, &s, &r), TL_OK);
   double e3 = rel_diff(r.C, Ca);
   printf("jiggled 2e-7 m and relaxed (frictionless): difference %.3e; relaxations: up to %ld steps, largest "
-         "Δ_n %.2e, converged %d\n",
+         "imbalance %.2e, converged %d\n",
          e3, r.relax_steps, r.relax_imbalance, r.relax_converged);
-  TL_TEST_ASSERT(r.relax_converged, "relaxation did not reach the tolerance (Δ_n %g)", r.relax_imbalance);
+  TL_TEST_ASSERT(r.relax_converged, "relaxation did not reach the tolerance (imbalance %g)", r.relax_imbalance);
   TL_TEST_ASSERT(r.relax_steps > 0, "the jiggled reference needed no relaxation");
   TL_TEST_ASSERT(e3 <= 1e-5, "relaxed probe differs from the analytic affine tensor by %g", e3);
   /* without the relaxation the jiggled affine tensor is off */
@@ -208,10 +208,10 @@ int main(void)
   s.jiggle = 2e-7;
   TL_TEST_STATUS(tl_dem_probe_elastic(dem, &s, &r), TL_OK);
   double e4j = rel_diff(r.C, Ca);
-  printf("with tangential springs, jiggled 2e-7 m and relaxed: up to %ld steps, Δ_n %.2e, converged %d, largest skew "
+  printf("with tangential springs, jiggled 2e-7 m and relaxed: up to %ld steps, imbalance %.2e, converged %d, largest skew "
          "stress %.3e Pa (of %.3e), difference to the analytic tensor %.3e (friction locks part of the jiggle)\n",
          r.relax_steps, r.relax_imbalance, r.relax_converged, r.max_skew, r.pressure0, e4j);
-  TL_TEST_ASSERT(r.relax_converged, "relaxation with friction did not converge (Δ_n %g)", r.relax_imbalance);
+  TL_TEST_ASSERT(r.relax_converged, "relaxation with friction did not converge (imbalance %g)", r.relax_imbalance);
   TL_TEST_ASSERT(r.max_skew <= 1e-6 * r.pressure0, "torques out of balance: skew stress %g Pa", r.max_skew);
   TL_TEST_ASSERT(e4j <= 1e-4, "relaxed tensor with friction off the analytic by %g", e4j);
   tl_dem_destroy(&dem);

@@ -27,8 +27,10 @@
  *                     terms; it obeys the Cauchy relation C12 ≈ C44.
  *   TL_PROBE_RELAXED  the mapped state is relaxed at fixed cell to static
  *                     balance (global viscous damping -c v, LAMMPS fix
- *                     viscous, until every particle's Δ_n of seeds/004 Eq. 19
- *                     is below the tolerance), then the stress is read: what
+ *                     viscous, until every grain's Δ_n of seeds/004 Eq. 19 is
+ *                     below the tolerance, rattlers whose largest contact
+ *                     carries less than 1e-3 of the mean contact force left
+ *                     out), then the stress is read: what
  *                     the paper's text describes.  By default the reference
  *                     itself is relaxed the same way first.
  * Jiggle (the authors' scripts, LAMMPS displace_atoms random): before the
@@ -60,7 +62,8 @@ typedef struct {
   uint64_t jiggle_seed;  /* seed of the jiggle (default 87287, the scripts') */
   /* relaxed probe */
   double viscous;        /* c of the global viscous force -c v, N s/m (default 0.5, the scripts') */
-  double tolerance;      /* static balance: largest Δ_n (seeds/004 Eq. 19), default 1e-4 */
+  double tolerance;      /* static balance: largest Δ_n (seeds/004 Eq. 19) of the grains
+                          * that carry load, default 1e-4 */
   long max_steps;        /* longest relaxation, steps (default 1e6) */
   long check_every;      /* steps between balance checks (default 200) */
   int relax_reference;   /* relaxed: relax the reference first (default 1) */
@@ -92,12 +95,13 @@ typedef struct {
   double pressure0;      /* -trace/3 of the reference stress, Pa */
   TlElasticModuli moduli; /* of C_sym */
   double max_skew;       /* largest |σ_ab - σ_ba|/2 over the probes, Pa (spins out of balance) */
-  /* relaxed probe: the largest step count and final Δ_n over the 12 (13
-   * with the reference) relaxations, and whether all met the tolerance */
+  /* relaxed probe: the largest step count and final imbalance over the 12
+   * (13 with the reference) relaxations, and whether all met the tolerance */
   long relax_steps;
   double relax_imbalance;
   int relax_converged;
-  /* each relaxation: the reference, then probe J with -ε ([J][0]) and +ε ([J][1]) */
+  /* each relaxation: the reference, then probe J with -ε ([J][0]) and +ε ([J][1]);
+   * imbalance as for the tolerance */
   long reference_steps, probe_steps[6][2];
   double reference_imbalance, probe_imbalance[6][2];
 } TlProbeResult;
