@@ -198,7 +198,7 @@ def main():
         rseeds = parse_range(a.relaxed_seeds)
         boxes = box_dirs(a.root) if a.root else {}
         sizes = [round(float(x), 6) for x in a.sizes.split(",") if x] or sorted(boxes)
-        rsizes = [round(float(x), 6) for x in a.relaxed_sizes.split(",") if x] or sizes
+        rsizes = [round(float(x), 6) for x in a.relaxed_sizes.split(",") if x] or None  # None: every size
         jobs = []
         for L in sizes:
             if L not in boxes:
@@ -234,7 +234,7 @@ def main():
                 if ar:
                     append(dict(protocol="authors", L=L, seed=s, path=data, **ar))
             for p in protos:
-                if p == "relaxed" and (s not in rseeds or L not in rsizes):
+                if p == "relaxed" and (s not in rseeds or (rsizes is not None and round(L, 6) not in rsizes)):
                     continue
                 if (p, round(L, 6), s) in done:
                     continue
