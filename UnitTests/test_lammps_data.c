@@ -141,7 +141,7 @@ static void test_write_data_layout(void)
              "Velocities\n"
              "\n"
              "12 0.1 0.2 0.3 0.4 0.5 0.6\n"
-             "7 1 2 3 4 5 6\n"
+             "7 1 2 3 4 5 2.02e-320\n"
              "3 -1 -2 -3 -4 -5 -6\n");
   TlLammpsData *d = NULL;
   TL_TEST_STATUS(tl_lammps_data_read("sphere.data", &d), TL_OK);
@@ -158,6 +158,8 @@ static void test_write_data_layout(void)
   /* velocities matched by id, not by line order */
   TL_TEST_CLOSE(d->v[2].z, 0.3, 0.0);
   TL_TEST_CLOSE(d->omega[0].y, 5.0, 0.0);
+  /* a subnormal, as LAMMPS's write_data prints them, read exactly */
+  TL_TEST_ASSERT(d->omega[0].z == 2.02e-320, "subnormal read as %g", d->omega[0].z);
   TL_TEST_CLOSE(d->omega[1].x, -4.0, 0.0);
   /* unwrapping with a tilt: x + ix Lx + iy xy, y + iy Ly */
   TlVec3 u = tl_lammps_data_unwrapped(d, 1);

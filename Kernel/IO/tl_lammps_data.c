@@ -69,7 +69,10 @@ static int parse_double(const char *s, double *value)
   char *end = NULL;
   errno = 0;
   double d = strtod(s, &end);
-  if (end == s || *end != '\0' || errno == ERANGE || !isfinite(d)) return 0;
+  /* ERANGE on underflow is no error: LAMMPS's write_data prints subnormal
+   * velocities (2.02e-320) and strtod returns them exactly; an overflow
+   * returns ±HUGE_VAL, refused as not finite */
+  if (end == s || *end != '\0' || !isfinite(d) || (errno == ERANGE && fabs(d) >= 1.0)) return 0;
   *value = d;
   return 1;
 }
