@@ -372,7 +372,7 @@ static TlStatus run(int argc, char **argv)
     }
     if (s.compare[0]) tl_summary_real(&sum, "compare_max_rel", cmp);
     tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-    tl_summary_print(&sum, stdout);
+    st = tl_summary_print(&sum, stdout);
   }
   tl_dem_destroy(&dem);
   tl_contact_law_destroy(&s.law);
