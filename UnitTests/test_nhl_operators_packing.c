@@ -53,30 +53,14 @@ static double urand(void)
 
 static TlStatus make_world(const Packing *K, int frictional, TlDem **out)
 {
-  TlDem *dem;
-  TL_CHECK(tl_dem_create(&dem));
+  TlDem *dem = NULL;
+  TL_CHECK(test_cell_create(K->dim, K->h, &dem));
   TlParticles *P = tl_dem_particles(dem);
-  TlDomain dom;
-  if (K->dim == 2) {
-    TL_CHECK(tl_dem_set_dimension(dem, 2));
-    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), K->h));
-  } else TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), K->h));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
   int sp;
   TL_CHECK(tl_particles_add_species(P, "g", K->rho, 0.8 * K->r_mean, 1.2 * K->r_mean, &sp));
   for (int i = 0; i < K->n; ++i) TL_CHECK(tl_dem_add_particle(dem, K->x[i], tl_v3(0, 0, 0), K->r[i], sp, NULL));
-  TlContactLaw *law;
   double m = K->dim == 2 ? K->rho * M_PI * K->r_mean * K->r_mean : K->rho * 4.0 / 3.0 * M_PI * pow(K->r_mean, 3);
-  if (frictional)
-    TL_CHECK(tl_test_law(&law, "linear", "k_n", K->kn, "restitution", 0.2, "mu", 0.5, "k_t", 0.5 * K->kn, "gamma_t",
-                         0.1 * sqrt(0.5 * K->kn / m), NULL));
-  else TL_CHECK(tl_test_law(&law, "linear", "k_n", K->kn, "restitution", 0.2, NULL));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  double dtc;
-  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, NULL, NULL));
-  TL_CHECK(tl_dem_set_timestep(dem, 0.3 * dtc, 0));
-  TL_CHECK(tl_dem_setup(dem));
-  TL_CHECK(tl_dem_compute_forces(dem));
+  TL_CHECK(test_cell_finish(dem, K->kn, 0.2, frictional ? 0.5 * K->kn : 0.0, m));
   *out = dem;
   return TL_OK;
 }
