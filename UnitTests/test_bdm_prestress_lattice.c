@@ -28,6 +28,7 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 #include "tl_test.h"
+#include "tl_test_bdm.h"
 
 #define A_CELL 0.01   /* FCC cell (m) */
 #define NX 4          /* cells across x and z */
@@ -51,12 +52,7 @@ typedef struct {
 
 static void scene_free(Scene *S)
 {
-  tl_bdm_destroy(&S->bdm);
-  tl_stepper_destroy(&S->st);
-  tl_solid_destroy(&S->solid);
-  tl_material_destroy(&S->mat);
-  tl_mesh_destroy(&S->mesh);
-  tl_dem_destroy(&S->dem);
+  test_bdm_destroy(&S->bdm, &S->st, &S->solid, &S->mat, &S->mesh, &S->dem);
 }
 
 /* FCC positions with y in [0, NY a]: basis (0,0,0), (1/2,1/2,0),
@@ -140,12 +136,7 @@ static TlStatus scene_build(Scene *S, TlBdmConstraint c, TlBdmGhost g)
   o.constraint = c;
   o.ghost = g;
   const TlBdmZone zone = {1, (NY - 2) * A_CELL, NY * A_CELL};
-  TL_CHECK(tl_bdm_create(S->solid, 0, S->dem, &zone, 1, &o, &S->bdm));
-  TL_CHECK(tl_solid_setup(S->solid));
-  TlStepperOptions so;
-  tl_stepper_options_default(&so);
-  TL_CHECK(tl_stepper_create("central_difference", tl_solid_system(S->solid), &so, &S->st));
-  TL_CHECK(tl_stepper_set_state(S->st, 0.0, NULL, NULL));
+  TL_CHECK(test_bdm_couple(S->solid, S->dem, &zone, &o, &S->bdm, &S->st));
   TL_CHECK(tl_dem_setup(S->dem));
   TL_CHECK(tl_bdm_setup(S->bdm, S->st));
   return TL_OK;
