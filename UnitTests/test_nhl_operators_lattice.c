@@ -129,22 +129,10 @@ static double cdiff(const double *a, const double *b)
   return m / cmax(b);
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1; ":6":
- * with directions = 6). */
+/* Computes operator `name` (test_operator_compute) and prints it. */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
-  TlNhlOperator *op;
-  char base[32];
-  snprintf(base, sizeof base, "%s", name);
-  char *colon = strchr(base, ':');
-  if (colon) *colon = '\0';
-  TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = TL_OK;
-  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
-  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
-  if (s == TL_OK) s = tl_nhl_operator_setup(op);
-  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
-  tl_nhl_operator_destroy(&op);
+  TlStatus s = test_operator_compute(name, in, c, st);
   if (s == TL_OK)
     printf("  %-9s %.4f s, %zu contacts, %zu rattlers, %zu rigid modes, %d evaluations (%ld DEM steps, imbalance %.1e), "
            "pstlo residual %.1e: C11 %.6g C12 %.6g C44 %.6g c1212 %.6g c1221 %.6g\n",

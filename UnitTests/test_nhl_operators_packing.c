@@ -149,19 +149,11 @@ static TlStatus make_packing(Packing *K, double p_target, long *steps_used)
   return s;
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1). */
+/* Computes operator `name` (":sym" appended: with symmetrise = 1;
+ * test_operator_compute) and prints it. */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
-  TlNhlOperator *op;
-  char base[32];
-  snprintf(base, sizeof base, "%s", name);
-  char *colon = strchr(base, ':');
-  if (colon) *colon = '\0';
-  TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = colon ? tl_nhl_operator_set(op, "symmetrise", 1) : TL_OK;
-  if (s == TL_OK) s = tl_nhl_operator_setup(op);
-  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
-  tl_nhl_operator_destroy(&op);
+  TlStatus s = test_operator_compute(name, in, c, st);
   if (s == TL_OK)
     printf("  %-9s %.4f s, %zu contacts, %zu rattlers, %zu rigid modes, %d probes (%ld DEM steps, imbalance %.1e), "
            "residual %.1e: C11 %.5g C22 %.5g C12 %.5g C44 %.5g C55 %.5g C66 %.5g\n",

@@ -10,6 +10,8 @@
 #define TL_TEST_NHL_CELL_H
 
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 #include "tl_contact_law.h"
 #include "tl_dem.h"
 #include "tl_nhl_operator.h"
@@ -60,6 +62,26 @@ static inline TlStatus test_cell_finish(TlDem *dem, double kn, double restitutio
   TL_CHECK(tl_dem_setup(dem));
   TL_CHECK(tl_dem_compute_forces(dem));
   return TL_OK;
+}
+
+/* Computes operator `name` on in ("name:sym": with symmetrise = 1;
+ * "name:6": with directions = 6). */
+static inline TlStatus test_operator_compute(const char *name, TlNhlOperatorInput *in, double c[81],
+                                             TlNhlOperatorStats *st)
+{
+  TlNhlOperator *op;
+  char base[32];
+  snprintf(base, sizeof base, "%s", name);
+  char *colon = strchr(base, ':');
+  if (colon) *colon = '\0';
+  TL_CHECK(tl_nhl_operator_create(base, &op));
+  TlStatus s = TL_OK;
+  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
+  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
+  if (s == TL_OK) s = tl_nhl_operator_setup(op);
+  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
+  tl_nhl_operator_destroy(&op);
+  return s;
 }
 
 /* Largest torque on a free particle over (largest contact force × radius). */
