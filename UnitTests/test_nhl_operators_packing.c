@@ -193,20 +193,6 @@ static double frob(const double *a, int n)
  * operators at the end of the step: cto (nine full paths from the committed
  * state, Eq. 31), demqo (probes, Eq. 32), pstlo (now with a non-symmetric
  * network: the tangential forces' transport), uko. */
-static TlStatus cell_eval(void *ctx, TlNhlEvalMode mode, TlMat3 F, TlMat3 *sigma, TlNhlEvalStats *es)
-{
-  TlNhlCell *cell = ctx;
-  TlNhlCellStats cs;
-  if (mode == TL_NHL_EVAL_PROBE) TL_CHECK(tl_nhl_cell_probe(cell, F, sigma, &cs));
-  else TL_CHECK(tl_nhl_cell_evaluate_aside(cell, F, sigma, &cs));
-  es->dem_steps = cs.dem_steps;
-  es->tau = cs.tau;
-  es->imbalance = cs.imbalance;
-  es->seconds = cs.seconds;
-  es->converged = cs.converged;
-  return TL_OK;
-}
-
 static double voigt_rel(const double *a, const double *b, int dim)
 {
   static const int in3[6] = {0, 1, 2, 3, 4, 5}, in2[3] = {0, 1, 3};
@@ -286,7 +272,7 @@ static void compare_on_cell(TlNhlCell *cell, int dim, double step, int assert_ct
   TL_TEST_STATUS(tl_nhl_cell_evaluate(cell, F, &sigma, &cs), TL_OK);
   printf("  step: %ld DEM steps, tau %.3g s, imbalance %.1e, %zu contacts, %.2f s\n", cs.dem_steps, cs.tau, cs.imbalance,
          cs.contacts, cs.seconds);
-  TlNhlOperatorInput in = {tl_nhl_cell_dem(cell), dim, F, sigma, cell_eval, cell, 0, 1};
+  TlNhlOperatorInput in = {tl_nhl_cell_dem(cell), dim, F, sigma, tl_nhl_cell_reevaluate, cell, 0, 1};
   double cu[81], cp[81], cd[81], cc[81];
   TlNhlOperatorStats st;
   TL_TEST_STATUS(run("uko", &in, cu, &st), TL_OK);
