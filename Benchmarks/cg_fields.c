@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_bench.h"
 #include "tl_cg_fields.h"
 #include "tl_cg_kernel.h"
 
@@ -146,15 +147,4 @@ done:
   return TL_OK;
 }
 
-int main(int argc, char **argv)
-{
-  double t0 = tl_wtime();
-  TlSummary sum;
-  tl_summary_init(&sum);
-  TlStatus s = run(argc, argv, &sum);
-  if (s == TL_OK) {
-    tl_summary_real(&sum, "wall", tl_wtime() - t0);
-    s = tl_summary_print(&sum, stdout);
-  }
-  return tl_driver_exit(s);
-}
+int main(int argc, char **argv) { return tl_bench_main_summary(argc, argv, run); }

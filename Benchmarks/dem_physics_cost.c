@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_bench.h"
 #include "tl_dem.h"
 #include "tl_output_dir.h"
 #include "tl_timeseries.h"
@@ -313,9 +314,4 @@ static TlStatus run(int argc, char **argv)
   return s_sum;
 }
 
-int main(int argc, char **argv)
-{
-  TlStatus s = tl_initialize();
-  if (s == TL_OK) s = run(argc, argv);
-  return tl_driver_exit(s);
-}
+int main(int argc, char **argv) { return tl_bench_main(argc, argv, run); }

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_bench.h"
 #include "tl_material.h"
 #include "tl_solid.h"
 
@@ -154,17 +155,6 @@ done:
   return s;
 }
 
-static double load_average(void)
-{
-  double l = NAN;
-  FILE *fp = fopen("/proc/loadavg", "r");
-  if (fp) {
-    if (fscanf(fp, "%lf", &l) != 1) l = NAN;
-    fclose(fp);
-  }
-  return l;
-}
-
 static TlStatus run(int argc, char **argv)
 {
   TL_CHECK(tl_initialize());
@@ -185,7 +175,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-work", 2e4, 0, 1e12, "", "costly law: busy-loop iterations (x 1..10)", &work),
                 done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
-  printf("load average at the start: %.2f on %d hardware threads\n", load_average(), omp_get_num_procs());
+  printf("load average at the start: %.2f on %d hardware threads\n", tl_bench_load_average(), omp_get_num_procs());
   Run best[2][2]; /* [mode: chunked, points][threads 1, 2] */
   for (int mode = 0; mode < 2; ++mode)
     for (int th = 0; th < 2; ++th) {
@@ -219,7 +209,7 @@ static TlStatus run(int argc, char **argv)
          2 * nx_costly * nx_costly, 8 * nx_costly * nx_costly, c1.per_iteration, c2.per_iteration,
          c1.per_iteration / c2.per_iteration, per_point1, per_point2, c2.stats.reuses, c2.stats.reuses + c2.stats.evaluations,
          c1.hash == c2.hash ? "identical" : "DIFFERENT");
-  printf("load average at the end: %.2f\n", load_average());
+  printf("load average at the end: %.2f\n", tl_bench_load_average());
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_real(&sum, "hooke_ratio_1thread", ratio1);
@@ -231,7 +221,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "costly_speedup", c1.per_iteration / c2.per_iteration);
   tl_summary_real(&sum, "costly_per_point", per_point1);
   tl_summary_int(&sum, "identical", c1.hash == c2.hash);
-  tl_summary_real(&sum, "load", load_average());
+  tl_summary_real(&sum, "load", tl_bench_load_average());
   s = tl_summary_print(&sum, stdout);
   if (c1.hash != c2.hash) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "results differ between 1 and 2 threads");
 done:

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_bench.h"
 #include "tl_nhl_cell.h"
 #include "tl_nhl_operator.h"
 
@@ -111,15 +112,4 @@ done:
   return s;
 }
 
-int main(int argc, char **argv)
-{
-  double t0 = tl_wtime();
-  TlSummary sum;
-  tl_summary_init(&sum);
-  TlStatus s = run(argc, argv, &sum);
-  if (s == TL_OK) {
-    tl_summary_real(&sum, "wall", tl_wtime() - t0);
-    s = tl_summary_print(&sum, stdout);
-  }
-  return tl_driver_exit(s);
-}
+int main(int argc, char **argv) { return tl_bench_main_summary(argc, argv, run); }

@@ -575,6 +575,15 @@ static TlStatus snapshots_write(Snapshots *sn, const Scene *sc, const TlMaterial
 }
 
 /* ------------------------------------------------------------- run */
+/* Closes a table when open; a failure to write it is the run's status
+ * unless the run failed first. */
+static void close_table(TlTimeSeries **ts, TlStatus *s)
+{
+  if (!*ts) return;
+  TlStatus s2 = tl_timeseries_close(ts);
+  if (*s == TL_OK) *s = s2;
+}
+
 static TlStatus open_table(const Config *c, const char *name, size_t n, const TlColumn *cols, TlTimeSeries **ts)
 {
   char *base = NULL;
@@ -750,14 +759,8 @@ static TlStatus run(int argc, char **argv)
                      "-check: the deviator differs from the reference point by %.3e of its peak, above %g",
                      ref_peak > 0.0 ? ref_diff / ref_peak : NAN, c.ref_tolerance);
 done:
-  if (ts) {
-    TlStatus s2 = tl_timeseries_close(&ts);
-    if (s == TL_OK) s = s2;
-  }
-  if (tt) {
-    TlStatus s2 = tl_timeseries_close(&tt);
-    if (s == TL_OK) s = s2;
-  }
+  close_table(&ts, &s);
+  close_table(&tt, &s);
   snapshots_close(&sn);
   tl_stepper_destroy(&st);
   scene_destroy(&sc);

@@ -21,3 +21,60 @@ function(talus_check_value key x ref rt at awk)
     set(failed 1 PARENT_SCOPE)
   endif()
 endfunction()
+
+# Reads the key=value pairs of the "summary:" line of a driver's output out
+# into ${prefix}<key> in the caller's scope; a missing summary line is fatal
+# (what names the run in the message).
+function(talus_read_summary out prefix what)
+  string(REGEX MATCH "summary:[^\n]*" summary "${out}")
+  if(summary STREQUAL "")
+    message(FATAL_ERROR "${what}: no summary line in the driver's output")
+  endif()
+  string(REGEX MATCHALL "[A-Za-z_][A-Za-z0-9_]*=[^ \n]+" pairs "${summary}")
+  foreach(p IN LISTS pairs)
+    string(REGEX REPLACE "=.*" "" k "${p}")
+    string(REGEX REPLACE "^[^=]*=" "" v "${p}")
+    set(${prefix}${k} "${v}" PARENT_SCOPE)
+  endforeach()
+endfunction()
+
+# Writes baseline from this run: header (the comment lines, each ending in a
+# newline), then "key value rel_tol abs_tol" for each "key rel abs" of the
+# list tolerances, value ${prefix}<key> of the caller.
+function(talus_write_baseline baseline header prefix tolerances)
+  set(text "${header}")
+  foreach(line IN LISTS tolerances)
+    string(REPLACE " " ";" f "${line}")
+    list(GET f 0 k)
+    list(GET f 1 rt)
+    list(GET f 2 at)
+    string(APPEND text "${k} ${${prefix}${k}} ${rt} ${at}\n")
+  endforeach()
+  file(WRITE ${baseline} "${text}")
+  message("wrote ${baseline}")
+endfunction()
+
+# Checks each line "key value rel_tol abs_tol" of baseline against the
+# caller's ${prefix}<key> with talus_check_value; a missing or empty baseline
+# is fatal, a value off its baseline sets `failed` in the caller's scope.
+function(talus_check_baseline baseline prefix awk)
+  if(NOT EXISTS ${baseline})
+    message(FATAL_ERROR "regression baseline ${baseline} is missing")
+  endif()
+  file(STRINGS ${baseline} lines REGEX "^[^#]")
+  list(LENGTH lines n)
+  if(n EQUAL 0)
+    message(FATAL_ERROR "regression baseline ${baseline} is empty")
+  endif()
+  foreach(line IN LISTS lines)
+    string(REGEX REPLACE " +" ";" f "${line}")
+    list(GET f 0 k)
+    list(GET f 1 ref)
+    list(GET f 2 rt)
+    list(GET f 3 at)
+    talus_check_value(${prefix}${k} "${${prefix}${k}}" ${ref} ${rt} ${at} ${awk})
+  endforeach()
+  if(failed)
+    set(failed 1 PARENT_SCOPE)
+  endif()
+endfunction()

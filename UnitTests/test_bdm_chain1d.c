@@ -32,6 +32,7 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 #include "tl_test.h"
+#include "tl_test_bdm.h"
 
 #define D 0.01       /* particle spacing (m) */
 #define K 1e5        /* bond stiffness (N/m) */
@@ -53,12 +54,7 @@ typedef struct {
 
 static void chain_free(Chain *C)
 {
-  tl_bdm_destroy(&C->bdm);
-  tl_stepper_destroy(&C->st);
-  tl_solid_destroy(&C->solid);
-  tl_material_destroy(&C->mat);
-  tl_mesh_destroy(&C->mesh);
-  tl_dem_destroy(&C->dem);
+  test_bdm_destroy(&C->bdm, &C->st, &C->solid, &C->mat, &C->mesh, &C->dem);
 }
 
 static TlStatus chain_build(Chain *C, double lambda_over_h, TlBdmLumping lump, TlBdmMassWeight mass)
@@ -112,12 +108,7 @@ static TlStatus chain_build(Chain *C, double lambda_over_h, TlBdmLumping lump, T
   o.ghost = TL_BDM_GHOST_NONE;
   o.mass_weight = mass;
   const TlBdmZone zone = {1, C->s_dem, C->s_dem + H};
-  TL_CHECK(tl_bdm_create(C->solid, 0, C->dem, &zone, 1, &o, &C->bdm));
-  TL_CHECK(tl_solid_setup(C->solid));
-  TlStepperOptions so;
-  tl_stepper_options_default(&so);
-  TL_CHECK(tl_stepper_create("central_difference", tl_solid_system(C->solid), &so, &C->st));
-  TL_CHECK(tl_stepper_set_state(C->st, 0.0, NULL, NULL));
+  TL_CHECK(test_bdm_couple(C->solid, C->dem, &zone, &o, &C->bdm, &C->st));
   /* the right-going pulse: u(y0 + ...) and v = -c du/dy */
   for (size_t i = 0; i < P->n; ++i) {
     double y = P->x[i].y, xi = 2.0 * TL_PI * (y - C->y0) / C->lambda;

@@ -28,6 +28,7 @@
 #include "tl_solid.h"
 #include "tl_stepper.h"
 #include "tl_test.h"
+#include "tl_test_bdm.h"
 
 #define A_CELL 0.01   /* FCC cell (m) */
 #define NX 4          /* cells across x and z */
@@ -51,12 +52,7 @@ typedef struct {
 
 static void scene_free(Scene *S)
 {
-  tl_bdm_destroy(&S->bdm);
-  tl_stepper_destroy(&S->st);
-  tl_solid_destroy(&S->solid);
-  tl_material_destroy(&S->mat);
-  tl_mesh_destroy(&S->mesh);
-  tl_dem_destroy(&S->dem);
+  test_bdm_destroy(&S->bdm, &S->st, &S->solid, &S->mat, &S->mesh, &S->dem);
 }
 
 /* FCC positions with y in [0, NY a]: basis (0,0,0), (1/2,1/2,0),
@@ -140,12 +136,7 @@ static TlStatus scene_build(Scene *S, TlBdmConstraint c, TlBdmGhost g)
   o.constraint = c;
   o.ghost = g;
   const TlBdmZone zone = {1, (NY - 2) * A_CELL, NY * A_CELL};
-  TL_CHECK(tl_bdm_create(S->solid, 0, S->dem, &zone, 1, &o, &S->bdm));
-  TL_CHECK(tl_solid_setup(S->solid));
-  TlStepperOptions so;
-  tl_stepper_options_default(&so);
-  TL_CHECK(tl_stepper_create("central_difference", tl_solid_system(S->solid), &so, &S->st));
-  TL_CHECK(tl_stepper_set_state(S->st, 0.0, NULL, NULL));
+  TL_CHECK(test_bdm_couple(S->solid, S->dem, &zone, &o, &S->bdm, &S->st));
   TL_CHECK(tl_dem_setup(S->dem));
   TL_CHECK(tl_bdm_setup(S->bdm, S->st));
   return TL_OK;
@@ -279,27 +270,18 @@ static void check_ghost_balance(void)
   scene_free(&S);
 }
 
-/* Save at step 100, restart from it, compare step 200 bit for bit. */
-static TlStatus save(Scene *S, const char *path)
+/* Save at step 100, restart from it, compare step 200 bit for bit: the
+ * world, the bar's stepper and the coupling in one checkpoint, saved
+ * (saving = 1) or loaded. */
+static TlStatus checkpoint(Scene *S, const char *path, int saving)
 {
   TlCheckpoint *cp = NULL;
   TL_CHECK(tl_checkpoint_create(&cp));
   TlStatus s = tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, S->dem);
   if (s == TL_OK) s = tl_checkpoint_add(cp, "fe", &tl_stepper_checkpoint_ops, S->st);
   if (s == TL_OK) s = tl_checkpoint_add(cp, "bdm", &tl_bdm_checkpoint_ops, S->bdm);
-  if (s == TL_OK) s = tl_checkpoint_save(cp, path, tl_dem_time(S->dem), 100);
-  tl_checkpoint_destroy(&cp);
-  return s;
-}
-
-static TlStatus load(Scene *S, const char *path)
-{
-  TlCheckpoint *cp = NULL;
-  TL_CHECK(tl_checkpoint_create(&cp));
-  TlStatus s = tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, S->dem);
-  if (s == TL_OK) s = tl_checkpoint_add(cp, "fe", &tl_stepper_checkpoint_ops, S->st);
-  if (s == TL_OK) s = tl_checkpoint_add(cp, "bdm", &tl_bdm_checkpoint_ops, S->bdm);
-  if (s == TL_OK) s = tl_checkpoint_load(cp, path, NULL, NULL);
+  if (s == TL_OK)
+    s = saving ? tl_checkpoint_save(cp, path, tl_dem_time(S->dem), 100) : tl_checkpoint_load(cp, path, NULL, NULL);
   tl_checkpoint_destroy(&cp);
   return s;
 }
@@ -321,11 +303,11 @@ static void check_restart(void)
     kick(&A);
     TlBdmReport ra, rb;
     for (int k = 0; k < 100 && s == TL_OK; ++k) s = scene_step(&A, &ra);
-    if (s == TL_OK) s = save(&A, "bdm_restart.h5");
+    if (s == TL_OK) s = checkpoint(&A, "bdm_restart.h5", 1);
     TL_TEST_STATUS(s, TL_OK);
     for (int k = 0; k < 100 && s == TL_OK; ++k) s = scene_step(&A, &ra);
     TlStatus sb = scene_build(&B, TL_BDM_STRONG, TL_BDM_GHOST_BOTH);
-    if (sb == TL_OK) sb = load(&B, "bdm_restart.h5");
+    if (sb == TL_OK) sb = checkpoint(&B, "bdm_restart.h5", 0);
     TL_TEST_STATUS(sb, TL_OK);
     /* the restarted run asks for no report: the last one is computed on
      * demand from the state and must equal the continuous run's */
@@ -362,7 +344,7 @@ static void check_restart(void)
     Scene C;
     TlStatus sc = scene_build(&C, TL_BDM_WEAK, TL_BDM_GHOST_BOTH);
     if (sc == TL_OK) {
-      TlStatus sl = load(&C, "bdm_restart.h5");
+      TlStatus sl = checkpoint(&C, "bdm_restart.h5", 0);
       TL_TEST_ASSERT(sl == TL_ERR_ARG && strstr(tl_error_message(), "constraint"),
                      "weak coupling loading a strong checkpoint: status %d, %s", (int)sl, tl_error_message());
     }

@@ -47,16 +47,23 @@ static TlContactLaw *linear_law(double kn, double restitution, double mu)
   return law;
 }
 
+/* An empty 2-D world with one species of disks (density rho, radius r). */
+static TlDem *disk_world(double rho, double r, int *sp)
+{
+  TlDem *dem = NULL;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_dimension(dem, 2), TL_OK);
+  TL_TEST_STATUS(tl_particles_add_species(tl_dem_particles(dem), "g", rho, r, r, sp), TL_OK);
+  return dem;
+}
+
 static void impact(void)
 {
   const double r = 0.01, rho = 2500, kn = 1e5, v0 = 0.1, a = 0.3;
   const double m = rho * TL_PI * r * r, tc = TL_PI * sqrt(0.5 * m / kn), dt = tc / 400;
-  TlDem *dem;
-  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
-  TL_TEST_STATUS(tl_dem_set_dimension(dem, 2), TL_OK);
-  TlParticles *P = tl_dem_particles(dem);
   int sp;
-  TL_TEST_STATUS(tl_particles_add_species(P, "g", rho, r, r, &sp), TL_OK);
+  TlDem *dem = disk_world(rho, r, &sp);
+  TlParticles *P = tl_dem_particles(dem);
   const TlVec3 e = {cos(a), sin(a), 0.0};
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.3, 0.4, 0), tl_v3_scale(e, v0), r, sp, NULL), TL_OK);
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3_axpy(tl_v3(0.3, 0.4, 0), 2.02 * r, e), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
@@ -84,12 +91,9 @@ static void impact(void)
 static void spin_down(void)
 {
   const double r = 0.01, rho = 2500, kn = 1e5, mu = 0.3, delta = 1e-4, w0 = 20.0, dt = 1e-5;
-  TlDem *dem;
-  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
-  TL_TEST_STATUS(tl_dem_set_dimension(dem, 2), TL_OK);
-  TlParticles *P = tl_dem_particles(dem);
   int sp;
-  TL_TEST_STATUS(tl_particles_add_species(P, "g", rho, r, r, &sp), TL_OK);
+  TlDem *dem = disk_world(rho, r, &sp);
+  TlParticles *P = tl_dem_particles(dem);
   TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0, 0, 0), tl_v3(0, 0, 0), r, sp, NULL), TL_OK);
   for (int k = 0; k < 2; ++k) {
     size_t idx;

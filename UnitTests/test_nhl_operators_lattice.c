@@ -44,17 +44,14 @@ static TlStatus build_lattice(void *ctx, TlDem **out)
 {
   const Lattice *L = ctx;
   static const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
-  TlDem *dem;
-  TL_CHECK(tl_dem_create(&dem));
-  TlParticles *P = tl_dem_particles(dem);
-  TlDomain dom;
+  TlMat3 h = tl_m3_scale(tl_m3_identity(), M * L->a);
   if (L->dim == 2) {
-    TlMat3 h = tl_m3_identity();
+    h = tl_m3_identity();
     h.m[0][0] = M2 * L->a, h.m[1][1] = M2 * 0.5 * sqrt(3.0) * L->a;
-    TL_CHECK(tl_dem_set_dimension(dem, 2));
-    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), h));
-  } else TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), tl_m3_scale(tl_m3_identity(), M * L->a)));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  }
+  TlDem *dem = NULL;
+  TL_CHECK(test_cell_create(L->dim, h, &dem));
+  TlParticles *P = tl_dem_particles(dem);
   int sp;
   TL_CHECK(tl_particles_add_species(P, "g", L->rho, 0.5 * L->d, 0.5 * L->d, &sp));
   if (L->dim == 2)
@@ -71,17 +68,8 @@ static TlStatus build_lattice(void *ctx, TlDem **out)
                                          tl_v3((i + 0.25 + basis[q][0]) * L->a, (j + 0.25 + basis[q][1]) * L->a,
                                                (k + 0.25 + basis[q][2]) * L->a),
                                          tl_v3(0, 0, 0), 0.5 * L->d, sp, NULL));
-  TlContactLaw *law;
-  if (L->kt > 0.0)
-    TL_CHECK(tl_test_law(&law, "linear", "k_n", L->kn, "restitution", 0.3, "mu", 0.5, "k_t", L->kt, "gamma_t",
-                         0.1 * sqrt(L->kt / (L->dim == 2 ? L->rho * M_PI * 0.25 * L->d * L->d : L->rho * M_PI * L->d * L->d * L->d / 6.0)), NULL));
-  else TL_CHECK(tl_test_law(&law, "linear", "k_n", L->kn, "restitution", 0.3, NULL));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  double dtc;
-  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, NULL, NULL));
-  TL_CHECK(tl_dem_set_timestep(dem, 0.3 * dtc, 0));
-  TL_CHECK(tl_dem_setup(dem));
-  TL_CHECK(tl_dem_compute_forces(dem));
+  double m = L->dim == 2 ? L->rho * M_PI * 0.25 * L->d * L->d : L->rho * M_PI * L->d * L->d * L->d / 6.0;
+  TL_CHECK(test_cell_finish(dem, L->kn, 0.3, L->kt, m));
   *out = dem;
   return TL_OK;
 }
@@ -141,22 +129,10 @@ static double cdiff(const double *a, const double *b)
   return m / cmax(b);
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1; ":6":
- * with directions = 6). */
+/* Computes operator `name` (test_operator_compute) and prints it. */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
-  TlNhlOperator *op;
-  char base[32];
-  snprintf(base, sizeof base, "%s", name);
-  char *colon = strchr(base, ':');
-  if (colon) *colon = '\0';
-  TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = TL_OK;
-  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
-  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
-  if (s == TL_OK) s = tl_nhl_operator_setup(op);
-  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
-  tl_nhl_operator_destroy(&op);
+  TlStatus s = test_operator_compute(name, in, c, st);
   if (s == TL_OK)
     printf("  %-9s %.4f s, %zu contacts, %zu rattlers, %zu rigid modes, %d evaluations (%ld DEM steps, imbalance %.1e), "
            "pstlo residual %.1e: C11 %.6g C12 %.6g C44 %.6g c1212 %.6g c1221 %.6g\n",

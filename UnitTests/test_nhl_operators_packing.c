@@ -53,30 +53,14 @@ static double urand(void)
 
 static TlStatus make_world(const Packing *K, int frictional, TlDem **out)
 {
-  TlDem *dem;
-  TL_CHECK(tl_dem_create(&dem));
+  TlDem *dem = NULL;
+  TL_CHECK(test_cell_create(K->dim, K->h, &dem));
   TlParticles *P = tl_dem_particles(dem);
-  TlDomain dom;
-  if (K->dim == 2) {
-    TL_CHECK(tl_dem_set_dimension(dem, 2));
-    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), K->h));
-  } else TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), K->h));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
   int sp;
   TL_CHECK(tl_particles_add_species(P, "g", K->rho, 0.8 * K->r_mean, 1.2 * K->r_mean, &sp));
   for (int i = 0; i < K->n; ++i) TL_CHECK(tl_dem_add_particle(dem, K->x[i], tl_v3(0, 0, 0), K->r[i], sp, NULL));
-  TlContactLaw *law;
   double m = K->dim == 2 ? K->rho * M_PI * K->r_mean * K->r_mean : K->rho * 4.0 / 3.0 * M_PI * pow(K->r_mean, 3);
-  if (frictional)
-    TL_CHECK(tl_test_law(&law, "linear", "k_n", K->kn, "restitution", 0.2, "mu", 0.5, "k_t", 0.5 * K->kn, "gamma_t",
-                         0.1 * sqrt(0.5 * K->kn / m), NULL));
-  else TL_CHECK(tl_test_law(&law, "linear", "k_n", K->kn, "restitution", 0.2, NULL));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  double dtc;
-  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, NULL, NULL));
-  TL_CHECK(tl_dem_set_timestep(dem, 0.3 * dtc, 0));
-  TL_CHECK(tl_dem_setup(dem));
-  TL_CHECK(tl_dem_compute_forces(dem));
+  TL_CHECK(test_cell_finish(dem, K->kn, 0.2, frictional ? 0.5 * K->kn : 0.0, m));
   *out = dem;
   return TL_OK;
 }
@@ -165,19 +149,11 @@ static TlStatus make_packing(Packing *K, double p_target, long *steps_used)
   return s;
 }
 
-/* Computes operator `name` (":sym" appended: with symmetrise = 1). */
+/* Computes operator `name` (":sym" appended: with symmetrise = 1;
+ * test_operator_compute) and prints it. */
 static TlStatus run(const char *name, TlNhlOperatorInput *in, double c[81], TlNhlOperatorStats *st)
 {
-  TlNhlOperator *op;
-  char base[32];
-  snprintf(base, sizeof base, "%s", name);
-  char *colon = strchr(base, ':');
-  if (colon) *colon = '\0';
-  TL_CHECK(tl_nhl_operator_create(base, &op));
-  TlStatus s = colon ? tl_nhl_operator_set(op, "symmetrise", 1) : TL_OK;
-  if (s == TL_OK) s = tl_nhl_operator_setup(op);
-  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
-  tl_nhl_operator_destroy(&op);
+  TlStatus s = test_operator_compute(name, in, c, st);
   if (s == TL_OK)
     printf("  %-9s %.4f s, %zu contacts, %zu rattlers, %zu rigid modes, %d probes (%ld DEM steps, imbalance %.1e), "
            "residual %.1e: C11 %.5g C22 %.5g C12 %.5g C44 %.5g C55 %.5g C66 %.5g\n",
@@ -217,20 +193,6 @@ static double frob(const double *a, int n)
  * operators at the end of the step: cto (nine full paths from the committed
  * state, Eq. 31), demqo (probes, Eq. 32), pstlo (now with a non-symmetric
  * network: the tangential forces' transport), uko. */
-static TlStatus cell_eval(void *ctx, TlNhlEvalMode mode, TlMat3 F, TlMat3 *sigma, TlNhlEvalStats *es)
-{
-  TlNhlCell *cell = ctx;
-  TlNhlCellStats cs;
-  if (mode == TL_NHL_EVAL_PROBE) TL_CHECK(tl_nhl_cell_probe(cell, F, sigma, &cs));
-  else TL_CHECK(tl_nhl_cell_evaluate_aside(cell, F, sigma, &cs));
-  es->dem_steps = cs.dem_steps;
-  es->tau = cs.tau;
-  es->imbalance = cs.imbalance;
-  es->seconds = cs.seconds;
-  es->converged = cs.converged;
-  return TL_OK;
-}
-
 static double voigt_rel(const double *a, const double *b, int dim)
 {
   static const int in3[6] = {0, 1, 2, 3, 4, 5}, in2[3] = {0, 1, 3};
@@ -310,7 +272,7 @@ static void compare_on_cell(TlNhlCell *cell, int dim, double step, int assert_ct
   TL_TEST_STATUS(tl_nhl_cell_evaluate(cell, F, &sigma, &cs), TL_OK);
   printf("  step: %ld DEM steps, tau %.3g s, imbalance %.1e, %zu contacts, %.2f s\n", cs.dem_steps, cs.tau, cs.imbalance,
          cs.contacts, cs.seconds);
-  TlNhlOperatorInput in = {tl_nhl_cell_dem(cell), dim, F, sigma, cell_eval, cell, 0, 1};
+  TlNhlOperatorInput in = {tl_nhl_cell_dem(cell), dim, F, sigma, tl_nhl_cell_reevaluate, cell, 0, 1};
   double cu[81], cp[81], cd[81], cc[81];
   TlNhlOperatorStats st;
   TL_TEST_STATUS(run("uko", &in, cu, &st), TL_OK);

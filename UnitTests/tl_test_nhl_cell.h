@@ -10,9 +10,12 @@
 #define TL_TEST_NHL_CELL_H
 
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 #include "tl_contact_law.h"
 #include "tl_dem.h"
 #include "tl_nhl_operator.h"
+#include "tl_test.h"
 #include "tl_timer.h"
 
 typedef struct {
@@ -24,6 +27,62 @@ typedef struct {
   long max_steps;
   long last_steps;
 } TestCell;
+
+/* An empty periodic cell of edge vectors h: disks in the planar cell when
+ * dim = 2, spheres otherwise. */
+static inline TlStatus test_cell_create(int dim, TlMat3 h, TlDem **out)
+{
+  TlDem *dem;
+  TL_CHECK(tl_dem_create(&dem));
+  TlDomain dom;
+  if (dim == 2) {
+    TL_CHECK(tl_dem_set_dimension(dem, 2));
+    TL_CHECK(tl_domain_init_cell_2d(&dom, tl_v3(0, 0, 0), h));
+  } else TL_CHECK(tl_domain_init_cell(&dom, tl_v3(0, 0, 0), h));
+  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  *out = dem;
+  return TL_OK;
+}
+
+/* Completes a cell whose particles are placed: the linear law (k_n,
+ * restitution; when k_t > 0 also Coulomb friction μ = 0.5 and tangential
+ * springs k_t damped by γ_t = 0.1 √(k_t/m), m a grain's mass), a time step
+ * of 0.3 of the critical one, setup and the forces of the state. */
+static inline TlStatus test_cell_finish(TlDem *dem, double kn, double restitution, double kt, double m)
+{
+  TlContactLaw *law;
+  if (kt > 0.0)
+    TL_CHECK(tl_test_law(&law, "linear", "k_n", kn, "restitution", restitution, "mu", 0.5, "k_t", kt, "gamma_t",
+                         0.1 * sqrt(kt / m), NULL));
+  else TL_CHECK(tl_test_law(&law, "linear", "k_n", kn, "restitution", restitution, NULL));
+  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  double dtc;
+  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, NULL, NULL));
+  TL_CHECK(tl_dem_set_timestep(dem, 0.3 * dtc, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  TL_CHECK(tl_dem_compute_forces(dem));
+  return TL_OK;
+}
+
+/* Computes operator `name` on in ("name:sym": with symmetrise = 1;
+ * "name:6": with directions = 6). */
+static inline TlStatus test_operator_compute(const char *name, TlNhlOperatorInput *in, double c[81],
+                                             TlNhlOperatorStats *st)
+{
+  TlNhlOperator *op;
+  char base[32];
+  snprintf(base, sizeof base, "%s", name);
+  char *colon = strchr(base, ':');
+  if (colon) *colon = '\0';
+  TL_CHECK(tl_nhl_operator_create(base, &op));
+  TlStatus s = TL_OK;
+  if (colon && strcmp(colon + 1, "sym") == 0) s = tl_nhl_operator_set(op, "symmetrise", 1);
+  if (colon && strcmp(colon + 1, "6") == 0) s = tl_nhl_operator_set(op, "directions", 6);
+  if (s == TL_OK) s = tl_nhl_operator_setup(op);
+  if (s == TL_OK) s = tl_nhl_operator_compute(op, in, NULL, NULL, c, st);
+  tl_nhl_operator_destroy(&op);
+  return s;
+}
 
 /* Largest torque on a free particle over (largest contact force × radius). */
 static void test_torque_visit(void *ctx, size_t i, size_t j, TlVec3 f, TlVec3 b, TlVec3 cp)

@@ -542,6 +542,21 @@ TlStatus tl_nhl_cell_probe(TlNhlCell *cell, TlMat3 F_f, TlMat3 *sigma, TlNhlCell
   return TL_OK;
 }
 
+TlStatus tl_nhl_cell_reevaluate(void *cell, TlNhlEvalMode mode, TlMat3 F_f, TlMat3 *sigma, TlNhlEvalStats *es)
+{
+  TlNhlCellStats cs;
+  if (mode == TL_NHL_EVAL_PROBE) TL_CHECK(tl_nhl_cell_probe(cell, F_f, sigma, &cs));
+  else TL_CHECK(tl_nhl_cell_evaluate_aside(cell, F_f, sigma, &cs));
+  if (es) {
+    es->dem_steps = cs.dem_steps;
+    es->tau = cs.tau;
+    es->imbalance = cs.imbalance;
+    es->seconds = cs.seconds;
+    es->converged = cs.converged;
+  }
+  return TL_OK;
+}
+
 /* ---------------------------------------------------------------- states */
 TlStatus tl_nhl_cell_commit(TlNhlCell *cell)
 {

@@ -33,6 +33,7 @@
 #include "tl_dem.h"
 #include "tl_error.h"
 #include "tl_math.h"
+#include "tl_nhl_operator.h"
 
 typedef struct TlNhlCell TlNhlCell;
 
@@ -179,6 +180,10 @@ TlStatus tl_nhl_cell_evaluate_aside(TlNhlCell *cell, TlMat3 F_f, TlMat3 *sigma, 
  * step to F_f with τ from Eq. 18 for the increment's own γ, relaxed to the
  * same tolerance; returns σ and restores the world to the trial state. */
 TlStatus tl_nhl_cell_probe(TlNhlCell *cell, TlMat3 F_f, TlMat3 *sigma, TlNhlCellStats *stats);
+/* The re-evaluation an operator asks of a cell (a TlNhlEvalFn, ctx the
+ * cell): TL_NHL_EVAL_PROBE a probe, TL_NHL_EVAL_PATH the path aside from the
+ * committed state; its statistics in es (may be NULL). */
+TlStatus tl_nhl_cell_reevaluate(void *cell, TlNhlEvalMode mode, TlMat3 F_f, TlMat3 *sigma, TlNhlEvalStats *es);
 
 /* ---- the pieces (from the world as it stands; for drivers and tests) ---- */
 /* Drives to F_f at constant ḣ over τ (Eq. 18; gamma > 0 overrides γ_eff),

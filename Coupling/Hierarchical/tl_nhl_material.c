@@ -156,17 +156,7 @@ static TlStatus reevaluate(void *ctx, TlNhlEvalMode mode, TlMat3 F, TlMat3 *sigm
     TL_CHECK(e->d->analytic(e->d->analytic_ctx, F, sigma));
     return TL_OK;
   }
-  TlNhlCellStats cs;
-  if (mode == TL_NHL_EVAL_PROBE) TL_CHECK(tl_nhl_cell_probe(e->cell, F, sigma, &cs));
-  else TL_CHECK(tl_nhl_cell_evaluate_aside(e->cell, F, sigma, &cs));
-  if (es) {
-    es->dem_steps = cs.dem_steps;
-    es->tau = cs.tau;
-    es->imbalance = cs.imbalance;
-    es->seconds = cs.seconds;
-    es->converged = cs.converged;
-  }
-  return TL_OK;
+  return tl_nhl_cell_reevaluate(e->cell, mode, F, sigma, es);
 }
 
 /* |dev σ| (in-plane for disks). */

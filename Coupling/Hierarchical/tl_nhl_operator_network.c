@@ -209,9 +209,15 @@ static void finish(double c[81], int k, int l, TlMat3 ds, double V, TlMat3 sigma
 
 /* ---------------------------------------------------------------- uko, kao */
 
-/* Eq. 33 (Talus: every contact's own k_n, k_t; sliding ones with k_t or 0). */
-static void uko_parts(const TlNhlOperator *op, const Net *N, double cn[81], double ct[81])
+/* Eq. 33 (Talus: every contact's own k_n, k_t; sliding ones with k_t or 0):
+ * the normal part in cn, the tangential one in ct, of the network of in;
+ * the contacts counted in st. */
+static TlStatus uko_parts(const TlNhlOperator *op, const TlNhlOperatorInput *in, double cn[81], double ct[81],
+                          TlNhlOperatorStats *st)
 {
+  Net net;
+  TL_CHECK(gather(in, &net));
+  const Net *N = &net;
   memset(cn, 0, 81 * sizeof *cn);
   memset(ct, 0, 81 * sizeof *ct);
   for (size_t q = 0; q < N->n; ++q) {
@@ -232,19 +238,18 @@ static void uko_parts(const TlNhlOperator *op, const Net *N, double cn[81], doub
   if (N->dim == 2)
     for (int q = 0; q < 81; ++q)
       if (q / 27 == 2 || (q / 9) % 3 == 2 || (q / 3) % 3 == 2 || q % 3 == 2) cn[q] = ct[q] = 0.0;
+  st->contacts = N->n;
+  tl_free(&net.c);
+  return TL_OK;
 }
 
 static TlStatus uko_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
                             double c[81], TlNhlOperatorStats *st)
 {
   (void)so, (void)sn;
-  Net N;
-  TL_CHECK(gather(in, &N));
   double ct[81];
-  uko_parts(op, &N, c, ct);
+  TL_CHECK(uko_parts(op, in, c, ct, st));
   for (int q = 0; q < 81; ++q) c[q] += ct[q];
-  st->contacts = N.n;
-  tl_free(&N.c);
   return TL_OK;
 }
 
@@ -739,12 +744,8 @@ static TlStatus reference_operator(const TlNhlOperator *op, const TlNhlOperatorI
 static TlStatus ucko_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
                              double c[81], TlNhlOperatorStats *st)
 {
-  Net N;
-  TL_CHECK(gather(in, &N));
   double cn[81], ct[81];
-  uko_parts(op, &N, cn, ct);
-  st->contacts = N.n;
-  tl_free(&N.c);
+  TL_CHECK(uko_parts(op, in, cn, ct, st));
   for (int q = 0; q < 81; ++q) c[q] = cn[q] + ct[q];
   double alpha = so[1] > 0.5 ? so[0] : 1.0;
   if (in->calibrate) {
@@ -764,12 +765,8 @@ static TlStatus ucko_compute(const TlNhlOperator *op, const TlNhlOperatorInput *
 static TlStatus ucko2_compute(const TlNhlOperator *op, const TlNhlOperatorInput *in, const double *so, double *sn,
                               double c[81], TlNhlOperatorStats *st)
 {
-  Net N;
-  TL_CHECK(gather(in, &N));
   double cn[81], ct[81];
-  uko_parts(op, &N, cn, ct);
-  st->contacts = N.n;
-  tl_free(&N.c);
+  TL_CHECK(uko_parts(op, in, cn, ct, st));
   double an = so[2] > 0.5 ? so[0] : 1.0, at = so[2] > 0.5 ? so[1] : 1.0;
   if (in->calibrate) {
     double r[81], a11 = 0, a12 = 0, a22 = 0, b1 = 0, b2 = 0;

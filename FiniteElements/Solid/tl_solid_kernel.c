@@ -363,13 +363,32 @@ static TlStatus points_evaluate(TlSolid *s, int b, const double *u_nodes)
   return TL_OK;
 }
 
+/* Adds element e's forces w->fe into f_nodes and c_u times its matrix w->Ke
+ * into K (through the element's pattern positions when indexed); the
+ * colouring keeps two threads from touching the same node. */
+static inline void scatter_element(const TlSolid *s, const SolidBlock *B, const TlElementBlock *blk, size_t e,
+                                   const Scratch *w, double *f_nodes, double c_u, TlSparse *K, int indexed,
+                                   ParallelError *pe)
+{
+  const int dim = s->dim, nn = B->nn;
+  if (f_nodes)
+    for (int a = 0; a < nn; ++a)
+      for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
+  if (K) {
+    size_t g = B->offset + e;
+    TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
+                          : tl_sparse_add_element(K, B->nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
+    if (sk != TL_OK) tl_solid_parallel_error_record(pe, sk);
+  }
+}
+
 static TlStatus block_forces_points(TlSolid *s, int b, const double *u_nodes, double *f_nodes, double c_u,
                                     TlSparse *K)
 {
   TL_CHECK(points_evaluate(s, b, u_nodes));
   const TlElementBlock *blk = &s->mesh->blocks[b];
   SolidBlock *B = &s->blocks[b];
-  const int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
+  const int dim = s->dim, nq = B->nq;
   const int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_pattern;
   ParallelError pe = {TL_OK, ""};
   for (int colour = 0; colour < B->n_colours; ++colour) {
@@ -384,15 +403,7 @@ static TlStatus block_forces_points(TlSolid *s, int b, const double *u_nodes, do
         size_t e = B->colour_elements[c0 + k];
         tl_solid_element_forces(B, dim, e, B->pH + e * nq, B->pS + e * nq, K ? B->pD + 36 * e * nq : NULL,
                                 f_nodes ? w->fe : NULL, K ? w->Ke : NULL, w->B, w->DB);
-        if (f_nodes)
-          for (int a = 0; a < nn; ++a)
-            for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
-        if (K) {
-          size_t g = B->offset + e;
-          TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
-                                : tl_sparse_add_element(K, nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
-          if (sk != TL_OK) tl_solid_parallel_error_record(&pe, sk);
-        }
+        scatter_element(s, B, blk, e, w, f_nodes, c_u, K, indexed, &pe);
       }
     }
   }
@@ -410,7 +421,7 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
     return tl_solid_block_residual(s, b, u_nodes, f_nodes);
   const TlElementBlock *blk = &s->mesh->blocks[b];
   SolidBlock *B = &s->blocks[b];
-  int dim = s->dim, nn = B->nn, nd = B->nd, nq = B->nq;
+  int dim = s->dim, nn = B->nn, nq = B->nq;
   const TlMaterial *mat = B->material;
   size_t ss = mat->state_size;
   int indexed = K && K->elem_pos_ptr && K->n_elements == (TlSparseIndex)s->n_pattern;
@@ -476,15 +487,7 @@ TlStatus tl_solid_block_forces(TlSolid *s, int b, const double *u_nodes, double 
         if (!f_nodes && !K) continue;
         tl_solid_element_forces(B, dim, e, w->F + k * nq, w->S + k * nq, K ? w->D + 36 * k * nq : NULL,
                        f_nodes ? w->fe : NULL, K ? w->Ke : NULL, w->B, w->DB);
-        if (f_nodes)
-          for (int a = 0; a < nn; ++a)
-            for (int i = 0; i < dim; ++i) f_nodes[blk->conn[e * nn + a] * dim + i] += w->fe[a * dim + i];
-        if (K) {
-          size_t g = B->offset + e;
-          TlStatus sk = indexed ? tl_sparse_add_element_indexed(K, (TlSparseIndex)g, c_u, w->Ke)
-                                : tl_sparse_add_element(K, nd, s->elem_dofs + s->elem_ptr[g], c_u, w->Ke);
-          if (sk != TL_OK) tl_solid_parallel_error_record(&pe, sk);
-        }
+        scatter_element(s, B, blk, e, w, f_nodes, c_u, K, indexed, &pe);
       }
     }
   }
