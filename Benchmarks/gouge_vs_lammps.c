@@ -26,6 +26,7 @@
 #include "tl_dem.h"
 #include "tl_dem_packing.h"
 #include "tl_parallel.h"
+#include "tl_bench.h"
 
 typedef struct {
   size_t n;
@@ -42,17 +43,6 @@ static void repo_root(char *out, size_t cap)
     if (s) *s = '\0';
     else snprintf(out, cap, ".");
   }
-}
-
-static double load_average(void)
-{
-  double l = NAN;
-  FILE *f = fopen("/proc/loadavg", "r");
-  if (f) {
-    if (fscanf(f, "%lf", &l) != 1) l = NAN;
-    fclose(f);
-  }
-  return l;
 }
 
 /* The packing cell replicated rep[0] x rep[1] x rep[2] times; positions
@@ -155,7 +145,7 @@ static TlStatus time_talus(const Bar *b, int threads, long warmup, long steps, i
     t[k] = el * 1e6 / ((double)steps * (double)b->n);
     printf("talus run %d/%d: threads=%d particles=%zu steps=%ld time=%.3f s us_per_particle_step=%.4f contacts=%zu "
            "rebuilds=%ld load=%.2f\n", k + 1, repeat, threads, b->n, steps, el, t[k], st.n_contacts, st.rebuilds,
-           load_average());
+           tl_bench_load_average());
     fflush(stdout);
     tl_dem_destroy(&dem);
   }
@@ -244,7 +234,7 @@ static TlStatus time_lammps(const char *dir, size_t n, int ranks, long steps, in
   for (int k = 0; k < repeat; ++k) {
     TL_CHECK(run_lammps_once(dir, ranks, &t[k]));
     printf("lammps run %d/%d: ranks=%d particles=%zu steps=%ld us_per_particle_step=%.4f load=%.2f\n", k + 1, repeat,
-           ranks, n, steps, t[k], load_average());
+           ranks, n, steps, t[k], tl_bench_load_average());
     fflush(stdout);
   }
   qsort(t, (size_t)repeat, sizeof *t, cmp_double);
@@ -291,7 +281,7 @@ static TlStatus run(int argc, char **argv)
   if (peer && !have("lmp")) TL_ERROR(TL_ERR_IO, "lmp (Debian package lammps) is not installed; install it or run with -peer 0");
   if (peer && tmax > 1 && !have("mpirun"))
     TL_ERROR(TL_ERR_IO, "mpirun (Debian package openmpi-bin) is not installed; install it or run with -threads_max 1");
-  const double wall0 = tl_wtime(), load0 = load_average();
+  const double wall0 = tl_wtime(), load0 = tl_bench_load_average();
   Bar b = {0, NULL, NULL, NULL, {0, 0, 0}, {0, 0, 0}};
   TL_CHECK(make_bar(packing, rep, &b));
   printf("gouge bar: %zu grains (%d x %d x %d copies of %s), %.4g x %.4g x %.4g m, periodic x and z; law "
@@ -320,9 +310,9 @@ static TlStatus run(int argc, char **argv)
     }
     printf("%d core%s: talus %.4f us/particle-step", cores[k], cores[k] > 1 ? "s" : "", tt);
     if (peer) printf(", lammps %.4f, ratio=talus/lammps=%.3f", tp, tt / tp);
-    printf(" (load %.2f)\n", load_average());
+    printf(" (load %.2f)\n", tl_bench_load_average());
   }
-  const double load1 = load_average();
+  const double load1 = tl_bench_load_average();
   if (isfinite(load0)) tl_summary_real(&sum, "load_before", load0);
   if (isfinite(load1)) tl_summary_real(&sum, "load_after", load1);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
