@@ -105,6 +105,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-station1", 0.25, 0.0, 1.0, "", "first station, fraction of L", &y1f), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-station2", 0.5, 0.0, 1.0, "", "second station, fraction of L", &y2f), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/bar_wave", "output folder", &output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(output_dir), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when the speed misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 1.0, "", "relative tolerance for -check", &tol), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);

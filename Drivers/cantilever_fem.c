@@ -105,6 +105,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1, 1, 1000, "refactorise every n Newton iterations (1 = full Newton)", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
                                       "vibration: HDF5/XDMF mesh snapshot every n steps (0: none)",
                                       &c->snapshot_every), done);
@@ -131,6 +132,20 @@ static TlStatus configure(int argc, char **argv, Config *c)
                      "-tip_load %g N: the small mode compares the deflection under it with Timoshenko's and the "
                      "vibration mode releases the beam from it; it must be > 0", c->beam.load);
     goto done;
+  }
+  if (mode == MODE_ALL || mode == MODE_SMALL || mode == MODE_VIBRATION) {
+    /* The small mode loads the beam in one step and compares it with linear
+     * beam theory: a load beyond small deflection is the large mode's (a load
+     * step far beyond it folds elements, "singular metric"). */
+    const double I = c->beam.b * pow(c->beam.h, 3) / 12.0, EI = c->beam.E * I, L2 = c->beam.L * c->beam.L;
+    const double k = c->beam.load * L2 / EI, k_max = 0.3;
+    if (!(k <= k_max)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "-tip_load %g N is a load parameter P L^2 / (E I) = %.3g, beyond the small-deflection limit %g "
+                       "(tip deflection about L / 10): at most -tip_load %.4g N; large loads are -mode large with "
+                       "-load_parameter", c->beam.load, k, k_max, k_max * EI / L2);
+      goto done;
+    }
   }
   if (mode == MODE_ALL || mode == MODE_VIBRATION) {
     /* Newmark is stable at any step, but a step that does not resolve the

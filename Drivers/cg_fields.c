@@ -41,6 +41,8 @@ typedef struct {
   TlContactLaw *law;
 } Config;
 
+static TlStatus check_grid_size(const Config *c, double zmax);
+
 static TlStatus configure(int argc, char **argv, Config *c)
 {
   TlOptions *o = NULL;
@@ -92,6 +94,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
                 done);
   c->write_hdf5 = (int)hdf5;
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cg_fields", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
   /* strings point into the options database: copy before destroying it */
   static char packing[4096], kernel[64], outdir[4096];
   snprintf(packing, sizeof packing, "%s", c->packing);
@@ -105,10 +108,29 @@ static TlStatus configure(int argc, char **argv, Config *c)
     const TlOpsHeader *known;
     s = tl_registry_find(TL_CG_KERNEL_KIND, c->kernel, &known);
   }
+  if (s == TL_OK && !c->box_from_extent) s = check_grid_size(c, c->floor_z);
 done:
   if (s != TL_OK) tl_contact_law_destroy(&c->law);
   tl_options_destroy(&o);
   return s;
+}
+
+/* The CG grid's node count, computed in floating point before anything is
+ * allocated: a width or spacing far from the particle scale would ask for
+ * more nodes than memory holds (or overflow the count).  zmax is the top of
+ * the bed (the floor before settling gives a lower bound). */
+#define CG_MAX_NODES 5e7
+static TlStatus check_grid_size(const Config *c, double zmax)
+{
+  const double nx = fmax(1.0, nearbyint(c->lx / c->h)), ny = fmax(1.0, nearbyint(c->ly / c->h));
+  const double nz = c->c == 0.0 ? ceil((zmax + c->d - c->floor_z) / c->h) : ceil((zmax + 2.0 * c->c + c->d - c->floor_z) / c->h) + 1.0;
+  const double nodes = nx * ny * nz;
+  if (!(nodes <= CG_MAX_NODES))
+    TL_ERROR(TL_ERR_ARG,
+             "-cg_width %g m with -grid_spacing %g m asks for a CG grid of %.3g x %.3g x %.3g = %.3g nodes, "
+             "beyond the limit of %.0e nodes: raise -grid_spacing or lower -cg_width",
+             c->c, c->h, nx, ny, nz, nodes, CG_MAX_NODES);
+  return TL_OK;
 }
 
 /* Random sequential insertion in [0, lx) x [0, ly) x [floor + r, floor + H - r],
@@ -377,6 +399,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   TL_CHECK_GOTO(s, tl_cg_kernel_create(c.c > 0 ? c.kernel : "dirac", c.c, 3, &kernel), done);
   TlCGBox box = {tl_v3(0, 0, c.floor_z), tl_v3(c.lx, c.ly, zmax), {1, 1, 0}};
   TL_CHECK_GOTO(s, tl_cg_create(kernel, &box, 0, &cg), done);
+  TL_CHECK_GOTO(s, check_grid_size(&c, zmax), done);
   TlCGGrid g;
   g.n[0] = (int)fmax(1.0, nearbyint(c.lx / c.h));
   g.n[1] = (int)fmax(1.0, nearbyint(c.ly / c.h));

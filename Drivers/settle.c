@@ -78,6 +78,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_int(*o, "-threads", 0, 0, 1024, "OpenMP threads (0: default)", &th));
   s->threads = (int)th;
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/settle", "output folder", &s->out));
+  TL_CHECK(tl_output_dir_check(s->out));
   TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
                               "write <output_dir>/checkpoint.h5 every n steps (0: never)", &s->checkpoint_every));
   TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
@@ -114,18 +115,47 @@ static const TlCheckpointOps progress_checkpoint_ops = {
     .load = progress_load,
 };
 
+/* The sizes a run needs, checked before anything is allocated. */
+static TlStatus check_sizes(const Settings *s)
+{
+  if (s->d_max < s->d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s->d_max, s->d_min);
+  const double pitch = 1.05 * s->d_max; /* the pour lattice's */
+  const double sites = floor((s->box - pitch) / pitch);
+  if (!(sites >= 1.0)) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s->box, s->d_max);
+  const int per_side = (int)sites;
+  /* A box wider than the particles can fill makes no bed: its packing
+   * fraction and coordination would describe scattered grains. */
+  if ((double)s->n < (double)per_side * per_side)
+    TL_ERROR(TL_ERR_ARG,
+             "-box %g m: %ld particles fill %.2g of one layer of the pour lattice (%d x %d sites of pitch %g m), "
+             "so they make no bed: -box must be below %.4g m for -n %ld", s->box, s->n,
+             (double)s->n / ((double)per_side * per_side), per_side, per_side, pitch, pitch * (floor(sqrt((double)s->n)) + 2.0), s->n);
+  /* 4 triangles per floor cell, each binned and tested: refuse a floor
+   * that cannot be built in memory before allocating it. */
+  const double max_floor_triangles = 1e6;
+  if (!s->plane_floor && !(4.0 * (double)s->floor_cells * (double)s->floor_cells <= max_floor_triangles))
+    TL_ERROR(TL_ERR_ARG, "-floor_cells %ld makes 4 x %ld^2 = %.3g floor triangles, beyond the limit %.0e: at most -floor_cells %d",
+             s->floor_cells, s->floor_cells, 4.0 * (double)s->floor_cells * (double)s->floor_cells, max_floor_triangles,
+             (int)floor(sqrt(max_floor_triangles / 4.0)));
+  long layers = (s->n + (long)per_side * per_side - 1) / ((long)per_side * per_side);
+  if (layers * pitch > s->height - pitch)
+    TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s->n, layers, pitch,
+             s->height);
+  return TL_OK;
+}
+
 static TlStatus run(int argc, char **argv)
 {
   double wall0 = tl_wtime();
   TlOptions *o = NULL;
   Settings s;
   TlStatus st = options(argc, argv, &o, &s);
+  if (st == TL_OK) st = check_sizes(&s);
   if (st != TL_OK) {
     tl_contact_law_destroy(&s.law);
     tl_options_destroy(&o);
     return st;
   }
-  if (s.d_max < s.d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
@@ -135,13 +165,8 @@ static TlStatus run(int argc, char **argv)
   int sp;
   TL_CHECK(tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp));
   /* pour: jittered lattice of pitch d_max * 1.05 from the top down */
-  double pitch = 1.05 * s.d_max;
-  int per_side = (int)floor((s.box - pitch) / pitch);
-  if (per_side < 1) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s.box, s.d_max);
-  long layers = (s.n + (long)per_side * per_side - 1) / ((long)per_side * per_side);
-  if (layers * pitch > s.height - pitch)
-    TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s.n, layers, pitch,
-             s.height);
+  const double pitch = 1.05 * s.d_max;
+  const int per_side = (int)floor((s.box - pitch) / pitch);
   uint64_t rng = 12345;
   TL_CHECK(tl_particles_reserve(P, (size_t)s.n));
   for (long k = 0; k < s.n; ++k) {

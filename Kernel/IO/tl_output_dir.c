@@ -6,6 +6,13 @@
 #include "tl_atomic_file.h"
 #include "tl_memory.h"
 
+TlStatus tl_output_dir_check(const char *dir)
+{
+  if (!dir || !dir[0])
+    TL_ERROR(TL_ERR_ARG, "option -output_dir '': empty folder name (give the folder the output files go to)");
+  return TL_OK;
+}
+
 TlStatus tl_output_dir(TlOptions *options, char **dir)
 {
   *dir = NULL;
@@ -14,7 +21,7 @@ TlStatus tl_output_dir(TlOptions *options, char **dir)
   snprintf(def, sizeof def, "results/%s", program && program[0] ? program : "talus");
   const char *value;
   TL_CHECK(tl_options_get_string(options, "-output_dir", def, "folder for every output file", &value));
-  if (!value || !value[0]) TL_ERROR(TL_ERR_ARG, "option -output_dir: empty folder name");
+  TL_CHECK(tl_output_dir_check(value));
   size_t n = strlen(value);
   TL_CHECK(tl_calloc(dir, n + 1, 1));
   memcpy(*dir, value, n);

@@ -10,5 +10,8 @@
 /* Reads -output_dir (default "results/<program>"), creates the folder and
  * returns its path in *dir (allocated; free with tl_free). */
 TlStatus tl_output_dir(TlOptions *options, char **dir);
+/* Refuses an empty -output_dir value by the option's name (drivers that
+ * read -output_dir themselves call it before creating the folder). */
+TlStatus tl_output_dir_check(const char *dir);
 
 #endif
