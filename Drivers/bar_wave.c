@@ -171,7 +171,7 @@ static TlStatus run(int argc, char **argv)
   long steps = (long)ceil(t_end / dt);
   {
     char *base = NULL;
-    TL_CHECK_GOTO(s, tl_mkdir_p(output_dir), out);
+    TL_CHECK_GOTO(s, tl_output_dir_prepare(output_dir), out);
     TL_CHECK_GOTO(s, tl_path_join(output_dir, "stations", &base), out);
     const TlColumn cols[] = {{"t", "s"}, {"v_station1", "m/s"}, {"v_station2", "m/s"}};
     s = tl_timeseries_create(base, TL_TIMESERIES_CSV, 3, cols, &ts);

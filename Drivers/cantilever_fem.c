@@ -573,6 +573,7 @@ static TlStatus run(int argc, char **argv)
   memset(&c, 0, sizeof c);
   TL_CHECK(tl_initialize());
   TL_CHECK(configure(argc, argv, &c));
+  TL_CHECK(tl_output_dir_prepare(c.output_dir));
   TlSummary sum;
   tl_summary_init(&sum);
   double t0 = tl_wtime();

@@ -465,7 +465,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
 
   /* ---- profile against z: layer averages, and the weight of what lies above ---- */
   tl_timers_start(&timers, ph_out);
-  TL_CHECK_GOTO(s, tl_mkdir_p(c.output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_prepare(c.output_dir), done);
   enum { NCOL = 16 };
   TL_CHECK_GOTO(s, tl_calloc(&prof, (size_t)g.n[2] * NCOL, sizeof *prof), done);
   size_t layer = (size_t)g.n[0] * g.n[1];

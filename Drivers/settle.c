@@ -209,7 +209,7 @@ static TlStatus run(int argc, char **argv)
   printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
          s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
   /* output */
-  TL_CHECK(tl_mkdir_p(s.out));
+  TL_CHECK(tl_output_dir_prepare(s.out));
   char base[4096];
   snprintf(base, sizeof base, "%s/energies", s.out);
   TlParticleWriter *writer = NULL;

@@ -218,10 +218,71 @@ static void test_checkpoint(void)
   tl_checkpoint_destroy(&cp);
 }
 
+/* A run starting in a folder removes the temporaries of killed writes
+ * (tl_output_dir_prepare), and only those: a live writer's temporary, this
+ * process's, look-alike names and the complete files stay. */
+static void child_killed_in_folder(void)
+{
+  Payload p = {"a write killed midway\n", 1, 0};
+  tl_atomic_write("stale_dir/table.csv", write_payload, &p);
+}
+
+static int exists(const char *path)
+{
+  struct stat st;
+  return lstat(path, &st) == 0;
+}
+
+static void touch(const char *path)
+{
+  FILE *f = fopen(path, "w");
+  if (f) fclose(f);
+}
+
+static int count_in(const char *dir, const char *needle)
+{
+  DIR *d = opendir(dir);
+  int n = 0;
+  if (!d) return -1;
+  for (struct dirent *e; (e = readdir(d));)
+    if (strstr(e->d_name, needle)) ++n;
+  closedir(d);
+  return n;
+}
+
+static void test_stale_temporaries(void)
+{
+  TL_TEST_STATUS(tl_mkdir_p("stale_dir"), TL_OK);
+  Payload old = {"complete\n", 0, 0};
+  TL_TEST_STATUS(tl_atomic_write("stale_dir/table.csv", write_payload, &old), TL_OK);
+  TL_TEST_ASSERT(run_child(child_killed_in_folder) == SIGKILL, "the writer was not killed");
+  TL_TEST_ASSERT(count_in("stale_dir", ".table.csv.") == 1, "the killed write left %d temporaries, expected 1",
+                 count_in("stale_dir", ".table.csv."));
+  /* a temporary of this live process, of a live parent, and names that only look alike */
+  char own[256], parent[256];
+  snprintf(own, sizeof own, "stale_dir/.table.csv.%ld.7.tmp", (long)getpid());
+  snprintf(parent, sizeof parent, "stale_dir/.table.csv.%ld.3.tmp", (long)getppid());
+  const char *kept[] = {own, parent, "stale_dir/.notes.tmp", "stale_dir/table.1.2.tmp", "stale_dir/.x.12.tmp.bak",
+                        "stale_dir/.a.b.tmp"};
+  for (size_t k = 0; k < sizeof kept / sizeof kept[0]; ++k) touch(kept[k]);
+  TL_TEST_STATUS(tl_output_dir_prepare("stale_dir"), TL_OK);
+  TL_TEST_ASSERT(count_in("stale_dir", ".table.csv.") == 2, "%d temporaries of table.csv left, expected the 2 of live processes",
+                 count_in("stale_dir", ".table.csv."));
+  for (size_t k = 0; k < sizeof kept / sizeof kept[0]; ++k) TL_TEST_ASSERT(exists(kept[k]), "'%s' was removed", kept[k]);
+  TL_TEST_ASSERT(file_is("stale_dir/table.csv", old.text, 2000), "the complete file was touched");
+  size_t removed = 99;
+  TL_TEST_STATUS(tl_atomic_remove_stale("stale_dir", &removed), TL_OK);
+  TL_TEST_ASSERT(removed == 0, "a second pass removed %zu files", removed);
+  TL_TEST_STATUS(tl_atomic_remove_stale("no_such_folder_here", &removed), TL_OK);
+  TL_TEST_STATUS(tl_output_dir_prepare(""), TL_ERR_ARG);
+  for (size_t k = 0; k < sizeof kept / sizeof kept[0]; ++k) unlink(kept[k]);
+}
+
 int main(void)
 {
   test_output_dir();
   test_text();
   test_checkpoint();
+  test_stale_temporaries();
   return tl_test_report();
 }
