@@ -12,6 +12,7 @@
 #include "tl_atomic_file.h"
 #include "tl_checkpoint.h"
 #include "tl_output_dir.h"
+#include "tl_particle_snapshot.h"
 #include "tl_test.h"
 
 #include <sys/stat.h>
@@ -278,11 +279,99 @@ static void test_stale_temporaries(void)
   for (size_t k = 0; k < sizeof kept / sizeof kept[0]; ++k) unlink(kept[k]);
 }
 
+/* A restart into another folder: the particle series restored from a
+ * checkpoint is written whole there (the earlier snapshots copied from the
+ * checkpoint's folder), or refused by the missing file's name. */
+static int same_bytes(const char *a, const char *b)
+{
+  FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+  int same = fa && fb;
+  while (same) {
+    int ca = fgetc(fa), cb = fgetc(fb);
+    same = ca == cb;
+    if (ca == EOF) break;
+  }
+  if (fa) fclose(fa);
+  if (fb) fclose(fb);
+  return same;
+}
+
+static TlStatus save_series(const char *dir, const char *cp_path, int steps)
+{
+  TlVec3 x[2] = {{0, 0, 0}, {1, 0, 0}};
+  double r[2] = {0.5, 0.25};
+  TlParticleView v = {.n = 2, .position = x, .radius = r};
+  TlParticleWriter *w = NULL;
+  TlCheckpoint *cp = NULL;
+  TlStatus s = tl_particle_writer_create(dir, "grains", &w);
+  for (int k = 0; s == TL_OK && k < steps; ++k) s = tl_particle_writer_write(w, k, 0.1 * k, &v);
+  if (s == TL_OK) s = tl_checkpoint_create(&cp);
+  if (s == TL_OK) s = tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, w);
+  if (s == TL_OK) s = tl_checkpoint_save(cp, cp_path, 0.1 * steps, steps);
+  tl_checkpoint_destroy(&cp);
+  tl_particle_writer_destroy(&w);
+  return s;
+}
+
+static TlStatus restart_series(const char *dir, const char *cp_path)
+{
+  TlVec3 x[2] = {{0, 0, 0}, {1, 0, 0}};
+  double r[2] = {0.5, 0.25};
+  TlParticleView v = {.n = 2, .position = x, .radius = r};
+  TlParticleWriter *w = NULL;
+  TlCheckpoint *cp = NULL;
+  TlStatus s = tl_particle_writer_create(dir, "grains", &w);
+  if (s == TL_OK) s = tl_checkpoint_create(&cp);
+  if (s == TL_OK) s = tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, w);
+  if (s == TL_OK) s = tl_checkpoint_load(cp, cp_path, NULL, NULL);
+  if (s == TL_OK) s = tl_particle_writer_write(w, 2, 0.2, &v);
+  tl_checkpoint_destroy(&cp);
+  tl_particle_writer_destroy(&w);
+  return s;
+}
+
+static int text_has(const char *path, const char *needle)
+{
+  static char buf[1 << 16];
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  buf[n] = '\0';
+  return strstr(buf, needle) != NULL;
+}
+
+static void test_restart_new_folder(void)
+{
+  TL_TEST_STATUS(save_series("runA", "runA/checkpoint.h5", 2), TL_OK);
+  TL_TEST_STATUS(restart_series("runB", "runA/checkpoint.h5"), TL_OK);
+  const char *files[] = {"grains_000000.h5", "grains_000001.h5"};
+  for (int k = 0; k < 2; ++k) {
+    char a[256], b[256];
+    snprintf(a, sizeof a, "runA/%s", files[k]);
+    snprintf(b, sizeof b, "runB/%s", files[k]);
+    TL_TEST_ASSERT(same_bytes(a, b), "%s is not in the new folder as written", b);
+  }
+  TL_TEST_ASSERT(exists("runB/grains_000002.h5"), "the restarted run's snapshot is missing");
+  TL_TEST_ASSERT(text_has("runB/grains.xmf", "grains_000000.h5:") && text_has("runB/grains.xmf", "grains_000002.h5:"),
+                 "the new series does not list every step");
+  /* the checkpoint moved away from the snapshots: refused by name */
+  TL_TEST_STATUS(tl_mkdir_p("moved"), TL_OK);
+  TL_TEST_ASSERT(rename("runA/checkpoint.h5", "moved/checkpoint.h5") == 0, "cannot move the checkpoint");
+  TL_TEST_STATUS(restart_series("runC", "moved/checkpoint.h5"), TL_ERR_IO);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "grains_000000.h5") != NULL, "the refusal does not name the snapshot: %s",
+                 tl_error_message());
+  /* restarting in the same folder needs no copy */
+  TL_TEST_STATUS(save_series("runD", "runD/checkpoint.h5", 2), TL_OK);
+  TL_TEST_STATUS(restart_series("runD", "runD/checkpoint.h5"), TL_OK);
+}
+
 int main(void)
 {
   test_output_dir();
   test_text();
   test_checkpoint();
   test_stale_temporaries();
+  test_restart_new_folder();
   return tl_test_report();
 }
