@@ -341,8 +341,25 @@ static int text_has(const char *path, const char *needle)
   return strstr(buf, needle) != NULL;
 }
 
+static void remove_folder_files(const char *dir)
+{
+  DIR *d = opendir(dir);
+  if (!d) return;
+  for (struct dirent *e; (e = readdir(d));) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+    if (e->d_name[0] != '.' || strlen(e->d_name) > 2) unlink(path);
+  }
+  closedir(d);
+}
+
 static void test_restart_new_folder(void)
 {
+  const char *folders[] = {"runA", "runB", "runC", "runD", "moved"};
+  for (int k = 0; k < 5; ++k) remove_folder_files(folders[k]); /* a rerun starts clean */
+  /* a file of the same name from another run in the new folder is replaced */
+  TL_TEST_STATUS(tl_mkdir_p("runB"), TL_OK);
+  touch("runB/grains_000001.h5");
   TL_TEST_STATUS(save_series("runA", "runA/checkpoint.h5", 2), TL_OK);
   TL_TEST_STATUS(restart_series("runB", "runA/checkpoint.h5"), TL_OK);
   const char *files[] = {"grains_000000.h5", "grains_000001.h5"};

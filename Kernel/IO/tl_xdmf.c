@@ -223,12 +223,6 @@ static TlStatus tl_xdmf_folder_of(const char *path, char **dir)
   return TL_OK;
 }
 
-static int tl_xdmf_is_file(const char *path)
-{
-  struct stat st;
-  return stat(path, &st) == 0 && S_ISREG(st.st_mode);
-}
-
 static TlStatus tl_xdmf_copy_stream(FILE *out, void *context)
 {
   FILE *in = context;
@@ -260,12 +254,18 @@ static TlStatus tl_xdmf_complete(const TlXdmfSeries *s, const TlCheckpointReader
     name[n] = '\0';
     if (strchr(name, '/')) continue; /* the writers reference files in their own folder */
     tl_free(&target);
-    st = tl_path_join(dir, name, &target);
-    if (st != TL_OK || tl_xdmf_is_file(target)) continue;
     tl_free(&source);
-    st = tl_path_join(from, name, &source);
+    st = tl_path_join(dir, name, &target);
+    if (st == TL_OK) st = tl_path_join(from, name, &source);
     if (st != TL_OK) break;
-    FILE *in = tl_xdmf_is_file(source) ? fopen(source, "rb") : NULL;
+    struct stat ts, ss;
+    const int have_target = stat(target, &ts) == 0 && S_ISREG(ts.st_mode);
+    const int have_source = stat(source, &ss) == 0 && S_ISREG(ss.st_mode);
+    /* the same file (a restart in its own folder), or only the series'
+     * folder has it (the checkpoint was moved): nothing to copy.  A file of
+     * that name from another run is replaced by the checkpoint's. */
+    if (have_target && (!have_source || (ts.st_dev == ss.st_dev && ts.st_ino == ss.st_ino))) continue;
+    FILE *in = have_source ? fopen(source, "rb") : NULL;
     if (!in) {
       st = tl_error_set(TL_ERR_IO, __FILE__, __LINE__,
                         "restart from '%s': series '%s' (%s) lists snapshot '%s', which is neither in the series' "
