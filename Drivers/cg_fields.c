@@ -32,14 +32,20 @@
 #include "tl_cg_kernel.h"
 #include "tl_dem.h"
 #include "tl_io.h"
+#include "tl_options_checkpoint.h"
 
 typedef struct {
   const char *packing, *kernel, *output_dir;
   long n, settle_steps, seed, average_snapshots, average_interval;
   double d, d_spread, density, lx, ly, height, gravity, c, h, settle_tol, floor_z;
   int box_from_extent, write_hdf5;
+  long checkpoint_every, stop_step; /* settling steps, multiples of the 500-step chunk */
+  const char *restart;
   TlContactLaw *law;
+  TlOptions *options; /* kept for the checkpoint; destroyed at the end of the run */
 } Config;
+
+enum { SETTLE_CHUNK = 500 }; /* settling steps between kinetic-energy checks (and checkpoints) */
 
 static TlStatus check_grid_size(const Config *c, double zmax);
 
@@ -93,6 +99,14 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
                 done);
   c->write_hdf5 = (int)hdf5;
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "random packing: checkpoint.h5 in the output folder every n settling steps (a "
+                                      "multiple of 500; 0: none)", &c->checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue the settling from this checkpoint file (same options)",
+                                         &c->restart), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000,
+                                      "random packing: stop after this settling step (a multiple of 500; 0: run to the end)",
+                                      &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cg_fields", "output folder", &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
   /* strings point into the options database: copy before destroying it */
@@ -109,9 +123,20 @@ static TlStatus configure(int argc, char **argv, Config *c)
     s = tl_registry_find(TL_CG_KERNEL_KIND, c->kernel, &known);
   }
   if (s == TL_OK && !c->box_from_extent) s = check_grid_size(c, c->floor_z);
+  if (s == TL_OK && (c->checkpoint_every % SETTLE_CHUNK != 0 || c->stop_step % SETTLE_CHUNK != 0))
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-checkpoint_every %ld and -stop_step %ld must be multiples of the %d settling steps between "
+                     "kinetic-energy checks", c->checkpoint_every, c->stop_step, SETTLE_CHUNK);
+  if (s == TL_OK && (c->checkpoint_every > 0 || c->stop_step > 0 || c->restart[0]) && strcmp(c->packing, "random") != 0)
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-checkpoint_every, -stop_step and -restart checkpoint the settling of a random packing; "
+                     "-packing %s is not settled", c->packing);
 done:
-  if (s != TL_OK) tl_contact_law_destroy(&c->law);
-  tl_options_destroy(&o);
+  if (s != TL_OK) {
+    tl_contact_law_destroy(&c->law);
+    tl_options_destroy(&o);
+  }
+  c->options = o;
   return s;
 }
 
@@ -306,6 +331,8 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   WallSink wsink = {NULL, NULL, NULL, 0, 0, TL_OK};
   double *prof = NULL;
   TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
 
   int random = strcmp(c.packing, "random") == 0;
   double r_mean = 0.5 * c.d, height;
@@ -371,9 +398,27 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   long steps = 0;
   double ekin_per = 0.0;
   if (random && c.settle_steps > 0) {
+    /* The settling is checkpointed (the options, the world, the step count)
+     * between chunks; a restart continues it bit for bit and then
+     * coarse-grains as the uninterrupted run does. */
+    int64_t settled = 0;
+    TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c.options), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+    TL_CHECK_GOTO(s, tl_path_join(c.output_dir, "checkpoint.h5", &cp_path), done);
+    if (c.restart[0]) {
+      TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c.restart, NULL, &settled), done);
+      if (!(settled >= 0 && settled % SETTLE_CHUNK == 0 && settled <= c.settle_steps))
+        TL_CHECK_GOTO(s, tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                                      "checkpoint '%s' is at settling step %lld: not a multiple of %d in [0, -settle_steps %ld]",
+                                      c.restart, (long long)settled, SETTLE_CHUNK, c.settle_steps), done);
+      steps = (long)settled;
+      printf("restarted from %s at settling step %ld\n", c.restart, steps);
+    }
+    if (c.checkpoint_every > 0) TL_CHECK_GOTO(s, tl_output_dir_prepare(c.output_dir), done);
     TlProgress prog;
     tl_progress_init(&prog, "settling", (double)c.settle_steps);
-    const long chunk = 500;
+    const long chunk = SETTLE_CHUNK;
     while (steps < c.settle_steps) {
       long m = c.settle_steps - steps < chunk ? c.settle_steps - steps : chunk;
       TL_CHECK_GOTO(s, tl_dem_step(dem, m), done);
@@ -383,6 +428,15 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
       ekin_per = (e.kinetic_translational + e.kinetic_rotational) / (double)P->n;
       tl_progress_update(&prog, (double)steps);
       if (steps > 5 * chunk && ekin_per < c.settle_tol * m_mean * c.gravity * c.d) break;
+      if (c.checkpoint_every > 0 && steps % c.checkpoint_every == 0)
+        TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), steps), done);
+      if (c.stop_step > 0 && steps >= c.stop_step) {
+        tl_progress_finish(&prog);
+        printf("stopped after settling step %ld\n", steps);
+        tl_summary_int(sum, "stopped_at_step", steps);
+        tl_summary_int(sum, "particles", (long)P->n);
+        goto done;
+      }
     }
     tl_progress_finish(&prog);
     tl_info("settled for %ld steps: kinetic energy per particle %.3g m g d", steps, ekin_per / (m_mean * c.gravity * c.d));
@@ -553,8 +607,11 @@ done:
   tl_free(&wsink.f);
   tl_free(&wsink.c);
   tl_particle_snapshot_free(&snap);
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   tl_dem_destroy(&dem);
   tl_contact_law_destroy(&c.law);
+  tl_options_destroy(&c.options);
   return s;
 }
 
