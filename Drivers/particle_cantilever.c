@@ -170,6 +170,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   return TL_OK;
 done:
   tl_contact_law_destroy(&c->law);
+  tl_free(&c->output_dir);
   tl_options_destroy(&o);
   return s;
 }
