@@ -637,7 +637,6 @@ static TlStatus run(int argc, char **argv)
   TlStatus st = options(argc, argv, &o, &s);
   if (st == TL_OK && s.d_max < s.d_min)
     st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
-  if (st == TL_OK) st = tl_output_dir_check(s.out);
   if (st == TL_OK) st = tl_output_dir_prepare(s.out);
   if (st == TL_OK) st = check_pressure(&s);
   if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, wall0);
