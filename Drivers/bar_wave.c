@@ -7,7 +7,12 @@
  * The arrival time at two node planes is the centroid of |v_y(t)| there;
  * the measured speed (y2 - y1) / (t2 - t1) is compared with c.  Explicit
  * central difference at -cfl times the critical step by default, or
- * Newmark.  Output: <output_dir>/stations.csv; last line `summary: ...`. */
+ * Newmark.  Output: <output_dir>/stations.csv; last line `summary: ...`.
+ *
+ * Restart: -checkpoint_every n writes <output_dir>/checkpoint.h5 every n
+ * steps (the options, the stepper, the station table and the arrival
+ * integrals); -restart <file> continues from it bit for bit with the same
+ * options; -stop_step n ends the run after step n. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +20,8 @@
 
 #include "talus.h"
 #include "tl_atomic_file.h"
+#include "tl_checkpoint.h"
+#include "tl_options_checkpoint.h"
 #include "tl_element.h"
 #include "tl_material.h"
 #include "tl_mesh.h"
@@ -72,6 +79,42 @@ static double station_velocity(const TlSolid *solid, const Station *s, const dou
   return sum / (double)s->n;
 }
 
+/* The arrival integrals and the loop's next step, checkpointed with the run. */
+typedef struct {
+  int64_t next_step;
+  double m0[2], m1[2], peak[2];
+} Progress;
+
+static TlStatus progress_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Progress *p = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "next_step", p->next_step));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "m0", 2, p->m0));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "m1", 2, p->m1));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "peak", 2, p->peak));
+  return TL_OK;
+}
+
+static TlStatus progress_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Progress *p = object;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "next_step", &p->next_step));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "next_step", p->next_step, 1, INT64_MAX));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "m0", 2, p->m0));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "m1", 2, p->m1));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "peak", 2, p->peak));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "m0", 2, p->m0));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "m1", 2, p->m1));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "peak", 2, p->peak));
+  return TL_OK;
+}
+
+static const TlCheckpointOps progress_checkpoint_ops = {
+    .header = {"checkpoint", "bar_wave_progress_v1", "next step and arrival integrals of the bar_wave driver"},
+    .save = progress_save,
+    .load = progress_load,
+};
+
 static TlStatus run(int argc, char **argv)
 {
   TlOptions *o = NULL;
@@ -86,7 +129,8 @@ static TlStatus run(int argc, char **argv)
   int stepper = 0, elem = 0, check = 0;
   double L, a, E, rho, cfl, dt_opt, tol, y1f, y2f;
   Pulse pulse;
-  const char *output_dir;
+  const char *output_dir, *restart;
+  long checkpoint_every, stop_step;
   TlStatus s = TL_OK;
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-length", 20.0, 1e-3, 1e6, "m", "bar length (y)", &L), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-4, 1e6, "m", "bar section side", &a), done);
@@ -105,8 +149,14 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-station1", 0.25, 0.0, 1.0, "", "first station, fraction of L", &y1f), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-station2", 0.5, 0.0, 1.0, "", "second station, fraction of L", &y2f), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/bar_wave", "output folder", &output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(output_dir), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when the speed misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 1.0, "", "relative tolerance for -check", &tol), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "write <output_dir>/checkpoint.h5 every n steps (0: never)", &checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue from this checkpoint file (same options)", &restart), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000, "stop after this step (0: run to the end)", &stop_step),
+                done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
   if (!(pulse.v0 > 0.0)) {
     s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-v0 %g m/s: a pulse of zero amplitude makes no wave to time", pulse.v0);
@@ -135,6 +185,8 @@ static TlStatus run(int argc, char **argv)
   TlSolid *solid = NULL;
   TlStepper *st = NULL;
   TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
   Station s1 = {0}, s2 = {0};
   const size_t n[3] = {(size_t)nx, (size_t)ny, (size_t)nz};
   const double lo[3] = {-0.5 * a, 0.0, -0.5 * a}, hi[3] = {0.5 * a, L, 0.5 * a};
@@ -170,7 +222,7 @@ static TlStatus run(int argc, char **argv)
   long steps = (long)ceil(t_end / dt);
   {
     char *base = NULL;
-    TL_CHECK_GOTO(s, tl_mkdir_p(output_dir), out);
+    TL_CHECK_GOTO(s, tl_output_dir_prepare(output_dir), out);
     TL_CHECK_GOTO(s, tl_path_join(output_dir, "stations", &base), out);
     const TlColumn cols[] = {{"t", "s"}, {"v_station1", "m/s"}, {"v_station2", "m/s"}};
     s = tl_timeseries_create(base, TL_TIMESERIES_CSV, 3, cols, &ts);
@@ -178,11 +230,22 @@ static TlStatus run(int argc, char **argv)
     if (s != TL_OK) goto out;
     TL_CHECK_GOTO(s, tl_timeseries_reserve(ts, (size_t)steps + 1), out);
   }
-  double m0[2] = {0, 0}, m1[2] = {0, 0}, peak[2] = {0, 0};
+  Progress pr = {1, {0, 0}, {0, 0}, {0, 0}};
+  double *m0 = pr.m0, *m1 = pr.m1, *peak = pr.peak;
+  TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), out);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o), out);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "fem", &tl_stepper_checkpoint_ops, st), out);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "stations", &tl_timeseries_checkpoint_ops, ts), out);
+  TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr), out);
+  TL_CHECK_GOTO(s, tl_path_join(output_dir, "checkpoint.h5", &cp_path), out);
+  if (restart[0]) {
+    TL_CHECK_GOTO(s, tl_checkpoint_load(cp, restart, NULL, NULL), out);
+    printf("restarted from %s at step %lld, t = %.9g s\n", restart, (long long)pr.next_step, st->t);
+  }
   TlProgress bar;
   tl_progress_init(&bar, "steps", (double)steps);
   double t_loop = tl_wtime();
-  for (long k = 1; k <= steps; ++k) {
+  for (long k = (long)pr.next_step; k <= steps; ++k) {
     TL_CHECK_GOTO(s, tl_stepper_step(st, dt), out);
     double v[2] = {station_velocity(solid, &s1, st->v), station_velocity(solid, &s2, st->v)};
     for (int j = 0; j < 2; ++j) {
@@ -193,6 +256,20 @@ static TlStatus run(int argc, char **argv)
     double row[3] = {st->t, v[0], v[1]};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), out);
     tl_progress_update(&bar, (double)k);
+    pr.next_step = k + 1;
+    if (checkpoint_every > 0 && k % checkpoint_every == 0) TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, st->t, k), out);
+    if (stop_step > 0 && k >= stop_step && k < steps) {
+      tl_progress_finish(&bar);
+      printf("stopped after step %ld of %ld (t = %.9g s)\n", k, steps, st->t);
+      TlSummary part; /* the speed needs the whole run: only what was done */
+      tl_summary_init(&part);
+      tl_summary_int(&part, "stopped_at_step", k);
+      tl_summary_int(&part, "steps", steps);
+      tl_summary_real(&part, "t", st->t);
+      tl_summary_real(&part, "wall", tl_wtime() - wall0);
+      s = tl_summary_print(&part, stdout);
+      goto out;
+    }
   }
   tl_progress_finish(&bar);
   t_loop = tl_wtime() - t_loop;
@@ -224,6 +301,8 @@ out:
     TlStatus s2s = tl_timeseries_close(&ts);
     if (s == TL_OK) s = s2s;
   }
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   tl_free(&s1.nodes);
   tl_free(&s2.nodes);
   tl_stepper_destroy(&st);

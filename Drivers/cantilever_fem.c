@@ -105,15 +105,16 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1, 1, 1000, "refactorise every n Newton iterations (1 = full Newton)", &c->reuse), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
                                       "vibration: HDF5/XDMF mesh snapshot every n steps (0: none)",
                                       &c->snapshot_every), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 100000000,
-                                      "vibration: checkpoint every n steps to <output_dir>/checkpoint.h5 (0: none)",
+                                      "vibration, large, nlgeom: checkpoint every n (load) steps to <output_dir>/checkpoint.h5 (0: none)",
                                       &c->checkpoint_every), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "vibration: continue from this checkpoint file", &c->restart),
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "vibration, large, nlgeom: continue from this checkpoint file", &c->restart),
                 done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 100000000, "vibration: stop after this step (0: run to the end)",
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 100000000, "vibration, large, nlgeom: stop after this (load) step (0: run to the end)",
                                       &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-check", 0, "exit with an error when a result misses -tolerance", &check), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-tolerance", 0.01, 0.0, 10.0, "", "relative tolerance for -check", &c->tolerance), done);
@@ -131,6 +132,20 @@ static TlStatus configure(int argc, char **argv, Config *c)
                      "-tip_load %g N: the small mode compares the deflection under it with Timoshenko's and the "
                      "vibration mode releases the beam from it; it must be > 0", c->beam.load);
     goto done;
+  }
+  if (mode == MODE_ALL || mode == MODE_SMALL || mode == MODE_VIBRATION) {
+    /* The small mode loads the beam in one step and compares it with linear
+     * beam theory: a load beyond small deflection is the large mode's (a load
+     * step far beyond it folds elements, "singular metric"). */
+    const double I = c->beam.b * pow(c->beam.h, 3) / 12.0, EI = c->beam.E * I, L2 = c->beam.L * c->beam.L;
+    const double k = c->beam.load * L2 / EI, k_max = 0.3;
+    if (!(k <= k_max)) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "-tip_load %g N is a load parameter P L^2 / (E I) = %.3g, beyond the small-deflection limit %g "
+                       "(tip deflection about L / 10): at most -tip_load %.4g N; large loads are -mode large with "
+                       "-load_parameter", c->beam.load, k, k_max, k_max * EI / L2);
+      goto done;
+    }
   }
   if (mode == MODE_ALL || mode == MODE_VIBRATION) {
     /* Newmark is stable at any step, but a step that does not resolve the
@@ -212,6 +227,36 @@ done:
 }
 
 /* ------------------------------------------------------------ large */
+/* The load step reached and the Newton iterations so far (the stepper's
+ * own counters start again at a restart), checkpointed with the run. */
+typedef struct {
+  int64_t step, newton;
+} LoadProgress;
+
+static TlStatus load_progress_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const LoadProgress *p = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "load_step", p->step));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "newton_iterations", p->newton));
+  return TL_OK;
+}
+
+static TlStatus load_progress_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  LoadProgress *p = object;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "load_step", &p->step));
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "newton_iterations", &p->newton));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "load_step", p->step, 0, INT64_MAX));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "newton_iterations", p->newton, 0, INT64_MAX));
+  return TL_OK;
+}
+
+static const TlCheckpointOps load_progress_checkpoint_ops = {
+    .header = {"checkpoint", "cantilever_load_steps_v1", "load step and Newton iterations of the large-deflection modes"},
+    .save = load_progress_save,
+    .load = load_progress_load,
+};
+
 static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *failed)
 {
   TlCantileverParams p = c->beam;
@@ -220,6 +265,8 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
   TlCantilever *beam = NULL;
   TlStepper *st = NULL;
   TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
   TlStepperOptions so;
   stepper_options(c, &so);
   so.ramp_time = 1.0;
@@ -231,27 +278,61 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
   TL_CHECK_GOTO(s, tl_stepper_create("quasi_static", tl_solid_system(beam->solid), &so, &st), done);
   TL_CHECK_GOTO(s, tl_stepper_set_state(st, 0.0, NULL, NULL), done);
   double tip[3] = {0, 0, 0}, we = 0, ve = 0, t0 = tl_wtime();
-  long prev_it = 0;
+  /* Checkpoints (-checkpoint_every, -restart, -stop_step count load steps)
+   * when this mode runs alone; in -mode all they are the vibration's. */
+  const int own = c->mode == MODE_LARGE || c->mode == MODE_NLGEOM;
+  LoadProgress lp = {0, 0};
+  if (own && (c->checkpoint_every > 0 || (c->restart && c->restart[0]))) {
+    TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c->options), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "quasi_static", &tl_stepper_checkpoint_ops, st), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "load_table", &tl_timeseries_checkpoint_ops, ts), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "driver", &load_progress_checkpoint_ops, &lp), done);
+    TL_CHECK_GOTO(s, tl_path_join(c->output_dir, "checkpoint.h5", &cp_path), done);
+    if (c->restart && c->restart[0]) {
+      TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c->restart, NULL, NULL), done);
+      if (lp.step > c->load_steps)
+        TL_CHECK_GOTO(s, tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "checkpoint '%s' is at load step %lld, beyond -load_steps %ld",
+                                      c->restart, (long long)lp.step, c->load_steps), done);
+      printf("restarted from %s at load step %lld\n", c->restart, (long long)lp.step);
+    }
+  }
+  const long newton0 = (long)lp.newton; /* the iterations before a restart */
+  long prev_it = newton0;
   TlProgress bar;
   tl_progress_init(&bar, "load steps", (double)c->load_steps);
-  for (long k = 1; k <= c->load_steps; ++k) {
+  for (long k = (long)lp.step + 1; k <= c->load_steps; ++k) {
     TL_CHECK_GOTO(s, tl_stepper_step(st, 1.0 / (double)c->load_steps), done);
     double lambda = (double)k / (double)c->load_steps;
     tl_cantilever_tip(beam, st->u, tip);
     TL_CHECK_GOTO(s, tl_cantilever_elastica(lambda * c->load_parameter, &we, &ve), done);
     TlStepperStats ss;
     tl_stepper_get_stats(st, &ss);
-    double row[6] = {lambda * c->load_parameter, -tip[2], -tip[1], we * p.L, ve * p.L,
-                     (double)(ss.newton_iterations - prev_it)};
-    prev_it = ss.newton_iterations;
+    const long total_it = newton0 + ss.newton_iterations;
+    double row[6] = {lambda * c->load_parameter, -tip[2], -tip[1], we * p.L, ve * p.L, (double)(total_it - prev_it)};
+    prev_it = total_it;
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     tl_progress_update(&bar, (double)k);
+    lp.step = k;
+    lp.newton = total_it;
+    if (cp && c->checkpoint_every > 0 && k % c->checkpoint_every == 0)
+      TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, st->t, k), done);
+    if (own && c->stop_step > 0 && k >= c->stop_step && k < c->load_steps) {
+      tl_progress_finish(&bar);
+      printf("stopped after load step %ld of %ld\n", k, c->load_steps);
+      tl_summary_int(sum, "stopped_at_load_step", k);
+      goto done;
+    }
   }
   tl_progress_finish(&bar);
+  /* the state at the full load (also when a restart began there) */
+  tl_cantilever_tip(beam, st->u, tip);
+  TL_CHECK_GOTO(s, tl_cantilever_elastica(c->load_parameter, &we, &ve), done);
   double wall = tl_wtime() - t0;
   double ew = (-tip[2] - we * p.L) / (we * p.L), ev = (-tip[1] - ve * p.L) / (ve * p.L);
   TlStepperStats ss;
   tl_stepper_get_stats(st, &ss);
+  ss.newton_iterations += newton0;
   if (nlgeom) {
     printf("nlgeom, %s, dead tip load P = %.10g N (P L^2/(E I) = %g) in %ld steps (%ld Newton iterations, "
            "%.3f s): tip w = %.10e m, shortening v = %.10e m, lateral u = %.3e m; elastica w %.6f m, "
@@ -278,6 +359,8 @@ done:
     TlStatus s2 = tl_timeseries_close(&ts);
     if (s == TL_OK) s = s2;
   }
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   tl_stepper_destroy(&st);
   tl_cantilever_destroy(&beam);
   return s;
@@ -558,6 +641,7 @@ static TlStatus run(int argc, char **argv)
   memset(&c, 0, sizeof c);
   TL_CHECK(tl_initialize());
   TL_CHECK(configure(argc, argv, &c));
+  TL_CHECK(tl_output_dir_prepare(c.output_dir));
   TlSummary sum;
   tl_summary_init(&sum);
   double t0 = tl_wtime();

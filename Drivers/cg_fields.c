@@ -32,14 +32,22 @@
 #include "tl_cg_kernel.h"
 #include "tl_dem.h"
 #include "tl_io.h"
+#include "tl_options_checkpoint.h"
 
 typedef struct {
   const char *packing, *kernel, *output_dir;
   long n, settle_steps, seed, average_snapshots, average_interval;
   double d, d_spread, density, lx, ly, height, gravity, c, h, settle_tol, floor_z;
   int box_from_extent, write_hdf5;
+  long checkpoint_every, stop_step; /* settling steps, multiples of the 500-step chunk */
+  const char *restart;
   TlContactLaw *law;
+  TlOptions *options; /* kept for the checkpoint; destroyed at the end of the run */
 } Config;
+
+enum { SETTLE_CHUNK = 500 }; /* settling steps between kinetic-energy checks (and checkpoints) */
+
+static TlStatus check_grid_size(const Config *c, double zmax);
 
 static TlStatus configure(int argc, char **argv, Config *c)
 {
@@ -91,7 +99,16 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
                 done);
   c->write_hdf5 = (int)hdf5;
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "random packing: checkpoint.h5 in the output folder every n settling steps (a "
+                                      "multiple of 500; 0: none)", &c->checkpoint_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue the settling from this checkpoint file (same options)",
+                                         &c->restart), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000,
+                                      "random packing: stop after this settling step (a multiple of 500; 0: run to the end)",
+                                      &c->stop_step), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cg_fields", "output folder", &c->output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
   /* strings point into the options database: copy before destroying it */
   static char packing[4096], kernel[64], outdir[4096];
   snprintf(packing, sizeof packing, "%s", c->packing);
@@ -105,10 +122,40 @@ static TlStatus configure(int argc, char **argv, Config *c)
     const TlOpsHeader *known;
     s = tl_registry_find(TL_CG_KERNEL_KIND, c->kernel, &known);
   }
+  if (s == TL_OK && !c->box_from_extent) s = check_grid_size(c, c->floor_z);
+  if (s == TL_OK && (c->checkpoint_every % SETTLE_CHUNK != 0 || c->stop_step % SETTLE_CHUNK != 0))
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-checkpoint_every %ld and -stop_step %ld must be multiples of the %d settling steps between "
+                     "kinetic-energy checks", c->checkpoint_every, c->stop_step, SETTLE_CHUNK);
+  if (s == TL_OK && (c->checkpoint_every > 0 || c->stop_step > 0 || c->restart[0]) && strcmp(c->packing, "random") != 0)
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "-checkpoint_every, -stop_step and -restart checkpoint the settling of a random packing; "
+                     "-packing %s is not settled", c->packing);
 done:
-  if (s != TL_OK) tl_contact_law_destroy(&c->law);
-  tl_options_destroy(&o);
+  if (s != TL_OK) {
+    tl_contact_law_destroy(&c->law);
+    tl_options_destroy(&o);
+  }
+  c->options = o;
   return s;
+}
+
+/* The CG grid's node count, computed in floating point before anything is
+ * allocated: a width or spacing far from the particle scale would ask for
+ * more nodes than memory holds (or overflow the count).  zmax is the top of
+ * the bed (the floor before settling gives a lower bound). */
+#define CG_MAX_NODES 5e7
+static TlStatus check_grid_size(const Config *c, double zmax)
+{
+  const double nx = fmax(1.0, nearbyint(c->lx / c->h)), ny = fmax(1.0, nearbyint(c->ly / c->h));
+  const double nz = c->c == 0.0 ? ceil((zmax + c->d - c->floor_z) / c->h) : ceil((zmax + 2.0 * c->c + c->d - c->floor_z) / c->h) + 1.0;
+  const double nodes = nx * ny * nz;
+  if (!(nodes <= CG_MAX_NODES))
+    TL_ERROR(TL_ERR_ARG,
+             "-cg_width %g m with -grid_spacing %g m asks for a CG grid of %.3g x %.3g x %.3g = %.3g nodes, "
+             "beyond the limit of %.0e nodes: raise -grid_spacing or lower -cg_width",
+             c->c, c->h, nx, ny, nz, nodes, CG_MAX_NODES);
+  return TL_OK;
 }
 
 /* Random sequential insertion in [0, lx) x [0, ly) x [floor + r, floor + H - r],
@@ -284,6 +331,8 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   WallSink wsink = {NULL, NULL, NULL, 0, 0, TL_OK};
   double *prof = NULL;
   TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  char *cp_path = NULL;
 
   int random = strcmp(c.packing, "random") == 0;
   double r_mean = 0.5 * c.d, height;
@@ -349,9 +398,27 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   long steps = 0;
   double ekin_per = 0.0;
   if (random && c.settle_steps > 0) {
+    /* The settling is checkpointed (the options, the world, the step count)
+     * between chunks; a restart continues it bit for bit and then
+     * coarse-grains as the uninterrupted run does. */
+    int64_t settled = 0;
+    TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, c.options), done);
+    TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+    TL_CHECK_GOTO(s, tl_path_join(c.output_dir, "checkpoint.h5", &cp_path), done);
+    if (c.restart[0]) {
+      TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c.restart, NULL, &settled), done);
+      if (!(settled >= 0 && settled % SETTLE_CHUNK == 0 && settled <= c.settle_steps))
+        TL_CHECK_GOTO(s, tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                                      "checkpoint '%s' is at settling step %lld: not a multiple of %d in [0, -settle_steps %ld]",
+                                      c.restart, (long long)settled, SETTLE_CHUNK, c.settle_steps), done);
+      steps = (long)settled;
+      printf("restarted from %s at settling step %ld\n", c.restart, steps);
+    }
+    if (c.checkpoint_every > 0) TL_CHECK_GOTO(s, tl_output_dir_prepare(c.output_dir), done);
     TlProgress prog;
     tl_progress_init(&prog, "settling", (double)c.settle_steps);
-    const long chunk = 500;
+    const long chunk = SETTLE_CHUNK;
     while (steps < c.settle_steps) {
       long m = c.settle_steps - steps < chunk ? c.settle_steps - steps : chunk;
       TL_CHECK_GOTO(s, tl_dem_step(dem, m), done);
@@ -361,6 +428,15 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
       ekin_per = (e.kinetic_translational + e.kinetic_rotational) / (double)P->n;
       tl_progress_update(&prog, (double)steps);
       if (steps > 5 * chunk && ekin_per < c.settle_tol * m_mean * c.gravity * c.d) break;
+      if (c.checkpoint_every > 0 && steps % c.checkpoint_every == 0)
+        TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), steps), done);
+      if (c.stop_step > 0 && steps >= c.stop_step) {
+        tl_progress_finish(&prog);
+        printf("stopped after settling step %ld\n", steps);
+        tl_summary_int(sum, "stopped_at_step", steps);
+        tl_summary_int(sum, "particles", (long)P->n);
+        goto done;
+      }
     }
     tl_progress_finish(&prog);
     tl_info("settled for %ld steps: kinetic energy per particle %.3g m g d", steps, ekin_per / (m_mean * c.gravity * c.d));
@@ -377,6 +453,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   TL_CHECK_GOTO(s, tl_cg_kernel_create(c.c > 0 ? c.kernel : "dirac", c.c, 3, &kernel), done);
   TlCGBox box = {tl_v3(0, 0, c.floor_z), tl_v3(c.lx, c.ly, zmax), {1, 1, 0}};
   TL_CHECK_GOTO(s, tl_cg_create(kernel, &box, 0, &cg), done);
+  TL_CHECK_GOTO(s, check_grid_size(&c, zmax), done);
   TlCGGrid g;
   g.n[0] = (int)fmax(1.0, nearbyint(c.lx / c.h));
   g.n[1] = (int)fmax(1.0, nearbyint(c.ly / c.h));
@@ -442,7 +519,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
 
   /* ---- profile against z: layer averages, and the weight of what lies above ---- */
   tl_timers_start(&timers, ph_out);
-  TL_CHECK_GOTO(s, tl_mkdir_p(c.output_dir), done);
+  TL_CHECK_GOTO(s, tl_output_dir_prepare(c.output_dir), done);
   enum { NCOL = 16 };
   TL_CHECK_GOTO(s, tl_calloc(&prof, (size_t)g.n[2] * NCOL, sizeof *prof), done);
   size_t layer = (size_t)g.n[0] * g.n[1];
@@ -530,8 +607,11 @@ done:
   tl_free(&wsink.f);
   tl_free(&wsink.c);
   tl_particle_snapshot_free(&snap);
+  tl_checkpoint_destroy(&cp);
+  tl_free(&cp_path);
   tl_dem_destroy(&dem);
   tl_contact_law_destroy(&c.law);
+  tl_options_destroy(&c.options);
   return s;
 }
 

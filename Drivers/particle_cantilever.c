@@ -170,6 +170,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   return TL_OK;
 done:
   tl_contact_law_destroy(&c->law);
+  tl_free(&c->output_dir);
   tl_options_destroy(&o);
   return s;
 }
@@ -316,6 +317,17 @@ static TlStatus run(int argc, char **argv)
       TL_CHECK_GOTO(s, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                                     "FEM step %ld x %g s = %g s is beyond the explicit critical step %g s: lower -substeps or use -fem newmark",
                                     c.substeps, dt, c.substeps * dt, dt_crit), done);
+  }
+  if (!c.one_way) {
+    /* A FEM step beyond a fraction of the beam's first bending period lets
+     * the beam swing through its walls between two updates (the coupled
+     * surface then folds); refuse it by the period. */
+    const double T1 = 2.0 * M_PI / tl_cantilever_omega1(&c.beam);
+    if (!(c.substeps * dt <= T1 / 20.0))
+      TL_CHECK_GOTO(s, tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                                    "-substeps %ld makes the FEM step %ld x %g s = %g s, beyond T1 / 20 = %g s of the beam's "
+                                    "first bending period T1 = %g s: at most -substeps %ld",
+                                    c.substeps, c.substeps, dt, c.substeps * dt, T1 / 20.0, T1, (long)floor(T1 / 20.0 / dt)), done);
   }
   TlCoupledLoopOptions lo;
   tl_coupled_loop_options_default(&lo);

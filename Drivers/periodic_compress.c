@@ -597,6 +597,38 @@ static TlStatus run_servo(Settings *s, double wall0)
   return s_sum;
 }
 
+/* A target pressure the contacts cannot carry at a small overlap makes no
+ * packing (the grains interpenetrate and the compression runs on): the mean
+ * contact force of a packing at pressure p is <F> = pi d^2 p / (z phi)
+ * (the Cauchy stress of the contacts with z = 6, phi = 0.64), and the law
+ * must give it at an overlap delta/d within the limit. */
+#define MAX_OVERLAP_D 0.05
+static TlStatus check_pressure(const Settings *s)
+{
+  const double d = 0.5 * (s->d_min + s->d_max), z = 6.0, phi = 0.64;
+  const double f_target = TL_PI * d * d * s->pressure / (z * phi);
+  double *h = NULL;
+  TL_CHECK(tl_calloc(&h, s->law->history_doubles + 1, sizeof *h));
+  TlContactGeometry g;
+  memset(&g, 0, sizeof g);
+  g.normal = tl_v3(1, 0, 0);
+  g.reff = 0.25 * d;
+  g.meff = 0.5 * s->density * TL_PI / 6.0 * d * d * d;
+  g.history = h;
+  TlContactResult r;
+  g.overlap = MAX_OVERLAP_D * d;
+  TlStatus st = tl_contact_law_evaluate_one(s->law, &g, s->dt, &r);
+  tl_free(&h);
+  TL_CHECK(st);
+  const double f_limit = -r.force.x, p_limit = f_limit * z * phi / (TL_PI * d * d);
+  if (!(f_target <= f_limit))
+    TL_ERROR(TL_ERR_ARG,
+             "-pressure %g Pa needs a mean contact force pi d^2 p / (z phi) = %.3g N (d = %g m, z = 6, phi = 0.64), "
+             "beyond the %.3g N the contact law gives at the overlap limit delta/d = %g: at most -pressure %.3g Pa",
+             s->pressure, f_target, d, f_limit, MAX_OVERLAP_D, p_limit);
+  return TL_OK;
+}
+
 static TlStatus run(int argc, char **argv)
 {
   double wall0 = tl_wtime();
@@ -605,6 +637,8 @@ static TlStatus run(int argc, char **argv)
   TlStatus st = options(argc, argv, &o, &s);
   if (st == TL_OK && s.d_max < s.d_min)
     st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
+  if (st == TL_OK) st = tl_output_dir_prepare(s.out);
+  if (st == TL_OK) st = check_pressure(&s);
   if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, wall0);
   tl_contact_law_destroy(&s.law);
   tl_options_destroy(&o);

@@ -78,6 +78,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_int(*o, "-threads", 0, 0, 1024, "OpenMP threads (0: default)", &th));
   s->threads = (int)th;
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/settle", "output folder", &s->out));
+  TL_CHECK(tl_output_dir_check(s->out));
   TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
                               "write <output_dir>/checkpoint.h5 every n steps (0: never)", &s->checkpoint_every));
   TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
@@ -114,36 +115,64 @@ static const TlCheckpointOps progress_checkpoint_ops = {
     .load = progress_load,
 };
 
+/* The sizes a run needs, checked before anything is allocated. */
+static TlStatus check_sizes(const Settings *s)
+{
+  if (s->d_max < s->d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s->d_max, s->d_min);
+  const double pitch = 1.05 * s->d_max; /* the pour lattice's */
+  const double sites = floor((s->box - pitch) / pitch);
+  if (!(sites >= 1.0)) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s->box, s->d_max);
+  const int per_side = (int)sites;
+  /* A box wider than the particles can fill makes no bed: its packing
+   * fraction and coordination would describe scattered grains. */
+  if ((double)s->n < (double)per_side * per_side)
+    TL_ERROR(TL_ERR_ARG,
+             "-box %g m: %ld particles fill %.2g of one layer of the pour lattice (%d x %d sites of pitch %g m), "
+             "so they make no bed: -box must be below %.4g m for -n %ld", s->box, s->n,
+             (double)s->n / ((double)per_side * per_side), per_side, per_side, pitch, pitch * (floor(sqrt((double)s->n)) + 2.0), s->n);
+  /* 4 triangles per floor cell, each binned and tested: refuse a floor
+   * that cannot be built in memory before allocating it. */
+  const double max_floor_triangles = 1e6;
+  if (!s->plane_floor && !(4.0 * (double)s->floor_cells * (double)s->floor_cells <= max_floor_triangles))
+    TL_ERROR(TL_ERR_ARG, "-floor_cells %ld makes 4 x %ld^2 = %.3g floor triangles, beyond the limit %.0e: at most -floor_cells %d",
+             s->floor_cells, s->floor_cells, 4.0 * (double)s->floor_cells * (double)s->floor_cells, max_floor_triangles,
+             (int)floor(sqrt(max_floor_triangles / 4.0)));
+  long layers = (s->n + (long)per_side * per_side - 1) / ((long)per_side * per_side);
+  if (layers * pitch > s->height - pitch)
+    TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s->n, layers, pitch,
+             s->height);
+  return TL_OK;
+}
+
 static TlStatus run(int argc, char **argv)
 {
   double wall0 = tl_wtime();
   TlOptions *o = NULL;
   Settings s;
   TlStatus st = options(argc, argv, &o, &s);
+  if (st == TL_OK) st = check_sizes(&s);
   if (st != TL_OK) {
     tl_contact_law_destroy(&s.law);
     tl_options_destroy(&o);
     return st;
   }
-  if (s.d_max < s.d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
-  TlDem *dem;
-  TL_CHECK(tl_dem_create(&dem));
+  /* every exit after this point goes through done: nothing leaks on a refusal */
+  TlDem *dem = NULL;
+  TlParticleWriter *writer = NULL;
+  TlTimeSeries *ts = NULL;
+  TlCheckpoint *cp = NULL;
+  TL_CHECK_GOTO(st, tl_dem_create(&dem), done);
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
-  TL_CHECK(tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(s.box, s.box, s.height)));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
+  TL_CHECK_GOTO(st, tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(s.box, s.box, s.height)), done);
+  TL_CHECK_GOTO(st, tl_dem_set_domain(dem, &dom), done);
   int sp;
-  TL_CHECK(tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp));
+  TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp), done);
   /* pour: jittered lattice of pitch d_max * 1.05 from the top down */
-  double pitch = 1.05 * s.d_max;
-  int per_side = (int)floor((s.box - pitch) / pitch);
-  if (per_side < 1) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s.box, s.d_max);
-  long layers = (s.n + (long)per_side * per_side - 1) / ((long)per_side * per_side);
-  if (layers * pitch > s.height - pitch)
-    TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s.n, layers, pitch,
-             s.height);
+  const double pitch = 1.05 * s.d_max;
+  const int per_side = (int)floor((s.box - pitch) / pitch);
   uint64_t rng = 12345;
-  TL_CHECK(tl_particles_reserve(P, (size_t)s.n));
+  TL_CHECK_GOTO(st, tl_particles_reserve(P, (size_t)s.n), done);
   for (long k = 0; k < s.n; ++k) {
     long layer = k / ((long)per_side * per_side), in = k % ((long)per_side * per_side);
     double jx = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5), jy = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5);
@@ -151,51 +180,50 @@ static TlStatus run(int argc, char **argv)
                 s.height - pitch * (1.0 + (double)layer)};
     TlVec3 v = {0.05 * (tl_random_uniform(&rng) - 0.5), 0.05 * (tl_random_uniform(&rng) - 0.5), 0.0};
     double r = tl_species_sample_radius(&P->species_table[sp], &rng);
-    TL_CHECK(tl_dem_add_particle(dem, x, v, r, sp, NULL));
+    TL_CHECK_GOTO(st, tl_dem_add_particle(dem, x, v, r, sp, NULL), done);
   }
   double k_n;
-  TL_CHECK(tl_contact_law_get(s.law, "k_n", &k_n));
-  TL_CHECK(tl_dem_add_law(dem, s.law, NULL));
+  TL_CHECK_GOTO(st, tl_contact_law_get(s.law, "k_n", &k_n), done);
+  TL_CHECK_GOTO(st, tl_dem_add_law(dem, s.law, NULL), done);
+  s.law = NULL; /* the world owns it */
   /* walls: triangulated floor, four planes */
   TlWall *w;
   if (s.plane_floor) {
-    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w));
+    TL_CHECK_GOTO(st, tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &w), done);
   } else {
     TlTriSurface *floor_;
-    TL_CHECK(tl_trisurface_create_rectangle(0, 0, s.box, s.box, 0.0, (int)s.floor_cells, (int)s.floor_cells, 2, &floor_));
-    TL_CHECK(tl_wall_trisurface_create(floor_, &w));
+    TL_CHECK_GOTO(st, tl_trisurface_create_rectangle(0, 0, s.box, s.box, 0.0, (int)s.floor_cells, (int)s.floor_cells, 2, &floor_), done);
+    TL_CHECK_GOTO(st, tl_wall_trisurface_create(floor_, &w), done);
   }
-  TL_CHECK(tl_dem_add_wall(dem, w, 0));
+  TL_CHECK_GOTO(st, tl_dem_add_wall(dem, w, 0), done);
   const TlVec3 pts[4] = {{0, 0, 0}, {s.box, 0, 0}, {0, 0, 0}, {0, s.box, 0}};
   const TlVec3 nrm[4] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
   for (int k = 0; k < 4; ++k) {
-    TL_CHECK(tl_wall_plane_create(pts[k], nrm[k], &w));
-    TL_CHECK(tl_dem_add_wall(dem, w, 0));
+    TL_CHECK_GOTO(st, tl_wall_plane_create(pts[k], nrm[k], &w), done);
+    TL_CHECK_GOTO(st, tl_dem_add_wall(dem, w, 0), done);
   }
   const double g = 9.81;
   tl_dem_set_gravity(dem, tl_v3(0, 0, -g));
   tl_dem_set_threads(dem, s.threads);
   double dtc, kmax, mmin;
-  TL_CHECK(tl_dem_critical_timestep(dem, &dtc, &kmax, &mmin));
+  TL_CHECK_GOTO(st, tl_dem_critical_timestep(dem, &dtc, &kmax, &mmin), done);
   double dt = s.dt_fraction * dtc;
-  TL_CHECK(tl_dem_set_timestep(dem, dt, 0));
-  TL_CHECK(tl_dem_setup(dem));
+  TL_CHECK_GOTO(st, tl_dem_set_timestep(dem, dt, 0), done);
+  TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
   long steps = (long)ceil(s.t_end / dt);
   printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
          s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
   /* output */
-  TL_CHECK(tl_mkdir_p(s.out));
+  TL_CHECK_GOTO(st, tl_output_dir_prepare(s.out), done);
   char base[4096];
   snprintf(base, sizeof base, "%s/energies", s.out);
-  TlParticleWriter *writer = NULL;
-  TL_CHECK(tl_particle_writer_create(s.out, "particles", &writer));
+  TL_CHECK_GOTO(st, tl_particle_writer_create(s.out, "particles", &writer), done);
   static const TlColumn cols[] = {{"time", "s"},          {"kinetic", "J"},        {"rotational", "J"},
                                   {"elastic", "J"},       {"gravitational", "J"},  {"dissipated", "J"},
                                   {"work_external", "J"}, {"total", "J"},          {"momentum_z", "kg m/s"},
                                   {"coordination", ""},   {"wall_force_z", "N"}};
-  TlTimeSeries *ts;
-  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, &ts));
-  TL_CHECK(tl_timeseries_reserve(ts, (size_t)s.samples + 2));
+  TL_CHECK_GOTO(st, tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, &ts), done);
+  TL_CHECK_GOTO(st, tl_timeseries_reserve(ts, (size_t)s.samples + 2), done);
   long every = steps / s.samples > 0 ? steps / s.samples : 1;
   long snap_every = s.snapshots > 0 ? (steps / s.snapshots > 0 ? steps / s.snapshots : 1) : 0;
   TlProgress prog;
@@ -205,17 +233,16 @@ static TlStatus run(int argc, char **argv)
   TlDemEnergy en;
   double wall_fz = 0.0;
   Progress pr = {0, 0.0};
-  TlCheckpoint *cp = NULL;
   char cp_path[4200];
   snprintf(cp_path, sizeof cp_path, "%s/checkpoint.h5", s.out);
-  TL_CHECK(tl_checkpoint_create(&cp));
-  TL_CHECK(tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o));
-  TL_CHECK(tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem));
-  TL_CHECK(tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts));
-  TL_CHECK(tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer));
-  TL_CHECK(tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr));
+  TL_CHECK_GOTO(st, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr), done);
   if (s.restart && s.restart[0]) {
-    TL_CHECK(tl_checkpoint_load(cp, s.restart, NULL, NULL));
+    TL_CHECK_GOTO(st, tl_checkpoint_load(cp, s.restart, NULL, NULL), done);
     printf("restarted from %s at step %lld, t = %.9g s\n", s.restart, (long long)pr.next_step, tl_dem_time(dem));
     weight = 0.0;
     for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
@@ -223,15 +250,15 @@ static TlStatus run(int argc, char **argv)
   long last = s.stop_step > 0 && s.stop_step < steps ? s.stop_step : steps;
   for (long k = (long)pr.next_step; k <= steps; ++k) {
     if (k % every == 0 || k == steps) {
-      TL_CHECK(tl_dem_energy(dem, &en));
+      TL_CHECK_GOTO(st, tl_dem_energy(dem, &en), done);
       if (k == 0) pr.e0 = en.total;
       double z;
-      TL_CHECK(tl_dem_coordination(dem, &z, NULL));
+      TL_CHECK_GOTO(st, tl_dem_coordination(dem, &z, NULL), done);
       wall_fz = 0.0;
       for (size_t q = 0; q < tl_dem_n_walls(dem); ++q) wall_fz += tl_dem_wall(dem, q)->force.z;
       double row[] = {tl_dem_time(dem), en.kinetic_translational, en.kinetic_rotational, en.elastic, en.gravitational,
                       en.dissipated, en.work_external, en.total, en.momentum.z, z, wall_fz};
-      TL_CHECK(tl_timeseries_append(ts, row));
+      TL_CHECK_GOTO(st, tl_timeseries_append(ts, row), done);
       double balance_error = fabs(en.total - pr.e0) / fmax(fabs(pr.e0), 1e-300);
       if (!(balance_error <= s.energy_tolerance)) {
         TlStatus lost = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,
@@ -239,34 +266,30 @@ static TlStatus run(int argc, char **argv)
                                    "beyond -energy_tolerance %g; the time step (-dt_fraction %g of the critical "
                                    "step) is too large for the contacts, or the run is unstable",
                                    tl_dem_time(dem), k, balance_error, s.energy_tolerance, s.dt_fraction);
-        tl_checkpoint_destroy(&cp);
-        tl_timeseries_close(&ts);
-        tl_particle_writer_destroy(&writer);
-        tl_dem_destroy(&dem);
-        tl_options_destroy(&o);
-        return lost;
+        st = lost;
+        goto done;
       }
     }
     if (snap_every && (k % snap_every == 0 || k == steps)) {
       TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
-      TL_CHECK(tl_particle_writer_write(writer, k, tl_dem_time(dem), &view));
+      TL_CHECK_GOTO(st, tl_particle_writer_write(writer, k, tl_dem_time(dem), &view), done);
     }
     if (k == steps || k == last) break;
-    TL_CHECK(tl_dem_step(dem, 1));
+    TL_CHECK_GOTO(st, tl_dem_step(dem, 1), done);
     pr.next_step = k + 1;
     if (s.checkpoint_every > 0 && pr.next_step % s.checkpoint_every == 0)
-      TL_CHECK(tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), pr.next_step));
+      TL_CHECK_GOTO(st, tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), pr.next_step), done);
     if (k % 200 == 0) tl_progress_update(&prog, (double)k);
   }
   tl_progress_finish(&prog);
   tl_checkpoint_destroy(&cp);
-  TL_CHECK(tl_timeseries_close(&ts));
+  TL_CHECK_GOTO(st, tl_timeseries_close(&ts), done);
   tl_particle_writer_destroy(&writer);
   /* results */
-  TL_CHECK(tl_dem_energy(dem, &en));
+  TL_CHECK_GOTO(st, tl_dem_energy(dem, &en), done);
   double z, znr, imbalance;
-  TL_CHECK(tl_dem_coordination(dem, &z, &znr));
-  TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
+  TL_CHECK_GOTO(st, tl_dem_coordination(dem, &z, &znr), done);
+  TL_CHECK_GOTO(st, tl_dem_max_force_imbalance(dem, &imbalance), done);
   double top = 0.0, vol = 0.0;
   for (size_t i = 0; i < P->n; ++i) {
     top = fmax(top, P->x[i].z + P->radius[i]);
@@ -289,10 +312,18 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "packing_fraction", vol / (s.box * s.box * top));
   tl_summary_real(&sum, "energy_balance_error", energy_error);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  TlStatus s_sum = tl_summary_print(&sum, stdout);
+  st = tl_summary_print(&sum, stdout);
+done:
+  tl_checkpoint_destroy(&cp);
+  if (ts) {
+    TlStatus sc = tl_timeseries_close(&ts);
+    if (st == TL_OK) st = sc;
+  }
+  tl_particle_writer_destroy(&writer);
   tl_dem_destroy(&dem);
+  tl_contact_law_destroy(&s.law);
   tl_options_destroy(&o);
-  return s_sum;
+  return st;
 }
 
 int main(int argc, char **argv)

@@ -1,6 +1,9 @@
 /* The full-DEM reference of V1 (seeds/001 §6.2): the bonded simple-cubic
  * bar over its whole length, the same particles, excitation and fixed right
- * end as wave_volume_coupling. */
+ * end as wave_volume_coupling.  Restart: -checkpoint_every n writes
+ * <output_dir>/checkpoint.h5 every n steps (the options, the particles and
+ * the recorded tables); -restart <file> continues from it bit for bit with
+ * the same options; -stop_step n stops after step n. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -71,8 +74,19 @@ static TlStatus run(int argc, char **argv)
                                             ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
+  const char *restart = NULL;
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
+                                      "checkpoint every n steps to <output_dir>/checkpoint.h5 (0: none)", &ro.checkpoint_every),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-restart", "", "continue from this checkpoint file (same options)", &restart),
+                done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-stop_step", 0, 0, 1000000000, "stop after this step (0: run to t_end)", &ro.stop_step),
+                done);
   TL_CHECK_GOTO(s, tl_output_dir(o, &dir), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
+  ro.output_dir = dir;
+  ro.restart = restart;
+  ro.options = o;
   p.n = icase + 1;
   p.excitation = (TlWaveExcitation)iexc;
   p.cycles = (int)cycles;
@@ -88,6 +102,16 @@ static TlStatus run(int argc, char **argv)
     ro.every = every > 0 ? every : (long)fmax(1.0, floor(ro.t_end / dt / 1000.0));
   }
   TL_CHECK_GOTO(s, tl_wave_run(&p, &ro, &r), out);
+  if (r.stopped) { /* a run stopped to leave a checkpoint: its tables and figures are the restarted run's */
+    printf("full DEM stopped after step %ld; checkpoint in %s\n", r.steps, dir);
+    TlSummary part;
+    tl_summary_init(&part);
+    tl_summary_int(&part, "stopped_at_step", r.steps);
+    tl_summary_int(&part, "particles", (long)r.n_particles);
+    tl_summary_real(&part, "wall", tl_wtime() - wall0);
+    s = tl_summary_print(&part, stdout);
+    goto out;
+  }
   char path[4096];
   snprintf(path, sizeof path, "%s/energies.csv", dir);
   TL_CHECK_GOTO(s, tl_atomic_write(path, write_energies, &r), out);

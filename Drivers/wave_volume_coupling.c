@@ -277,6 +277,7 @@ static TlStatus run(int argc, char **argv)
   ro.n_snap = n_snap;
   ro.output_dir = dir;
   ro.restart = restart;
+  ro.options = o;
   double wall0 = tl_wtime();
   TlWaveRecord rc = {0}, rr = {0};
   {

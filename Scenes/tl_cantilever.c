@@ -54,6 +54,15 @@ TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **out)
              p->type->header.name);
   if (p->nx < 1 || p->ny < 1 || p->nz < 1)
     TL_ERROR(TL_ERR_ARG, "cantilever cells %zu x %zu x %zu must be >= 1", p->nx, p->ny, p->nz);
+  /* Cells far from cubes make elements (and the coupled surface's
+   * triangles) too thin to compute with: refuse them by their sizes. */
+  const double cell[3] = {p->b / (double)p->nx, p->L / (double)p->ny, p->h / (double)p->nz};
+  const double cmax = fmax(cell[0], fmax(cell[1], cell[2])), cmin = fmin(cell[0], fmin(cell[1], cell[2]));
+  if (!(cmax <= TL_CANTILEVER_MAX_ASPECT * cmin))
+    TL_ERROR(TL_ERR_ARG,
+             "cantilever cells of %g x %g x %g m (width / nx, length / ny, height / nz) have an aspect ratio %.3g, "
+             "beyond the limit %g: change the length, width or height or the cell counts", cell[0], cell[1], cell[2],
+             cmax / cmin, TL_CANTILEVER_MAX_ASPECT);
   TL_CHECK(TL_NEW(c));
   c->p = *p;
   c->load_scale = 1.0;

@@ -37,6 +37,8 @@ typedef struct {
  * rho = 1309 kg/m^3, P = 1644 N (twice the weight of S1's particles),
  * material "hooke". */
 void tl_cantilever_params_default(TlCantileverParams *p);
+/* The longest cell side over the shortest beyond which create refuses. */
+#define TL_CANTILEVER_MAX_ASPECT 1000.0
 TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **c);
 void tl_cantilever_destroy(TlCantilever **c);
 /* Mean tip displacement (consistent weights) from a dof vector: out[3]. */

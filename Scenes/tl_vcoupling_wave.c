@@ -18,6 +18,7 @@
 #include "tl_timer.h"
 #include "tl_vcoupling.h"
 #include "tl_vcoupling_element.h"
+#include "tl_options_checkpoint.h"
 
 struct TlWave {
   TlWaveParams p;
@@ -768,6 +769,7 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   if (o->checkpoint_every > 0 || restart) {
     snprintf(ckpt, sizeof ckpt, "%s/checkpoint.h5", o->output_dir);
     TL_CHECK_GOTO(s, tl_checkpoint_create(&cp), out);
+    if (o->options) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o->options), out);
     TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "wave", &tl_wave_checkpoint_ops, w), out);
     TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "record", &record_checkpoint_ops, &R), out);
     if (pw) TL_CHECK_GOTO(s, tl_checkpoint_add(cp, "particle_snapshots", &tl_particle_writer_checkpoint_ops, pw), out);

@@ -157,6 +157,7 @@ typedef struct {
   long checkpoint_every;    /* checkpoint.h5 every n steps (0: none) */
   const char *restart;      /* continue from this checkpoint (NULL or "": start afresh) */
   long stop_step;           /* stop after this step (0: run to t_end) */
+  struct TlOptions *options; /* the driver's options, checkpointed first and compared on restart (NULL: none) */
 } TlWaveRunOptions;
 
 typedef struct {

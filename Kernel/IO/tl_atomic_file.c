@@ -1,7 +1,9 @@
 #include "tl_atomic_file.h"
 
 #include <errno.h>
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -50,6 +52,58 @@ TlStatus tl_atomic_temp_name(const char *path, char **temp_name)
   if (!base[0]) TL_ERROR(TL_ERR_ARG, "output path '%s' names a folder, not a file", path);
   int dir_len = slash ? (int)(slash - path + 1) : 0;
   return tl_strdup_printf(temp_name, "%.*s.%s.%ld.%lu.tmp", dir_len, path, base, (long)getpid(), k);
+}
+
+/* A name of the pattern ".<base>.<pid>.<counter>.tmp" (base not empty);
+ * its pid in *pid. */
+static int tl_atomic_temp_pid(const char *name, long *pid)
+{
+  size_t n = strlen(name);
+  if (n < 9 || name[0] != '.' || strcmp(name + n - 4, ".tmp") != 0) return 0;
+  /* back from ".tmp": the counter's digits, a dot, the pid's digits, a dot */
+  size_t e = n - 4, k = e;
+  while (k > 0 && name[k - 1] >= '0' && name[k - 1] <= '9') --k;
+  if (k == e || k < 2 || name[k - 1] != '.') return 0;
+  size_t pe = k - 1, pk = pe;
+  while (pk > 0 && name[pk - 1] >= '0' && name[pk - 1] <= '9') --pk;
+  if (pk == pe || pk < 3 || name[pk - 1] != '.' || pe - pk > 18) return 0; /* ".x." at least before */
+  char digits[20];
+  memcpy(digits, name + pk, pe - pk);
+  digits[pe - pk] = '\0';
+  *pid = strtol(digits, NULL, 10);
+  return *pid > 0;
+}
+
+TlStatus tl_atomic_remove_stale(const char *dir, size_t *removed)
+{
+  if (removed) *removed = 0;
+  if (!dir || !dir[0]) TL_ERROR(TL_ERR_ARG, "empty folder name");
+  DIR *d = opendir(dir);
+  if (!d) {
+    if (errno == ENOENT) return TL_OK;
+    TL_ERROR(TL_ERR_IO, "cannot read folder '%s': %s", dir, strerror(errno));
+  }
+  TlStatus s = TL_OK;
+  const long self = (long)getpid();
+  for (struct dirent *e; s == TL_OK && (e = readdir(d)) != NULL;) {
+    long pid;
+    if (!tl_atomic_temp_pid(e->d_name, &pid) || pid == self) continue;
+    if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* its writer may still run */
+    char *path = NULL;
+    s = tl_path_join(dir, e->d_name, &path);
+    if (s != TL_OK) break;
+    struct stat st;
+    if (lstat(path, &st) == 0 && S_ISREG(st.st_mode)) {
+      if (unlink(path) == 0) {
+        if (removed) ++*removed;
+      } else if (errno != ENOENT) {
+        s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "cannot remove the stale temporary '%s': %s", path, strerror(errno));
+      }
+    }
+    tl_free(&path);
+  }
+  closedir(d);
+  return s;
 }
 
 /* fsync of a folder makes the rename itself durable. */

@@ -46,6 +46,12 @@ TlStatus tl_atomic_commit_path(const char *temp_name, const char *path);
 /* Creates folder `path` and its parents (like mkdir -p); an existing folder
  * is fine, an existing non-folder is an error. */
 TlStatus tl_mkdir_p(const char *path);
+/* Removes from folder `dir` the temporaries that killed writers left:
+ * names of tl_atomic_temp_name's pattern ".<name>.<pid>.<counter>.tmp"
+ * whose process no longer runs (a live writer's, this process's included,
+ * are kept); nothing else is touched.  *removed (may be NULL) counts them.
+ * A missing folder removes nothing. */
+TlStatus tl_atomic_remove_stale(const char *dir, size_t *removed);
 /* Allocated "<dir>/<name>" (just <name> when dir is NULL or empty). */
 TlStatus tl_path_join(const char *dir, const char *name, char **path);
 

@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <time.h>
 
@@ -212,6 +213,77 @@ static TlStatus tl_xdmf_save(const void *object, TlCheckpointWriter *w, const ch
   return TL_OK;
 }
 
+/* The folder part of path ("" when it has none), allocated. */
+static TlStatus tl_xdmf_folder_of(const char *path, char **dir)
+{
+  const char *slash = strrchr(path, '/');
+  size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0;
+  TL_CHECK(tl_calloc(dir, n + 1, 1));
+  memcpy(*dir, path, n);
+  return TL_OK;
+}
+
+static TlStatus tl_xdmf_copy_stream(FILE *out, void *context)
+{
+  FILE *in = context;
+  char buf[1 << 16];
+  for (size_t n; (n = fread(buf, 1, sizeof buf, in)) > 0;)
+    if (fwrite(buf, 1, n, out) != n) TL_ERROR(TL_ERR_IO, "write error");
+  if (ferror(in)) TL_ERROR(TL_ERR_IO, "read error");
+  return TL_OK;
+}
+
+/* A restart may write its series into another folder than the run it
+ * continues: every snapshot file the restored steps reference must then be
+ * there too, or the series points at files that are not.  Each one missing
+ * from the series' folder is copied from the folder of the checkpoint file
+ * (where the run that wrote it kept its output); a file in neither is
+ * refused by name. */
+static TlStatus tl_xdmf_complete(const TlXdmfSeries *s, const TlCheckpointReader *r, const char *group)
+{
+  const char *key = "Format=\"HDF\">";
+  char *dir = NULL, *from = NULL, *target = NULL, *source = NULL;
+  TlStatus st = tl_xdmf_folder_of(s->path, &dir);
+  if (st == TL_OK) st = tl_xdmf_folder_of(tl_checkpoint_reader_path(r), &from);
+  for (const char *p = s->grids.text ? strstr(s->grids.text, key) : NULL; st == TL_OK && p; p = strstr(p, key)) {
+    p += strlen(key);
+    size_t n = strcspn(p, ":<\n");
+    if (p[n] != ':' || n == 0 || n >= 1024) continue;
+    char name[1024];
+    memcpy(name, p, n);
+    name[n] = '\0';
+    if (strchr(name, '/')) continue; /* the writers reference files in their own folder */
+    tl_free(&target);
+    tl_free(&source);
+    st = tl_path_join(dir, name, &target);
+    if (st == TL_OK) st = tl_path_join(from, name, &source);
+    if (st != TL_OK) break;
+    struct stat ts, ss;
+    const int have_target = stat(target, &ts) == 0 && S_ISREG(ts.st_mode);
+    const int have_source = stat(source, &ss) == 0 && S_ISREG(ss.st_mode);
+    /* the same file (a restart in its own folder), or only the series'
+     * folder has it (the checkpoint was moved): nothing to copy.  A file of
+     * that name from another run is replaced by the checkpoint's. */
+    if (have_target && (!have_source || (ts.st_dev == ss.st_dev && ts.st_ino == ss.st_ino))) continue;
+    FILE *in = have_source ? fopen(source, "rb") : NULL;
+    if (!in) {
+      st = tl_error_set(TL_ERR_IO, __FILE__, __LINE__,
+                        "restart from '%s': series '%s' (%s) lists snapshot '%s', which is neither in the series' "
+                        "folder '%s' nor next to the checkpoint in '%s': restart in the folder of the run that "
+                        "wrote it, or copy its snapshot files along", tl_checkpoint_reader_path(r), group, s->path,
+                        name, dir[0] ? dir : ".", from[0] ? from : ".");
+      break;
+    }
+    st = tl_atomic_write(target, tl_xdmf_copy_stream, in);
+    fclose(in);
+  }
+  tl_free(&dir);
+  tl_free(&from);
+  tl_free(&target);
+  tl_free(&source);
+  return st == TL_OK ? TL_OK : tl_error_trace(st, __FILE__, __LINE__);
+}
+
 static TlStatus tl_xdmf_load(void *object, TlCheckpointReader *r, const char *group)
 {
   TlXdmfSeries *s = object;
@@ -225,6 +297,7 @@ static TlStatus tl_xdmf_load(void *object, TlCheckpointReader *r, const char *gr
   s->grids.text[n] = '\0';
   s->grids.length = n;
   s->steps = (size_t)steps;
+  TL_CHECK(tl_xdmf_complete(s, r, group));
   TL_CHECK(tl_xdmf_series_flush(s));
   return TL_OK;
 }

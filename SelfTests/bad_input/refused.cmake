@@ -4,8 +4,15 @@
 if(NOT DEFINED DRIVER OR NOT DEFINED EXPECT OR NOT DEFINED OUT)
   message(FATAL_ERROR "refused.cmake: DRIVER, EXPECT and OUT are required")
 endif()
+# A list drops empty items: "-output_dir ''" in ARGS passes an empty
+# folder name in place of OUT.
+set(dir "${OUT}")
+if(ARGS MATCHES "-output_dir ''")
+  string(REPLACE "-output_dir ''" "" ARGS "${ARGS}")
+  set(dir "")
+endif()
 separate_arguments(args UNIX_COMMAND "${ARGS}")
-execute_process(COMMAND ${DRIVER} ${args} -output_dir ${OUT}
+execute_process(COMMAND ${DRIVER} ${args} -output_dir "${dir}"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
 set(all "${out}${err}")
 if(rc EQUAL 0)
