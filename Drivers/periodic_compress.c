@@ -28,8 +28,9 @@
  * for -friction_damped_steps, chunks until at rest, undamped chunks until at
  * rest, and the frictional packing is written.  One difference from the
  * scripts: a random centre whose grain would overlap another by more than
- * -max_initial_overlap of the smaller radius is drawn again (Talus refuses
- * overlaps larger than a radius at set-up; the scripts allow any overlap).
+ * -max_initial_overlap of the smaller radius is drawn again (a world refuses
+ * initial overlaps beyond its limit, 0.5 of a radius by default, raised here
+ * to -max_initial_overlap; the scripts allow any overlap).
  *
  * Defaults are seeds/000 Table 1: E = 50 GPa, ν = 0.3, ρ = 2500 kg/m³,
  * d ∈ [2.5, 3.5] mm, μ = 0.5, γ_n = 0.2, γ_t = 0.1 (1/(m s), the Hertz
@@ -121,7 +122,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                "[scripts] solid volume / box volume at which the random insertion stops (scripts: 0.60)", &s->fill));
   TL_CHECK(tl_options_get_real(*o, "-max_initial_overlap", 0.5, 0.0, 0.95, "",
                                "[scripts] largest initial overlap of two grains, in units of the smaller radius "
-                               "(Talus refuses more than 1 at set-up)", &s->max_overlap));
+                               "(at most 0.95; the world's set-up refuses more)", &s->max_overlap));
   TL_CHECK(tl_options_get_real(*o, "-viscous", 0.5, 0.0, 1e9, "N s/m",
                                "[scripts] global viscous damping c: force -c v on every grain (LAMMPS fix viscous 0.5)", &s->viscous));
   TL_CHECK(tl_options_get_real(*o, "-mu_compaction", 0.0, 0.0, 1e4, "",
@@ -391,6 +392,8 @@ static TlStatus run_scripts(Settings *s, double wall0)
   TL_CHECK(tl_dem_add_law(dem, law_c, NULL));
   TL_CHECK(tl_particles_enable_coupling_force(P));
   configure(dem, s);
+  /* the random insertion overlaps grains up to -max_initial_overlap on purpose */
+  TL_CHECK(tl_dem_set_max_initial_overlap(dem, fmax(TL_DEM_MAX_INITIAL_OVERLAP, fmin(1.0, s->max_overlap))));
   TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
   TL_CHECK(tl_dem_setup(dem));
   long n_small, n_large;

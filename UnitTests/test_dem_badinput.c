@@ -2,7 +2,7 @@
  * crash or silent NaNs: negative radius, zero density, bad law parameters,
  * a time step above the critical one (refused with both numbers; the
  * override runs and is logged), particles created overlapping by more than
- * their radius, NaN from a prescribed motion, and a run that blows up. */
+ * half their radius (the default limit) or their radius, NaN from a prescribed motion, and a run that blows up. */
 #include <math.h>
 #include <string.h>
 #include "talus.h"
@@ -106,6 +106,22 @@ int main(void)
   TL_TEST_STATUS(tl_dem_setup(dem), TL_ERR_ARG);
   TL_TEST_ASSERT(mentions("overlap by 0.012"), "overlap not named");
   TL_TEST_ASSERT(mentions("id 0") && mentions("id 1"), "overlapping particles not named");
+  tl_dem_destroy(&dem);
+  /* beyond the default limit, half the smaller radius (0.6 of it), and
+   * accepted once the limit is raised for a scene that wants it; the limit
+   * itself is checked */
+  TL_TEST_STATUS(two_spheres(&dem, -0.006, 0.1 * dtc, 0, tl_v3(0, 0, 0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_ERR_ARG);
+  TL_TEST_ASSERT(mentions("0.6 of the smaller radius") && mentions("beyond the limit 0.5"), "limit not named");
+  tl_dem_destroy(&dem);
+  TL_TEST_STATUS(two_spheres(&dem, -0.006, 0.1 * dtc, 0, tl_v3(0, 0, 0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_max_initial_overlap(dem, 1.5), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_dem_set_max_initial_overlap(dem, 0.0), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_dem_set_max_initial_overlap(dem, 0.7), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  tl_dem_destroy(&dem);
+  TL_TEST_STATUS(two_spheres(&dem, -0.004, 0.1 * dtc, 0, tl_v3(0, 0, 0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK); /* 0.4 of a radius: within the default */
   tl_dem_destroy(&dem);
 
   /* NaN in a prescribed motion */

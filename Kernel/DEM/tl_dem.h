@@ -217,8 +217,15 @@ double tl_dem_time(const TlDem *dem);
 /* The critical time step estimate and what it was computed from. */
 TlStatus tl_dem_critical_timestep(TlDem *dem, double *dt_critical, double *k_max, double *m_min);
 
-/* Checks the scene (radii, densities, overlaps larger than a radius, dt)
- * and allocates its state; must precede tl_dem_step. */
+/* The largest overlap of a pair at set-up, as a fraction of the smaller
+ * radius (default TL_DEM_MAX_INITIAL_OVERLAP = 0.5; at most 1): beyond it
+ * tl_dem_setup refuses the scene, naming the pair.  A preparation that
+ * inserts grains overlapping on purpose (periodic_compress
+ * -max_initial_overlap) sets it to what it allows. */
+#define TL_DEM_MAX_INITIAL_OVERLAP 0.5
+TlStatus tl_dem_set_max_initial_overlap(TlDem *dem, double fraction);
+/* Checks the scene (radii, densities, initial overlaps, dt) and allocates
+ * its state; must precede tl_dem_step. */
 TlStatus tl_dem_setup(TlDem *dem);
 /* n steps; stops with TL_ERR_UNSTABLE and a diagnosis (which particle, what
  * value) when a position or velocity becomes non-finite or a particle moves

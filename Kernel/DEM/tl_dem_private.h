@@ -75,6 +75,7 @@ struct TlDem {
   Prescribed *presc;
   size_t n_presc, presc_cap;
   double dt, t, disp2max, r_min;
+  double max_initial_overlap; /* of the smaller radius, checked by tl_dem_setup */
   int allow_above, setup_done, need_rebuild, rotation, orientation;
   int dim; /* 3, or 2: disks in the plane z = 0 (tl_dem_set_dimension) */
   long steps, rebuilds;
