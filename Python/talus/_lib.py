@@ -229,3 +229,59 @@ for _cls, _cname in ((Vec3, "TlVec3"), (DemEnergy, "TlDemEnergy"), (DemStats, "T
                           "Python package: package and library are from different versions")
 
 call("tl_initialize")
+
+
+# ---- object life cycles
+# A Python object holds one library handle and frees it with the type's
+# destroy function.  What a handle borrows (a solid its mesh, a coupling its
+# solid, a loop its world, solid, stepper and couplings) must outlive it:
+# the borrower holds the borrowed objects, so reference counting frees
+# borrowers first.  The cycle collector (a traceback kept in a frame, an
+# object graph the user made cyclic) finalizes in any order, so an object
+# still borrowed when finalized only marks itself and is freed by the last
+# borrower's release.  At interpreter exit nothing is freed: the process's
+# memory goes with it, and the library's destroy functions are not called
+# on a half-torn-down interpreter.
+import atexit
+
+_exiting = False
+
+
+def _at_exit():
+    global _exiting
+    _exiting = True
+
+
+atexit.register(_at_exit)
+
+
+class Handle:
+    _h = None
+    _owner = None       # the world that took ownership (laws, walls), or None
+    _destroy_name = None
+    _borrowers = 0
+    _dying = False
+    _borrowed = ()
+
+    def _init_handle(self, destroy_name, borrowed=()):
+        self._h = ctypes.c_void_p()
+        self._destroy_name = destroy_name
+        self._borrowed = list(borrowed)
+        for o in self._borrowed:
+            o._borrowers += 1
+
+    def _free(self):
+        h, self._h = self._h, None
+        if h and self._owner is None and not _exiting:
+            getattr(lib, self._destroy_name)(ctypes.byref(h))
+        borrowed, self._borrowed = self._borrowed, ()
+        for o in borrowed:
+            o._borrowers -= 1
+            if o._dying and o._borrowers == 0:
+                o._free()
+
+    def __del__(self):
+        if self._borrowers > 0:
+            self._dying = True
+        else:
+            self._free()

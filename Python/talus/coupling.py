@@ -22,7 +22,7 @@ SCHEMES = {"predict": 0, "interpolate": 1, "parallel": 2, "lagged_walls": 3}
 SUPPORTS = {"surface": 0, "elements": 1}
 
 
-class SurfaceCoupling:
+class SurfaceCoupling(_lib.Handle):
     """All boundary faces of the solid's mesh except the named face sets,
     as one coupled boundary: a triangulated DEM wall that follows the
     solid, and the coarse-grained contact tractions (width c in m; 0: the
@@ -32,7 +32,7 @@ class SurfaceCoupling:
     def __init__(self, solid, exclude=(), width=0.0, kernel=None, subdivisions=0, support="surface"):
         self.solid = solid
         self._world = None
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_scoupling_destroy", borrowed=(solid,))
         names = (ctypes.c_char_p * max(len(exclude), 1))(*[cstr(e) for e in exclude])
         settings = {"width": width, "subdivisions": subdivisions,
                     "support": SUPPORTS[support] if isinstance(support, str) else support}
@@ -50,12 +50,8 @@ class SurfaceCoupling:
     n_elements = property(lambda self: lib.tl_scoupling_n_elements(self._h), doc="SCoupling elements")
     n_active_elements = property(lambda self: lib.tl_scoupling_n_active_elements(self._h))
 
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_scoupling_destroy(ctypes.byref(self._h))
 
-
-class CoupledLoop:
+class CoupledLoop(_lib.Handle):
     """The coupled DEM–FEM loop: each macro step is `substeps` DEM steps of
     the world's dt and one FE step of substeps x dt.  scheme: predict
     (default), interpolate, parallel, lagged_walls; one_way: a rigid solid;
@@ -64,7 +60,7 @@ class CoupledLoop:
     def __init__(self, world, solid, stepper, couplings, substeps=1, scheme="predict", one_way=False,
                  average_forces=False):
         self.world, self.solid, self.stepper, self.couplings = world, solid, stepper, list(couplings)
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_coupled_loop_destroy", borrowed=(world, solid, stepper, *self.couplings))
         hs = (ctypes.c_void_p * len(self.couplings))(*[c._h.value for c in self.couplings])
         settings = {"substeps": substeps, "scheme": SCHEMES[scheme] if isinstance(scheme, str) else scheme,
                     "one_way": int(bool(one_way)), "average_forces": int(bool(average_forces))}
@@ -111,7 +107,3 @@ class CoupledLoop:
     def positions(self):
         """Current node positions X + u (n_nodes, 3), m (a copy)."""
         return self.solid.mesh.nodes + self.u
-
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_coupled_loop_destroy(ctypes.byref(self._h))

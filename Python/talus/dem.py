@@ -34,15 +34,14 @@ def _check_owned(obj):
         raise _lib.TalusError(9, "invalid state", f"this {type(obj).__name__} already belongs to a world")
 
 
-class ContactLaw:
+class ContactLaw(_lib.Handle):
     """A contact law composed of registered parts, by name, with its
     parameters: ContactLaw("linear", "coulomb", k_n=2e5, restitution=0.5,
     mu=0.5).  `talus.types("contact_normal")` lists the normal parts
     (kinds contact_friction, contact_rolling, contact_adhesion the others)."""
 
     def __init__(self, normal, friction=None, rolling=None, adhesion=None, **params):
-        self._h = ctypes.c_void_p()
-        self._owner = None
+        self._init_handle("tl_contact_law_destroy")
         call("tl_contact_law_create", cstr(normal), cstr(friction), cstr(rolling), cstr(adhesion),
              ctypes.byref(self._h))
         for k, v in params.items():
@@ -60,12 +59,8 @@ class ContactLaw:
         call("tl_contact_law_set", self._h, cstr(name), float(value))
         call("tl_contact_law_setup", self._h)
 
-    def __del__(self):
-        if getattr(self, "_owner", None) is None and getattr(self, "_h", None):
-            lib.tl_contact_law_destroy(ctypes.byref(self._h))
 
-
-class Wall:
+class Wall(_lib.Handle):
     """A wall of any registered type by name with its parameters
     (`talus.types("wall")`): Wall("plane", point_z=0.0, normal_z=1.0).
     Builders: Wall.plane, Wall.trisurface, Wall.rectangle.  Once added to a
@@ -73,8 +68,7 @@ class Wall:
     handle to it (its `account`) while the world lives."""
 
     def __init__(self, type, **params):
-        self._h = ctypes.c_void_p()
-        self._owner = None
+        self._init_handle("tl_wall_destroy")
         settings = (_lib.WallSetting * max(len(params), 1))(
             *[_lib.WallSetting(cstr(k), float(v)) for k, v in params.items()])
         call("tl_wall_create", cstr(type), len(params), settings, ctypes.byref(self._h))
@@ -162,12 +156,8 @@ class Wall:
         return {"force": np.array(f[:]), "torque": np.array(t[:]), "n_contacts": n.value,
                 "elastic_energy": e.value, "work": w.value}
 
-    def __del__(self):
-        if getattr(self, "_owner", None) is None and getattr(self, "_h", None):
-            lib.tl_wall_destroy(ctypes.byref(self._h))
 
-
-class World:
+class World(_lib.Handle):
     """A DEM world (tl_dem.h).
 
     w = World(box=([0, 0, 0], [1, 1, 1]), gravity=(0, 0, -9.81))
@@ -180,7 +170,7 @@ class World:
     """
 
     def __init__(self, box=None, periodic=None, gravity=None, dimension=3):
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_dem_destroy")
         call("tl_dem_create", ctypes.byref(self._h))
         self._p = lib.tl_dem_particles(self._h)
         if dimension != 3:
@@ -190,10 +180,6 @@ class World:
         if gravity is not None:
             self.gravity = gravity
         self._is_setup = False
-
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_dem_destroy(ctypes.byref(self._h))
 
     # ---- scene
     def set_box(self, lo, hi, periodic=None):

@@ -23,12 +23,13 @@ def _element_type(name):
     return t
 
 
-class Mesh:
+class Mesh(_lib.Handle):
     """A mesh: Mesh.box("hex8", (2, 30, 2), lo, hi) (face and node sets
     xmin, xmax, ymin, ymax, zmin, zmax; block "body") or
     Mesh.read_gmsh(path)."""
 
     def __init__(self, handle):
+        self._init_handle("tl_mesh_destroy")
         self._h = handle
 
     @classmethod
@@ -45,10 +46,6 @@ class Mesh:
         h = ctypes.c_void_p()
         call("tl_mesh_read_gmsh", cstr(path), ctypes.byref(h))
         return cls(h)
-
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_mesh_destroy(ctypes.byref(self._h))
 
     def _nodes(self):
         dim, n, x = ctypes.c_int(), ctypes.c_size_t(), ctypes.c_void_p()
@@ -82,12 +79,12 @@ class Mesh:
         return lib.tl_mesh_volume(self._h)
 
 
-class Material:
+class Material(_lib.Handle):
     """A registered material by name with its parameters
     (`talus.types("material")`): Material("hooke", E=1e8, nu=0.0, density=1309)."""
 
     def __init__(self, name, **params):
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_material_destroy")
         call("tl_material_create", cstr(name), ctypes.byref(self._h))
         for k, v in params.items():
             call("tl_material_set", self._h, cstr(k), float(v))
@@ -98,12 +95,8 @@ class Material:
         call("tl_material_get", self._h, cstr(name), ctypes.byref(x))
         return x.value
 
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_material_destroy(ctypes.byref(self._h))
 
-
-class Solid:
+class Solid(_lib.Handle):
     """A finite-strain solid on a mesh with one material:
     Solid(mesh, material, fix={"ymin": 7}, gravity=None).  `fix` maps node
     sets to component masks (1 x, 2 y, 4 z).  Set up at construction unless
@@ -111,7 +104,7 @@ class Solid:
 
     def __init__(self, mesh, material, fix=None, gravity=None, setup=True):
         self.mesh, self.material = mesh, material
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_solid_destroy", borrowed=(mesh, material))
         call("tl_solid_create", mesh._h, ctypes.byref(self._h))
         call("tl_solid_set_material", self._h, None, material._h)
         for name, mask in (fix or {}).items():
@@ -132,17 +125,13 @@ class Solid:
     def mass(self):
         return lib.tl_solid_total_mass(self._h)
 
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_solid_destroy(ctypes.byref(self._h))
-
 
 STEPPER_OPTIONS = ("beta", "gamma", "rtol", "atol", "max_iterations", "reuse", "keep_factors", "line_search",
                    "nonlinear_solver", "lumped", "predictor", "allow_unstable", "blowup", "critical_bound",
                    "ramp_time", "max_cuts")
 
 
-class Stepper:
+class Stepper(_lib.Handle):
     """A registered time stepper over a solid (`talus.types("stepper")`:
     newmark, central_difference, quasi_static) with the library's default
     options and the numeric ones given (STEPPER_OPTIONS, e.g.
@@ -151,7 +140,7 @@ class Stepper:
 
     def __init__(self, solid, type="newmark", solver=None, **options):
         self.solid = solid
-        self._h = ctypes.c_void_p()
+        self._init_handle("tl_stepper_destroy", borrowed=(solid,))
         n, names, values = named_settings(options)
         call("tl_api_stepper_create", cstr(type), lib.tl_solid_system(solid._h), cstr(solver), n, names, values,
              ctypes.byref(self._h))
@@ -198,7 +187,3 @@ class Stepper:
         e = _lib.Energies()
         call("tl_stepper_energies", self._h, ctypes.byref(e))
         return {name: getattr(e, name) for name, _ in _lib.Energies._fields_}
-
-    def __del__(self):
-        if getattr(self, "_h", None):
-            lib.tl_stepper_destroy(ctypes.byref(self._h))
