@@ -24,6 +24,7 @@
 #include "tl_dem.h"
 #include "tl_error.h"
 #include "tl_mesh.h"
+#include "tl_particle_snapshot.h"
 #include "tl_scoupling.h"
 #include "tl_solid.h"
 #include "tl_stepper.h"
@@ -78,6 +79,11 @@ void tl_api_wall_account(const TlWall *w, double force[3], double torque[3], siz
  * (3 ints each) of a surface. */
 void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n_vertices, int **tri,
                               size_t *n_triangles);
+
+/* Writes a snapshot of the world's particles (positions, radii, velocities,
+ * forces, species and, when allocated, spins and torques) at its current
+ * time; step < 0 takes the world's step count. */
+TlStatus tl_api_particle_writer_write_dem(TlParticleWriter *writer, TlDem *dem, int64_t step);
 
 /* ---- meshes and steppers (tl_api_fem.c) ---- */
 /* Dimension, node count and reference coordinates (3 doubles a node). */

@@ -83,3 +83,23 @@ void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n
   *tri = s->tri;
   *n_triangles = s->n_triangles;
 }
+
+TlStatus tl_api_particle_writer_write_dem(TlParticleWriter *writer, TlDem *dem, int64_t step)
+{
+  TlParticles *P = tl_dem_particles(dem);
+  if (step < 0) {
+    TlDemStats st;
+    tl_dem_stats(dem, &st);
+    step = st.steps;
+  }
+  const TlParticleView view = {.n = P->n,
+                               .position = P->x,
+                               .radius = P->radius,
+                               .velocity = P->v,
+                               .angular_velocity = P->w,
+                               .force = P->f,
+                               .torque = P->torque,
+                               .species = (const int *)P->species};
+  TL_CHECK(tl_particle_writer_write(writer, step, tl_dem_time(dem), &view));
+  return TL_OK;
+}

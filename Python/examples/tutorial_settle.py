@@ -4,7 +4,8 @@ Polydisperse spheres poured on a jittered lattice into a box whose floor is
 a triangulated rectangle and whose sides are planes; under gravity they
 fall, bounce and settle.  The script checks what a settled packing must
 show: the floor carries its weight, the kinetic energy has gone and the
-energy balance (dissipation included) holds.  Run: python3 tutorial_settle.py
+energy balance (dissipation included) holds.  Run: python3 tutorial_settle.py;
+in ParaView open settle/particles.xmf, Glyph: Sphere, scale by radius, factor 2.
 """
 import numpy as np
 
@@ -36,9 +37,12 @@ world.timestep = 0.2 * world.critical_timestep()
 world.track_energy()
 world.setup()
 e0, weight = world.energy()["total"], g * world.mass.sum()
+snapshots = talus.ParticleWriter("settle", "particles")   # ParaView: open settle/particles.xmf
+snapshots.write(world)
 chunk = int(0.02 / world.timestep)
 for _ in range(15):                         # 0.3 s
     world.step(chunk)
+    snapshots.write(world)
     e = world.energy()
     print(f"t = {world.time:.3f} s  kinetic = {e['kinetic_translational']:.3e} J  "
           f"floor carries {-floor.account['force'][2] / weight:.3f} of the weight")

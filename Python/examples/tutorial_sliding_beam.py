@@ -8,7 +8,9 @@ forces back.  A frictionless sphere resting on the top face (overlap
 m g / k_n) slides along it at 0.1 m/s.  Checks: the sphere slides along
 the beam, the beam deflects under it, the coupling forces balance the
 particle–wall forces (momentum), and the coupled energy is conserved
-(no damping anywhere).  Run: python3 tutorial_sliding_beam.py
+(no damping anywhere).  Run: python3 tutorial_sliding_beam.py; plot
+sliding_beam.csv, or open sliding/beam.xmf (Warp By Vector: displacement)
+and sliding/particles.xmf in ParaView.
 """
 import numpy as np
 
@@ -42,8 +44,11 @@ below = np.argmin(np.linalg.norm(mesh.nodes - (0.2, y0, h / 2), axis=1))  # the 
 X = mesh.nodes
 lines = [np.flatnonzero((X[:, 2] == h / 2) & (X[:, 0] == x)) for x in (0.0, 0.4)]  # top edges beside x = 0.2
 rows, balance, gap = [], 0.0, 0.0
+beam_out, particles_out = talus.SolidWriter(beam, "sliding", "beam"), talus.ParticleWriter("sliding", "particles")
 while loop.time < t_end:
     loop.step(10)
+    if len(rows) % 10 == 0:                             # ParaView: sliding/beam.xmf and sliding/particles.xmf
+        beam_out.write(stepper), particles_out.write(world)
     e = loop.energy()
     f_sum = loop.forces.sum(axis=0)                     # coupling forces on the beam's nodes, N
     balance = max(balance, np.abs(f_sum + loop.wall_force).max() / (m * g))

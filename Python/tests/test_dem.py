@@ -98,3 +98,15 @@ def test_trisurface_wall_arrays_and_registry():
     assert np.all(tri.vertices[:, 2] == 0.5)
     assert "linear" in talus.types("contact_normal") and "trisurface" in talus.types("wall")
     assert "newmark" in talus.types("stepper") and "hex8" in talus.types("element")
+
+
+def test_particle_snapshots(tmp_path):
+    w, _ = resting_sphere()
+    out = talus.ParticleWriter(str(tmp_path / "out"), "particles")
+    out.write(w)
+    w.step(3)
+    out.write(w)
+    assert out.count == 2
+    assert (tmp_path / "out" / "particles_000001.h5").exists()
+    xmf = (tmp_path / "out" / "particles.xmf").read_text()
+    assert xmf.count("particles_00000") >= 2           # a time series of both
