@@ -80,6 +80,14 @@ void tl_api_wall_account(const TlWall *w, double force[3], double torque[3], siz
 void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n_vertices, int **tri,
                               size_t *n_triangles);
 
+/* The touching particle-particle contacts of the last force evaluation
+ * (tl_dem_visit_contacts): *count receives how many there are, and the
+ * first `max` are written: particle indices i and j (int64), the force on i,
+ * the branch vector from i to j and the contact point (3 doubles each); any
+ * output may be NULL.  Call with max = 0 to size the arrays. */
+TlStatus tl_api_dem_contacts(TlDem *dem, size_t max, size_t *count, int64_t *i, int64_t *j, double *force,
+                             double *branch, double *point);
+
 /* Writes a snapshot of the world's particles (positions, radii, velocities,
  * forces, species and, when allocated, spins and torques) at its current
  * time; step < 0 takes the world's step count. */

@@ -103,3 +103,36 @@ TlStatus tl_api_particle_writer_write_dem(TlParticleWriter *writer, TlDem *dem, 
   TL_CHECK(tl_particle_writer_write(writer, step, tl_dem_time(dem), &view));
   return TL_OK;
 }
+
+typedef struct {
+  size_t max, count;
+  int64_t *i, *j;
+  double *force, *branch, *point;
+} ContactArrays;
+
+static void put3(double *a, size_t k, TlVec3 v)
+{
+  if (!a) return;
+  a[3 * k] = v.x, a[3 * k + 1] = v.y, a[3 * k + 2] = v.z;
+}
+
+static void collect_contact(void *ctx, size_t i, size_t j, TlVec3 force, TlVec3 branch, TlVec3 point)
+{
+  ContactArrays *c = ctx;
+  const size_t k = c->count++;
+  if (k >= c->max) return;
+  if (c->i) c->i[k] = (int64_t)i;
+  if (c->j) c->j[k] = (int64_t)j;
+  put3(c->force, k, force);
+  put3(c->branch, k, branch);
+  put3(c->point, k, point);
+}
+
+TlStatus tl_api_dem_contacts(TlDem *dem, size_t max, size_t *count, int64_t *i, int64_t *j, double *force,
+                             double *branch, double *point)
+{
+  ContactArrays c = {max, 0, i, j, force, branch, point};
+  TL_CHECK(tl_dem_visit_contacts(dem, collect_contact, &c));
+  *count = c.count;
+  return TL_OK;
+}

@@ -114,6 +114,7 @@ _prototypes = {
     "tl_dem_energy": (S, [handle, ctypes.POINTER(DemEnergy)]),
     "tl_dem_coordination": (S, [handle, c_double_p, c_double_p]),
     "tl_dem_stats": (None, [handle, ctypes.POINTER(DemStats)]),
+    "tl_api_dem_contacts": (S, [handle, ctypes.c_size_t, c_size_p] + [handle] * 5),
     # particles
     "tl_particles_add_species": (S, [handle, ctypes.c_char_p, ctypes.c_double, ctypes.c_double, ctypes.c_double,
                                      c_int_p]),

@@ -383,6 +383,17 @@ class World(_lib.Handle):
         call("tl_dem_coordination", self._h, ctypes.byref(z), ctypes.byref(zr))
         return z.value, zr.value
 
+    def contacts(self):
+        """The touching particle-particle contacts of the last force
+        evaluation, as arrays (copies): i, j (current indices), force on i
+        (N), branch vector from i to j and contact point (m), each (n, 3)."""
+        n = ctypes.c_size_t()
+        call("tl_api_dem_contacts", self._h, 0, ctypes.byref(n), None, None, None, None, None)
+        i, j = np.zeros(n.value, dtype=np.int64), np.zeros(n.value, dtype=np.int64)
+        f, b, p = (np.zeros((n.value, 3)) for _ in range(3))
+        call("tl_api_dem_contacts", self._h, n.value, ctypes.byref(n), *(a.ctypes.data for a in (i, j, f, b, p)))
+        return {"i": i, "j": j, "force": f, "branch": b, "point": p}
+
     def stats(self):
         s = _lib.DemStats()
         lib.tl_dem_stats(self._h, ctypes.byref(s))

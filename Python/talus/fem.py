@@ -183,6 +183,14 @@ class Stepper(_lib.Handle):
                                    out.ctypes.data_as(_lib.c_double_p))
         return out
 
+    def node_velocities(self):
+        """Node-space velocities (n_nodes, 3), clamped components 0 (a copy)."""
+        out = np.zeros((self.solid.mesh.n_nodes, 3))
+        t, n, u, v, a = self._state()
+        lib.tl_solid_dofs_to_nodes(self.solid._h, ctypes.cast(v, _lib.c_double_p),
+                                   out.ctypes.data_as(_lib.c_double_p))
+        return out
+
     def energies(self):
         e = _lib.Energies()
         call("tl_stepper_energies", self._h, ctypes.byref(e))

@@ -110,3 +110,26 @@ def test_particle_snapshots(tmp_path):
     assert (tmp_path / "out" / "particles_000001.h5").exists()
     xmf = (tmp_path / "out" / "particles.xmf").read_text()
     assert xmf.count("particles_00000") >= 2           # a time series of both
+
+
+def test_contacts_balance_gravity():
+    """A column of three spheres at rest on a floor: contact forces from the
+    library's list, against the weights they carry."""
+    w = talus.World(gravity=(0, 0, -G))
+    w.add_species("g", RHO, R)
+    w.add_law(talus.ContactLaw("linear", k_n=K_N))
+    w.add_wall(talus.Wall.plane())
+    m = RHO * 4 / 3 * np.pi * R**3
+    delta = m * G / K_N                                # each contact's overlap for the weight above it
+    z1 = R - 3 * delta
+    z2 = z1 + 2 * R - 2 * delta
+    z3 = z2 + 2 * R - delta
+    for z in (z1, z2, z3):
+        w.add_particle((0, 0, z), radius=R)
+    w.timestep = 0.1 * w.critical_timestep()
+    w.setup()
+    c = w.contacts()
+    assert len(c["i"]) == 2
+    fz = sorted(abs(c["force"][:, 2]))
+    assert fz == pytest.approx([m * G, 2 * m * G], rel=1e-9)
+    assert np.allclose(np.abs(w.f[:, 2]), 0.0, atol=1e-9 * m * G)   # every sphere in balance
