@@ -40,7 +40,7 @@ e0, weight = world.energy()["total"], g * world.mass.sum()
 snapshots = talus.ParticleWriter("settle", "particles")   # ParaView: open settle/particles.xmf
 snapshots.write(world)
 chunk = int(0.02 / world.timestep)
-for _ in range(15):                         # 0.3 s
+for _ in range(25):                         # 0.5 s
     world.step(chunk)
     snapshots.write(world)
     e = world.energy()

@@ -173,6 +173,7 @@ class World(_lib.Handle):
         self._init_handle("tl_dem_destroy")
         call("tl_dem_create", ctypes.byref(self._h))
         self._p = lib.tl_dem_particles(self._h)
+        self._gravity = np.zeros(3)
         if dimension != 3:
             call("tl_dem_set_dimension", self._h, int(dimension))
         if box is not None:
@@ -192,7 +193,8 @@ class World(_lib.Handle):
 
     @property
     def gravity(self):
-        return self._gravity
+        """Gravity (m/s^2) on every free particle; a copy: assign to change it."""
+        return self._gravity.copy()
 
     @gravity.setter
     def gravity(self, g):

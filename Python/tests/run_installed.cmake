@@ -1,6 +1,7 @@
 # Installs the build into a scratch prefix and uses the Python package from
 # there, with the library the install recorded (no TALUS_LIBRARY).
 #   -DBINARY_DIR= -DWORK_DIR= -DPYTHON= -DPYDIR=(relative site dir) -DCHECK=(script)
+#   -DPRELOAD=(the sanitizers' runtimes, for an instrumented library; may be empty)
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${WORK_DIR}/prefix
                 RESULT_VARIABLE rc OUTPUT_QUIET)
@@ -9,7 +10,11 @@ if(rc)
 endif()
 set(ENV{PYTHONPATH} ${WORK_DIR}/prefix/${PYDIR})
 unset(ENV{TALUS_LIBRARY})
-execute_process(COMMAND ${PYTHON} ${CHECK} ${WORK_DIR}/prefix WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc)
+set(run ${PYTHON})
+if(PRELOAD)
+  set(run ${CMAKE_COMMAND} -E env LD_PRELOAD=${PRELOAD} ASAN_OPTIONS=detect_leaks=0 ${PYTHON})
+endif()
+execute_process(COMMAND ${run} ${CHECK} ${WORK_DIR}/prefix WORKING_DIRECTORY ${WORK_DIR} RESULT_VARIABLE rc)
 if(rc)
   message(FATAL_ERROR "the installed package failed its check (${rc})")
 endif()

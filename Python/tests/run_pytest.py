@@ -8,10 +8,17 @@ import subprocess
 import sys
 
 SKIP = 77
+# The tools run here never get the sanitizers' runtimes the interpreter
+# may have been started with.
+TOOL_ENV = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
 
 
 def have_pytest():
-    return subprocess.call([sys.executable, "-c", "import pytest"], stderr=subprocess.DEVNULL) == 0
+    try:
+        import pytest  # noqa: F401
+        return True
+    except ImportError:
+        return False
 
 
 def install_pytest():
@@ -19,12 +26,14 @@ def install_pytest():
         print("python3-pytest is not installed and we are not root: apt-get install python3-pytest")
         return False
     lock = ["-o", "DPkg::Lock::Timeout=600"]
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    env = dict(TOOL_ENV, DEBIAN_FRONTEND="noninteractive")
     if subprocess.call(["apt-get", *lock, "install", "-y", "python3-pytest"], env=env) != 0:
         subprocess.call(["apt-get", *lock, "update"], env=env)
         if subprocess.call(["apt-get", *lock, "install", "-y", "python3-pytest"], env=env) != 0:
             print("apt-get could not install python3-pytest")
             return False
+    import importlib
+    importlib.invalidate_caches()
     return have_pytest()
 
 
