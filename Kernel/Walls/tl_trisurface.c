@@ -310,6 +310,16 @@ TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const dou
   return TL_OK;
 }
 
+TlStatus tl_trisurface_vertices_moved(TlTriSurface *s)
+{
+  if (!s) TL_ERROR(TL_ERR_ARG, "tl_trisurface_vertices_moved: NULL surface");
+  TL_CHECK(check_vertices(s));
+  surface_box(s);
+  ++s->version;
+  s->geometry_stale = 1;
+  return TL_OK;
+}
+
 TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles)
 {
   for (size_t k = 0; k < n; ++k) {

@@ -119,6 +119,9 @@ TlStatus tl_trisurface_update(TlTriSurface *s);
  * O(triangles).  Both compute the same numbers bit for bit. */
 TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const double *v);
 TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles);
+/* The owner wrote s->x and s->v in place: as tl_trisurface_move_vertices
+ * without the copy. */
+TlStatus tl_trisurface_vertices_moved(TlTriSurface *s);
 /* Sets the feature angle (degrees, in [0, 180]; 180: no edge is sharp, the
  * corrections of seeds/001 alone) and reclassifies the sharpness of every
  * edge from the current normals. */
