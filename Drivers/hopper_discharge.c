@@ -24,7 +24,8 @@
  * discharge_<i>.csv (t, discharged mass), rates.csv (D, W, the fit),
  * particles_<i>_*.h5 + .xmf (ParaView, -snapshots per orifice).  Plot:
  * SelfTests/hopper_discharge/plot_hopper.py <output_dir>.  Last line:
- * summary: n=... rho_b=... C=... k=... W_1=... mass_balance_error=... */
+ * summary: n=... rho_b=... W_1=... C=... k=... C_k_fixed=... (C for k = 1.5)
+ * mass_balance_error=... */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -493,7 +494,7 @@ static TlStatus run(int argc, char **argv)
   tl_summary_int(&sum, "rate_grows_with_D", monotone);
   if (isfinite(C)) tl_summary_real(&sum, "C", C), tl_summary_real(&sum, "k", kk);
   else tl_summary_string(&sum, "C", "none"), tl_summary_string(&sum, "k", "none");
-  if (isfinite(C15)) tl_summary_real(&sum, "C_k1.5", C15);
+  if (isfinite(C15)) tl_summary_real(&sum, "C_k_fixed", C15); /* C with k = 1.5 */
   tl_summary_real(&sum, "mass_balance_error", worst_balance);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   st = tl_summary_print(&sum, stdout);
