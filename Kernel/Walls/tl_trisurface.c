@@ -365,11 +365,13 @@ TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlV
 {
   TlEdgeShape shape = (TlEdgeShape)s->edge_shape[e];
   if (shape == TL_EDGE_FLAT || shape == TL_EDGE_BOUNDARY) return shape;
+  /* which side of each face's plane the centre lies on, decided exactly
+   * (x in A's frame, x + shift in B's across a periodic face) */
   if (t == s->edge_tri[2 * e + 1]) x = tl_v3_sub(x, s->edge_shift[e]);
-  TlVec3 p0 = s->x[s->edge_vertex[2 * e]];
-  TlVec3 r = tl_v3_sub(x, p0);
-  int above_a = tl_v3_dot(s->normal[s->edge_tri[2 * e]], r) > 0.0;
-  int above_b = tl_v3_dot(s->normal[s->edge_tri[2 * e + 1]], r) > 0.0;
+  const int *va = s->tri + 3 * (size_t)s->edge_tri[2 * e], *vb = s->tri + 3 * (size_t)s->edge_tri[2 * e + 1];
+  TlVec3 xb = tl_v3_add(x, s->edge_shift[e]);
+  int above_a = tl_orient3d(s->x[va[0]], s->x[va[1]], s->x[va[2]], x) > 0;
+  int above_b = tl_orient3d(s->x[vb[0]], s->x[vb[1]], s->x[vb[2]], xb) > 0;
   int outside = shape == TL_EDGE_CONVEX ? (above_a || above_b) : (above_a && above_b);
   if (outside) return shape;
   return shape == TL_EDGE_CONVEX ? TL_EDGE_CONCAVE : TL_EDGE_CONVEX;
