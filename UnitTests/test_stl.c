@@ -263,6 +263,26 @@ static void test_contains(void)
   TlVec3 c = tl_v3_add(tl_m3_mulv(tl_m3_rotation(tl_v3(1, 1, 0), 0.7), tl_v3(1.5, 1.5, 1.5)), tl_v3(10, -5, 2));
   TL_TEST_STATUS(tl_surface_mesh_contains(m, c, &in), TL_OK);
   TL_TEST_ASSERT(in == 1, "moved centre inside");
+  /* insertion sites: a lattice of pitch 0.25 in the cube of side 3 (moved
+   * and turned): 12^3 sites of the box's lattice, of which those inside
+   * the turned cube are about its volume over the pitch cubed (27 / 0.25^3 =
+   * 1728, within the lattice's boundary error) */
+  double *pts = NULL;
+  size_t np = 0;
+  TL_TEST_STATUS(tl_surface_mesh_lattice_inside(m, 0.25, 100000, &pts, &np), TL_OK);
+  int all_in = 1;
+  for (size_t k = 0; k < np; ++k) {
+    int q = 0;
+    (void)tl_surface_mesh_contains(m, tl_v3(pts[3 * k], pts[3 * k + 1], pts[3 * k + 2]), &q);
+    all_in &= q == 1;
+    if (k && pts[3 * k + 2] < pts[3 * k - 1]) all_in = 0; /* lowest first */
+  }
+  TL_TEST_ASSERT(all_in, "every site inside, lowest first");
+  TL_TEST_ASSERT(fabs((double)np - 1728.0) <= 0.15 * 1728.0, "%zu sites, volume / pitch^3 = 1728", np);
+  tl_free(&pts);
+  TL_TEST_STATUS(tl_surface_mesh_lattice_inside(m, 0.25, 10, &pts, &np), TL_OK);
+  TL_TEST_ASSERT(np == 10, "at most max: %zu", np);
+  tl_free(&pts);
   TlMat3 reflect = tl_m3_identity();
   reflect.m[0][0] = -1;
   TL_TEST_STATUS(tl_surface_mesh_transform(m, 1.0, reflect, tl_v3(0, 0, 0)), TL_ERR_ARG);

@@ -268,6 +268,41 @@ TlStatus tl_surface_mesh_contains(const TlSurfaceMesh *m, TlVec3 p, int *inside)
            p.z, m->name);
 }
 
+TlStatus tl_surface_mesh_lattice_inside(const TlSurfaceMesh *m, double pitch, size_t max, double **points, size_t *n)
+{
+  if (!m || !points || !n) TL_ERROR(TL_ERR_ARG, "tl_surface_mesh_lattice_inside: NULL argument");
+  *points = NULL;
+  *n = 0;
+  TL_CHECK(tl_surface_mesh_check(m, TL_SURFACE_CLOSED));
+  TlVec3 lo, hi;
+  tl_surface_mesh_bounds(m, &lo, &hi);
+  if (!(pitch > 0.0) || !isfinite(pitch)) TL_ERROR(TL_ERR_ARG, "lattice pitch %g must be positive", pitch);
+  double cells = ((hi.x - lo.x) / pitch + 1) * ((hi.y - lo.y) / pitch + 1) * ((hi.z - lo.z) / pitch + 1);
+  if (!(cells <= 1e9)) TL_ERROR(TL_ERR_ARG, "lattice of pitch %g over the box of the surface has %.3g sites (limit 1e9)", pitch, cells);
+  size_t cap = 0;
+  double *x = NULL;
+  for (double z = lo.z + 0.5 * pitch; z < hi.z && *n < max; z += pitch)
+    for (double y = lo.y + 0.5 * pitch; y < hi.y && *n < max; y += pitch)
+      for (double xx = lo.x + 0.5 * pitch; xx < hi.x && *n < max; xx += pitch) {
+        int in = 0;
+        TlStatus st = tl_surface_mesh_contains(m, tl_v3(xx, y, z), &in);
+        if (st == TL_OK && in == 1) {
+          if (*n == cap) {
+            cap = cap ? 2 * cap : 1024;
+            st = tl_realloc(&x, 3 * cap, sizeof *x);
+          }
+          if (st == TL_OK) x[3 * *n] = xx, x[3 * *n + 1] = y, x[3 * *n + 2] = z, ++*n;
+        }
+        if (st != TL_OK) {
+          tl_free(&x);
+          *n = 0;
+          return tl_error_trace(st, __FILE__, __LINE__);
+        }
+      }
+  *points = x;
+  return TL_OK;
+}
+
 void tl_surface_repair_options_default(TlSurfaceRepairOptions *o)
 {
   o->needle_ratio = 1e4;

@@ -130,5 +130,13 @@ void tl_surface_mesh_bounds(const TlSurfaceMesh *m, TlVec3 *lo, TlVec3 *hi);
  * an edge or a vertex is replaced by another direction, so the answer is
  * exact.  O(triangles) per point. */
 TlStatus tl_surface_mesh_contains(const TlSurfaceMesh *m, TlVec3 p, int *inside);
+/* Insertion sites: the points of a cubic lattice of the given pitch (over
+ * the surface's box, offset half a pitch from its low corner) strictly
+ * inside the closed surface m, at most max of them, lowest first (z, then
+ * y, then x); *points (3 doubles each) is allocated with tl_calloc, the
+ * caller frees it with tl_free.  Insertion at a margin from the walls is a
+ * surface shrunk by that margin. */
+TlStatus tl_surface_mesh_lattice_inside(const TlSurfaceMesh *m, double pitch, size_t max, double **points,
+                                        size_t *n);
 
 #endif
