@@ -30,10 +30,10 @@ static TlStatus run(const char *dir, double *balance, double *drift, double *tip
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
   tl_dem_set_gravity(dem, tl_v3(0, 0, -g));
-  int steel;
-  TL_CHECK(tl_particles_add_species(tl_dem_particles(dem), "steel", 2e4, r, r, &steel));
   TlParticles *P = tl_dem_particles(dem);
-  double m = 2e4 * 4.0 / 3.0 * TL_PI * r * r * r;
+  int steel;
+  TL_CHECK(tl_particles_add_species(P, "steel", 2e4, r, r, &steel));
+  const double m = 2e4 * 4.0 / 3.0 * TL_PI * r * r * r; /* kg */
   TL_CHECK(tl_dem_add_particle(dem, tl_v3(0, 0.4, 0.4 + r - m * g / k_n), tl_v3(0, v0, 0), r, steel, NULL));
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_create("linear", NULL, NULL, NULL, &law));
@@ -57,11 +57,11 @@ static TlStatus run(const char *dir, double *balance, double *drift, double *tip
   TlTimeSeries *ts;
   char csv[4096];
   snprintf(csv, sizeof csv, "%s/sliding", dir);
-  const TlColumn cols[] = {{"t", "s"}, {"y", "m"}, {"z", "m"}, {"tip_w", "m"}, {"energy", "J"}};
+  const TlColumn cols[] = {{"t", "s"}, {"y", "m"}, {"tip_w", "m"}, {"energy", "J"}};
   TL_CHECK(tl_particle_writer_create(dir, "particles", &pw));
   TL_CHECK(tl_solid_output_create(beam, dir, "beam", &bw));
   TL_CHECK(tl_wall_writer_create(dir, "walls", &ww));
-  TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 5, cols, &ts));
+  TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 4, cols, &ts));
   TlCoupledEnergy e;
   TL_CHECK(tl_coupled_loop_energy(loop, &e));
   const double e0 = e.total, ke0 = 0.5 * m * v0 * v0;
@@ -75,8 +75,9 @@ static TlStatus run(const char *dir, double *balance, double *drift, double *tip
     *balance = fmax(*balance, tl_v3_norm(sum) / (m * g));
     TL_CHECK(tl_coupled_loop_energy(loop, &e));
     *drift = fmax(*drift, fabs(e.total - e0) / ke0);
-    tip_min = fmin(tip_min, u[3 * (mesh->n_nodes - 1) + 2]); /* the last node is at the free end */
-    double row[5] = {tl_coupled_loop_time(loop), P->x[0].y, P->x[0].z, u[3 * (mesh->n_nodes - 1) + 2], e.total};
+    const double tip = u[3 * (mesh->n_nodes - 1) + 2]; /* the last node is at the free end */
+    tip_min = fmin(tip_min, tip);
+    double row[4] = {tl_coupled_loop_time(loop), P->x[0].y, tip, e.total};
     if (step % 20 == 0) TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 500 == 0) {
       TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
