@@ -6,7 +6,8 @@
  * (world, particles, contact laws, walls, domains, the grid), coarse
  * graining, the finite elements (meshes, element types, materials, the
  * solid, steppers and solvers), the couplings (surface, volume, bridging
- * domain, FEM x DEM) and the output (HDF5 snapshots with XDMF, time series,
+ * domain, FEM x DEM) and the input and output (LAMMPS data and STL files;
+ * HDF5 snapshots of particles, meshes and walls with XDMF, time series,
  * checkpoints).  docs/tutorial/ shows a scene of each kind; docs/catalogue.md
  * lists every registered type with its parameters.
  *
@@ -47,6 +48,7 @@ extern "C" {
 /* output */
 #include "tl_io.h"
 #include "tl_lammps_data.h"
+#include "tl_stl.h"
 #include "tl_wall_snapshot.h"
 
 /* DEM: particles, contact laws, walls, domains, the world */
