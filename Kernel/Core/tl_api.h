@@ -1,0 +1,132 @@
+/* Accessors for foreign-function bindings (the Python package, Python/talus).
+ *
+ * A binding reaches the library through plain functions and handles; it
+ * should neither mirror large structs (a field added in C would silently
+ * shift its copy) nor allocate the library's option structs.  These
+ * functions give it what the headers otherwise hand out as struct fields:
+ *   - the particle arrays by field name, with their element type and shape
+ *     (so a binding can wrap the library's own memory without copying);
+ *   - the open or periodic box of a world, a wall's force account, a mesh's
+ *     nodes, a triangulated surface's vertices, a stepper's state;
+ *   - steppers, surface couplings and coupled loops created from named
+ *     numeric settings over the library's defaults, an unknown name or a
+ *     non-integer value for an integer setting refused by name;
+ *   - the size of the small plain-data structs a binding does mirror
+ *     (energies, statistics), to check its layout when it loads.
+ * They sit above every module (the only Core file that does) and add no
+ * behaviour: each calls the module's own API. */
+#ifndef TL_API_H
+#define TL_API_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include "tl_coupled_loop.h"
+#include "tl_dem.h"
+#include "tl_error.h"
+#include "tl_mesh.h"
+#include "tl_particle_snapshot.h"
+#include "tl_scoupling.h"
+#include "tl_solid.h"
+#include "tl_stepper.h"
+#include "tl_trisurface.h"
+#include "tl_wall.h"
+
+/* Element types of the arrays handed out. */
+enum { TL_API_FLOAT64 = 0, TL_API_INT64 = 1, TL_API_INT32 = 2, TL_API_UINT8 = 3 };
+
+/* sizeof of a plain-data struct by its C name ("TlVec3", "TlDemEnergy",
+ * "TlDemStats", "TlCoupledEnergy", "TlEnergies", "TlWallSetting"); 0 for any
+ * other name. */
+size_t tl_api_sizeof(const char *type_name);
+
+/* A numeric setting of a named field of a C struct, for the create
+ * functions below. */
+typedef struct {
+  const char *name;
+  int kind; /* 0 double, 1 int, 2 long */
+  size_t offset;
+} TlApiField;
+/* Applies n settings (names[k] = values[k]) to object through the table;
+ * an unknown name is refused with the table's names, a fractional or
+ * out-of-range value for an integer field with the value. */
+TlStatus tl_api_set_fields(const char *what, const TlApiField *table, int n_table, void *object, size_t n,
+                           const char *const *names, const double *values);
+
+/* ---- particles (tl_api_dem.c) ----
+ * The array of particle field `name` (x, v, f, radius, mass, inv_mass,
+ * species, motion, id, q, w, torque, inv_inertia, f_ext, f_coupling,
+ * weight): its address, the particle count, the components per particle (3
+ * for vectors, 4 for quaternions, 1 for scalars) and the element type
+ * (TL_API_*).  The address is the store's own array: it stays valid until
+ * the store reallocates (an insertion beyond the capacity) and its rows
+ * follow the particles' current indices (a renumbering sort or a removal
+ * moves them).  An optional array not yet allocated (the rotational state
+ * before rotation is enabled, f_ext, f_coupling, weight) is refused with
+ * TL_ERR_STATE, naming it. */
+TlStatus tl_api_particles_field(TlParticles *p, const char *name, void **data, size_t *n, int *components,
+                                int *scalar);
+/* Count and capacity of the store. */
+void tl_api_particles_size(const TlParticles *p, size_t *n, size_t *capacity);
+/* A box for the world: open (periodic NULL or all 0) or periodic along the
+ * directions flagged. */
+TlStatus tl_api_dem_set_box(TlDem *dem, const double lo[3], const double hi[3], const int periodic[3]);
+/* A wall's account of the last step: force and torque the particles exert
+ * on it (about the origin), its contact count, stored elastic energy and
+ * the work its prescribed motion did. */
+void tl_api_wall_account(const TlWall *w, double force[3], double torque[3], size_t *n_contacts,
+                         double *elastic_energy, double *work);
+/* The vertex arrays (3 doubles each: positions, velocities) and triangles
+ * (3 ints each) of a surface. */
+void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n_vertices, int **tri,
+                              size_t *n_triangles);
+
+/* The touching particle-particle contacts of the last force evaluation
+ * (tl_dem_visit_contacts): *count receives how many there are, and the
+ * first `max` are written: particle indices i and j (int64), the force on i,
+ * the branch vector from i to j and the contact point (3 doubles each); any
+ * output may be NULL.  Call with max = 0 to size the arrays. */
+TlStatus tl_api_dem_contacts(TlDem *dem, size_t max, size_t *count, int64_t *i, int64_t *j, double *force,
+                             double *branch, double *point);
+
+/* Writes a snapshot of the world's particles (positions, radii, velocities,
+ * forces, species and, when allocated, spins and torques) at its current
+ * time; step < 0 takes the world's step count. */
+TlStatus tl_api_particle_writer_write_dem(TlParticleWriter *writer, TlDem *dem, int64_t step);
+
+/* ---- meshes and steppers (tl_api_fem.c) ---- */
+/* Dimension, node count and reference coordinates (3 doubles a node). */
+void tl_api_mesh_nodes(const TlMesh *mesh, int *dim, size_t *n_nodes, const double **x);
+/* Node count of a named node set (0 and TL_ERR_NOT_FOUND when absent) and
+ * its sorted node indices. */
+TlStatus tl_api_mesh_node_set(const TlMesh *mesh, const char *name, size_t *n, const size_t **nodes);
+/* A stepper of registered type `type` over `sys`: the library's default
+ * options (tl_stepper_options_default) with n named numeric settings over
+ * them (beta, gamma, rtol, atol, max_iterations, reuse, keep_factors,
+ * line_search, nonlinear_solver, lumped, predictor, allow_unstable, blowup,
+ * critical_bound, ramp_time, max_cuts) and the linear solver's name
+ * (NULL: the default). */
+TlStatus tl_api_stepper_create(const char *type, TlMechSystem *sys, const char *solver, size_t n,
+                               const char *const *names, const double *values, TlStepper **st);
+/* The stepper's time and its dof-space state arrays (n doubles each). */
+void tl_api_stepper_state(TlStepper *st, double *t, size_t *n, double **u, double **v, double **a);
+
+/* ---- surface coupling (tl_api_coupling.c) ---- */
+/* tl_scoupling_create_boundary with the default options and n named
+ * settings over them (width, subdivisions, support) and the CG kernel's
+ * name (NULL: the default). */
+TlStatus tl_api_scoupling_create_boundary(TlSolid *solid, int n_excluded, const char *const *excluded,
+                                          const char *kernel, size_t n, const char *const *names,
+                                          const double *values, TlSCoupling **sc);
+/* tl_coupled_loop_create with the default options and n named settings
+ * over them (substeps, one_way, scheme, average_forces). */
+TlStatus tl_api_coupled_loop_create(TlDem *dem, TlSolid *solid, TlStepper *stepper,
+                                    int n_couplings, TlSCoupling *const *couplings, size_t n,
+                                    const char *const *names, const double *values, TlCoupledLoop **loop);
+/* The loop's node-space arrays (n_nodes x 3 each, n_nodes those of the
+ * solid's mesh): displacements, velocities and the coupling forces of the
+ * last FE step; they live as long as the loop. */
+void tl_api_coupled_loop_arrays(const TlCoupledLoop *loop, const double **u, const double **v, const double **f);
+/* The particle–wall force total the coupling forces balance. */
+void tl_api_coupled_loop_wall_force(const TlCoupledLoop *loop, double f[3]);
+
+#endif

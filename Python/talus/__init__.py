@@ -1,0 +1,37 @@
+"""Talus from Python: DEM worlds, walls, meshes, solids and the surface
+coupling through the C library's handles, with the particle and node
+arrays as numpy views of the library's memory (no copy).
+
+    import talus
+    w = talus.World(box=([0, 0, 0], [0.1, 0.1, 0.1]), gravity=(0, 0, -9.81))
+    ...
+    w.x[:, 2] += 1e-3      # moves every particle: w.x is the world's array
+
+Errors raise talus.TalusError with the library's message (the offending
+value, the limit, the trace of calls).  The library is the one named by
+TALUS_LIBRARY, else the one the build or the install recorded in
+_paths.py, else libtalus from the system's library path.
+"""
+import ctypes
+
+from . import _lib
+from ._lib import TalusError
+from .coupling import CoupledLoop, SurfaceCoupling
+from .dem import ContactLaw, Wall, World
+from .fem import Material, Mesh, Solid, Stepper
+from .output import ParticleWriter, SolidWriter
+
+library_path = _lib.path
+
+__all__ = ["TalusError", "World", "ContactLaw", "Wall", "Mesh", "Material", "Solid", "Stepper",
+           "SurfaceCoupling", "CoupledLoop", "ParticleWriter", "SolidWriter", "types", "library_path"]
+
+
+def types(kind):
+    """The registered type names of a kind: "contact_normal",
+    "contact_friction", "contact_rolling", "contact_adhesion", "wall",
+    "material", "element", "stepper", "linear_solver", "cg_kernel", ..."""
+    n = _lib.lib.tl_registry_list(kind.encode(), None, 0)
+    names = (ctypes.c_char_p * max(n, 1))()
+    n = _lib.lib.tl_registry_list(kind.encode(), names, n)
+    return [names[k].decode() for k in range(n)]
