@@ -13,8 +13,19 @@
  *    the ratio of their times per particle-step is printed.  -peer_sweep also
  *    runs both over the README's floors of 200 ... 12 800 triangles.
  *
- * Output: <output_dir>/scaling.csv and peer.csv; last line
- *   summary: ... ratio=<talus/liggghts> ... wall=<s> */
+ * 3. STL floors of 10^3 ... 10^6 triangles (-stl_triangles): the peers'
+ *    STL file of each size is the wall of both codes: LIGGGHTS reads it with
+ *    fix mesh/surface, Talus with tl_wall_trisurface_from_file (read, check,
+ *    periodic edges joined); the same 5 000 settled spheres, the same Hertz
+ *    law, the ratio of times per particle-step in the same invocation.
+ * 4. The same answer (-stl_answer): 16 spheres resting on the smallest STL
+ *    floor at scattered places (on faces, near edges), run by LIGGGHTS (a deck
+ *    written here: fix mesh/surface/stress gives the force on the mesh) and
+ *    by Talus: the vertical force on the mesh and the resting heights of both
+ *    against each other and against the weight and Hertz's overlap.
+ *
+ * Output: <output_dir>/scaling.csv, peer.csv, stl.csv; last line
+ *   summary: ... ratio=<talus/liggghts> ... stl_ratio_<n>=... wall=<s> */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -37,6 +48,9 @@ typedef struct {
   int n_sizes;
   int peer, peer_sweep, peer_repeat;
   long peer_steps, peer_warmup;
+  double stl_triangles[8];
+  int n_stl, stl_repeat, stl_answer;
+  long stl_steps;
   const char *output_dir;
 } Setup;
 
@@ -253,6 +267,164 @@ done:
   return status;
 }
 
+/* Talus on the peer scene with the floor read from the peer's STL file. */
+static TlStatus stl_scene_talus(const Setup *s, const char *data_path, const char *stl_path, double *us, double *cpu_share,
+                                size_t *particles, size_t *triangles, double *load_seconds)
+{
+  TlLammpsData *data = NULL;
+  TlDem *dem = NULL;
+  TlContactLaw *law = NULL;
+  TlWall *wall = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_lammps_data_read(data_path, &data), done);
+  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
+  TlDomain dom;
+  int per[3] = {1, 1, 0};
+  TL_CHECK_GOTO(status, tl_domain_init_periodic_box(&dom, tl_v3(data->lo[0], data->lo[1], data->lo[2]),
+                                                    tl_v3(data->hi[0], data->hi[1], data->hi[2]), per), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  TL_CHECK_GOTO(status, tl_particles_reserve(P, data->n), done);
+  for (size_t i = 0; i < data->n; ++i)
+    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL), done);
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
+  law = NULL;
+  /* the wall from the file: read, checked (a clean floor: no repair), and
+   * joined across the periodic faces */
+  double t0 = tl_wtime();
+  TlWallPlacement place;
+  tl_wall_placement_default(&place);
+  place.repair = 0;
+  TL_CHECK_GOTO(status, tl_wall_trisurface_from_file(stl_path, &place, &wall, NULL), done);
+  TL_CHECK_GOTO(status, tl_trisurface_link_periodic(tl_wall_trisurface_surface(wall), &dom, 1e-9, NULL), done);
+  *load_seconds = tl_wtime() - t0;
+  *triangles = tl_wall_trisurface_surface(wall)->n_triangles;
+  TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
+  wall = NULL;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK_GOTO(status, tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
+  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
+  if (P->w)
+    for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
+  TL_CHECK_GOTO(status, tl_dem_step(dem, s->peer_warmup), done);
+  double sec = 0.0, cpu = 0.0;
+  char label[64];
+  snprintf(label, sizeof label, "talus STL %zu triangles", *triangles);
+  TL_CHECK_GOTO(status, timed_steps(dem, s->stl_steps, label, &sec, &cpu), done);
+  *particles = P->n;
+  *us = 1e6 * sec / ((double)s->stl_steps * (double)P->n);
+  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
+done:
+  tl_contact_law_destroy(&law);
+  tl_wall_destroy(&wall);
+  tl_dem_destroy(&dem);
+  tl_lammps_data_destroy(&data);
+  return status;
+}
+
+/* The 16 resting spheres of the same-answer check: scattered over the
+ * floor [0, 0.1]^2, at the Hertz overlap of their weight. */
+enum { ANSWER_SPHERES = 16, ANSWER_STEPS = 3000 };
+static TlVec3 answer_position(const Setup *s, int i)
+{
+  return tl_v3(0.0123 + 0.0217 * (i % 4) + 0.0011 * (i / 4), 0.0234 + 0.0209 * (i / 4) + 0.0007 * (i % 4),
+               s->radius - resting_overlap(s));
+}
+
+typedef struct {
+  double force_z, z_min, z_max;
+} AnswerResult;
+
+static TlStatus answer_liggghts(const Setup *s, const char *stl_path, AnswerResult *r)
+{
+  char dir[4200], deck[4300], log[4300], command[13000];
+  snprintf(dir, sizeof dir, "%s/answer", s->output_dir);
+  TL_CHECK(tl_mkdir_p(dir));
+  snprintf(deck, sizeof deck, "%s/in.rest", dir);
+  snprintf(log, sizeof log, "%s/log.rest", dir);
+  FILE *f = fopen(deck, "w");
+  if (!f) TL_ERROR(TL_ERR_IO, "cannot write the LIGGGHTS deck %s", deck);
+  double ystar = s->youngs, e = s->restitution;
+  fprintf(f, "atom_style granular\natom_modify map array\nboundary f f f\nnewton off\ncommunicate single vel yes\n"
+             "units si\nregion box block -0.01 0.11 -0.01 0.11 -0.01 0.02 units box\ncreate_box 1 box\n"
+             "neighbor 0.0002 bin\nneigh_modify delay 0\n"
+             "fix m1 all property/global youngsModulus peratomtype %.17g\n"
+             "fix m2 all property/global poissonsRatio peratomtype %.17g\n"
+             "fix m3 all property/global coefficientRestitution peratomtypepair 1 %.17g\n"
+             "fix m4 all property/global coefficientFriction peratomtypepair 1 %.17g\n"
+             "pair_style gran model hertz tangential history\npair_coeff * *\ntimestep %.17g\n"
+             "fix plane all mesh/surface/stress file %s type 1\n"
+             "fix wall all wall/gran model hertz tangential history mesh n_meshes 1 meshes plane\n",
+          ystar, s->poisson, e, s->mu, s->dt, stl_path);
+  for (int i = 0; i < ANSWER_SPHERES; ++i) {
+    TlVec3 x = answer_position(s, i);
+    fprintf(f, "create_atoms 1 single %.17g %.17g %.17g units box\n", x.x, x.y, x.z);
+  }
+  fprintf(f, "set group all diameter %.17g density %.17g\nfix integr all nve/sphere\n"
+             "fix grav all gravity 9.81 vector 0.0 0.0 -1.0\ncompute zmin all reduce min z\n"
+             "compute zmax all reduce max z\nthermo_style custom step atoms ke f_plane[3] c_zmin c_zmax\n"
+             "thermo_modify format float %%.15g\nthermo %d\nrun %d\n",
+          2 * s->radius, s->density, ANSWER_STEPS, ANSWER_STEPS);
+  fclose(f);
+  snprintf(command, sizeof command, "cd '%s' && liggghts -in in.rest -log log.rest -echo none > out.rest 2>&1", dir);
+  fflush(stdout);
+  int rc = system(command);
+  if (rc != 0) TL_ERROR(TL_ERR_IO, "LIGGGHTS failed on %s (exit %d; see %s/out.rest)", deck, rc, dir);
+  f = fopen(log, "r");
+  if (!f) TL_ERROR(TL_ERR_IO, "no LIGGGHTS log %s", log);
+  char line[1024];
+  int found = 0;
+  while (fgets(line, sizeof line, f)) {
+    long step, atoms;
+    double ke, fz, z0, z1;
+    if (sscanf(line, "%ld %ld %lf %lf %lf %lf", &step, &atoms, &ke, &fz, &z0, &z1) == 6 && step == ANSWER_STEPS)
+      r->force_z = fz, r->z_min = z0, r->z_max = z1, found = 1;
+  }
+  fclose(f);
+  if (!found) TL_ERROR(TL_ERR_FORMAT, "LIGGGHTS log %s has no thermo line at step %d", log, ANSWER_STEPS);
+  return TL_OK;
+}
+
+static TlStatus answer_talus(const Setup *s, const char *stl_path, AnswerResult *r)
+{
+  TlDem *dem = NULL;
+  TlContactLaw *law = NULL;
+  TlWall *wall = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
+  TlDomain dom;
+  TL_CHECK_GOTO(status, tl_domain_init_open(&dom, tl_v3(-0.01, -0.01, -0.01), tl_v3(0.11, 0.11, 0.02)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  for (int i = 0; i < ANSWER_SPHERES; ++i)
+    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, answer_position(s, i), tl_v3(0, 0, 0), s->radius, sp, NULL), done);
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
+  law = NULL;
+  TL_CHECK_GOTO(status, tl_wall_trisurface_from_file(stl_path, NULL, &wall, NULL), done);
+  TlWall *w = wall;
+  TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
+  wall = NULL;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
+  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
+  TL_CHECK_GOTO(status, tl_dem_step(dem, ANSWER_STEPS), done);
+  r->force_z = w->force.z;
+  r->z_min = INFINITY, r->z_max = -INFINITY;
+  for (size_t i = 0; i < P->n; ++i) r->z_min = fmin(r->z_min, P->x[i].z), r->z_max = fmax(r->z_max, P->x[i].z);
+done:
+  tl_contact_law_destroy(&law);
+  tl_wall_destroy(&wall);
+  tl_dem_destroy(&dem);
+  return status;
+}
+
 static TlStatus run(int argc, char **argv, TlSummary *summary)
 {
   double wall0 = tl_wtime();
@@ -284,6 +456,11 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
   s.peer_repeat = (int)threads;
   TL_CHECK_GOTO(status, tl_options_get_int(o, "-peer_steps", 5000, 1, 100000000, "timed steps of the peer scene (both codes)", &s.peer_steps), done);
   TL_CHECK_GOTO(status, tl_options_get_int(o, "-peer_warmup", 500, 0, 100000000, "warm-up steps of the peer scene (as the LIGGGHTS deck)", &s.peer_warmup), done);
+  TL_CHECK_GOTO(status, tl_options_get_real_list(o, "-stl_triangles", "1e3,1e4,1e5,1e6", "", "approximate triangle counts of the STL floors run by both codes (2 n^2 each; empty: skip)", s.stl_triangles, 8, &s.n_stl), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-stl_steps", 1000, 1, 100000000, "timed steps of each STL floor (both codes)", &s.stl_steps), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-stl_repeat", 1, 1, 100, "LIGGGHTS runs per STL floor (the median is used)", &threads), done);
+  s.stl_repeat = (int)threads;
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-stl_answer", 1, "compare forces and heights of spheres resting on the STL floor with LIGGGHTS", &s.stl_answer), done);
   TL_CHECK_GOTO(status, tl_options_get_int(o, "-threads", 1, 1, 1024, "OpenMP threads for Talus (LIGGGHTS runs on 1 rank)", &threads), done);
   TL_CHECK_GOTO(status, tl_options_get_string(o, "-output_dir", "results/walls_hgrid", "output folder", &s.output_dir), done);
   status = tl_options_finish(o, stdout);
@@ -392,6 +569,63 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
     tl_summary_real(summary, "talus_cpu_us", cpu40);
     tl_summary_real(summary, "liggghts_us", lig40);
     tl_summary_real(summary, "ratio", ratio40);
+  }
+  /* ---- 3. STL floors of growing size, both codes on the same file ---- */
+  if (s.n_stl > 0) {
+    char *path = NULL;
+    TlAtomicFile *f = NULL;
+    TL_CHECK_GOTO(status, tl_path_join(s.output_dir, "stl.csv", &path), done);
+    status = tl_atomic_file_open(path, &f);
+    tl_free(&path);
+    if (status != TL_OK) goto done;
+    FILE *out = tl_atomic_file_stream(f);
+    fprintf(out, "triangles,talus_load_s,talus_us_per_particle_step,liggghts_us_min,liggghts_us_median,talus_over_liggghts\n");
+    char smallest[4096] = "";
+    for (int c = 0; c < s.n_stl; ++c) {
+      int n = (int)floor(sqrt(s.stl_triangles[c] / 2.0) + 0.5);
+      if (n < 1) n = 1;
+      char scene[64], data[4096], stl[4096];
+      snprintf(scene, sizeof scene, "mesh_liggghts_ntri=%d", 2 * n * n);
+      status = tl_peer_prepare(scene, data, sizeof data, stl, sizeof stl);
+      if (status == TL_OK && !stl[0]) status = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "scene %s has no STL file", scene);
+      double us = 0.0, share = 0.0, load = 0.0;
+      size_t np = 0, nt = 0;
+      if (status == TL_OK) status = stl_scene_talus(&s, data, stl, &us, &share, &np, &nt, &load);
+      TlPeerResult peer;
+      if (status == TL_OK) status = tl_peer_run(scene, 1, s.stl_steps, s.stl_repeat, &peer);
+      if (status != TL_OK) {
+        tl_atomic_file_abort(&f);
+        goto done;
+      }
+      if (c == 0) snprintf(smallest, sizeof smallest, "%s", stl);
+      double ratio = us / peer.us_median;
+      printf("STL floor %s: %zu triangles, %zu spheres: talus %.4f us/particle-step (load %.3g s, cpu_share %.2f), "
+             "liggghts %.4f (median; min %.4f), talus/liggghts = %.3f\n",
+             stl, nt, np, us, load, share, peer.us_median, peer.us_min, ratio);
+      fprintf(out, "%zu,%.6g,%.6g,%.6g,%.6g,%.6g\n", nt, load, us, peer.us_min, peer.us_median, ratio);
+      char key[48];
+      snprintf(key, sizeof key, "stl_ratio_%zu", nt);
+      tl_summary_real(summary, key, ratio);
+      fflush(stdout);
+    }
+    TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
+    /* ---- 4. the same answer on the smallest floor ---- */
+    if (s.stl_answer && smallest[0]) {
+      AnswerResult lig = {NAN, NAN, NAN}, tal = {NAN, NAN, NAN};
+      TL_CHECK_GOTO(status, answer_liggghts(&s, smallest, &lig), done);
+      TL_CHECK_GOTO(status, answer_talus(&s, smallest, &tal), done);
+      double m = s.density * 4.0 / 3.0 * TL_PI * pow(s.radius, 3), weight = ANSWER_SPHERES * m * 9.81;
+      double delta = resting_overlap(&s);
+      double df = fabs(tal.force_z - lig.force_z) / weight;
+      double dz = fmax(fabs(tal.z_min - lig.z_min), fabs(tal.z_max - lig.z_max)) / delta;
+      printf("same answer, %d spheres resting on %s after %d steps: force on the mesh talus %.9g N, liggghts %.9g N, "
+             "weight %.9g N (difference %.2e of the weight); heights talus [%.9g, %.9g] m, liggghts [%.9g, %.9g] m, "
+             "Hertz %.9g m (difference %.2e of the overlap %.3g m)\n",
+             ANSWER_SPHERES, smallest, ANSWER_STEPS, tal.force_z, lig.force_z, -weight, df, tal.z_min, tal.z_max,
+             lig.z_min, lig.z_max, s.radius - delta, dz, delta);
+      tl_summary_real(summary, "answer_force_diff", df);
+      tl_summary_real(summary, "answer_height_diff", dz);
+    }
   }
   tl_summary_int(summary, "threads", threads);
   tl_summary_real(summary, "wall", tl_wtime() - wall0);

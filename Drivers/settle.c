@@ -11,7 +11,8 @@
  * restitution 0.5.  Time step 0.2 of the critical one.
  *
  * Output in -output_dir: energies.csv/.h5 (every energy term, momentum,
- * coordination), particles_*.h5 + particles.xmf (ParaView).  At the end the
+ * coordination), particles_*.h5 + particles.xmf and walls_*.h5 + walls.xmf
+ * (the floor and the four sides, drawn over the box; ParaView).  At the end the
  * vertical force on the walls is compared with the weight of the packing
  * (a settled packing carries its weight on the walls).  Last line:
  * summary: n=... kinetic_final=... weight_balance=... wall=...
@@ -159,6 +160,7 @@ static TlStatus run(int argc, char **argv)
   /* every exit after this point goes through done: nothing leaks on a refusal */
   TlDem *dem = NULL;
   TlParticleWriter *writer = NULL;
+  TlWallWriter *walls = NULL;
   TlTimeSeries *ts = NULL;
   TlCheckpoint *cp = NULL;
   TL_CHECK_GOTO(st, tl_dem_create(&dem), done);
@@ -218,6 +220,7 @@ static TlStatus run(int argc, char **argv)
   char base[4096];
   snprintf(base, sizeof base, "%s/energies", s.out);
   TL_CHECK_GOTO(st, tl_particle_writer_create(s.out, "particles", &writer), done);
+  TL_CHECK_GOTO(st, tl_wall_writer_create(s.out, "walls", &walls), done);
   static const TlColumn cols[] = {{"time", "s"},          {"kinetic", "J"},        {"rotational", "J"},
                                   {"elastic", "J"},       {"gravitational", "J"},  {"dissipated", "J"},
                                   {"work_external", "J"}, {"total", "J"},          {"momentum_z", "kg m/s"},
@@ -240,6 +243,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
   TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "energies", &tl_timeseries_checkpoint_ops, ts), done);
   TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "wall_snapshots", &tl_wall_writer_checkpoint_ops, walls), done);
   TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr), done);
   if (s.restart && s.restart[0]) {
     TL_CHECK_GOTO(st, tl_checkpoint_load(cp, s.restart, NULL, NULL), done);
@@ -273,6 +277,7 @@ static TlStatus run(int argc, char **argv)
     if (snap_every && (k % snap_every == 0 || k == steps)) {
       TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
       TL_CHECK_GOTO(st, tl_particle_writer_write(writer, k, tl_dem_time(dem), &view), done);
+      TL_CHECK_GOTO(st, tl_wall_writer_write_dem(walls, k, dem), done);
     }
     if (k == steps || k == last) break;
     TL_CHECK_GOTO(st, tl_dem_step(dem, 1), done);
@@ -320,6 +325,7 @@ done:
     if (st == TL_OK) st = sc;
   }
   tl_particle_writer_destroy(&writer);
+  tl_wall_writer_destroy(&walls);
   tl_dem_destroy(&dem);
   tl_contact_law_destroy(&s.law);
   tl_options_destroy(&o);

@@ -267,6 +267,11 @@ TlStatus tl_nhl_operator_perturb(const TlNhlOperator *op, const TlNhlOperatorInp
       st->tau += es.tau;
       st->imbalance = fmax(st->imbalance, es.imbalance);
       for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (!isfinite(s.m[i][j]))
+            TL_ERROR(TL_ERR_NUMERIC, "nhl operator '%s': the cell probed along (%d,%d) returned stress[%d][%d] = %g",
+                     op->ops->header.name, k, l, i, j, s.m[i][j]);
+      for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           double v = (s.m[i][j] - in->sigma.m[i][j]) / eps;
           c[TL_NHL_C(i, j, k, l)] = v;

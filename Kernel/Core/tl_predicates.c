@@ -3,11 +3,18 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "tl_config.h"
 
 #if TALUS_WITH_CGAL
 int tl_cgal_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
+int tl_cgal_orient2d(const double a[2], const double b[2], const double c[2]);
+int tl_cgal_collinear3d(const double a[3], const double b[3], const double c[3]);
+int tl_cgal_dihedral_compare(const double a[3], const double b[3], const double c[3], const double d[3], double cosine);
+int tl_cgal_insphere(const double a[3], const double b[3], const double c[3], const double d[3], const double e[3]);
+
 #endif
 
 /* Error bound of the double evaluation below, relative to its permanent
@@ -160,6 +167,315 @@ int tl_orient3d(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d)
   return tl_cgal_orient3d(pa, pb, pc, pd);
 #else
   return tl_orient3d_filtered(a, b, c, d, NULL);
+#endif
+}
+
+/* det[b - a, c - a] exactly: two products of two-component differences. */
+static int tl_orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy)
+{
+  TlExpansion ux, uy, vx, vy, p, q;
+  tl_expansion_diff(bx, ax, &ux);
+  tl_expansion_diff(by, ay, &uy);
+  tl_expansion_diff(cx, ax, &vx);
+  tl_expansion_diff(cy, ay, &vy);
+  tl_expansion_mul(&ux, &vy, &p);
+  tl_expansion_mul(&uy, &vx, &q);
+  tl_expansion_negate(&q);
+  tl_expansion_add(&p, &q);
+  return tl_expansion_sign(&p);
+}
+
+/* The same filter as orient3d: the 2 x 2 determinant carries 3u from its
+ * differences and products and 1u from its difference; 4 DBL_EPSILON (8u)
+ * bounds it with the rounding of the permanent. */
+int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy)
+{
+  double m1 = (bx - ax) * (cy - ay), m2 = (by - ay) * (cx - ax);
+  double det = m1 - m2, bound = 4.0 * DBL_EPSILON * (fabs(m1) + fabs(m2));
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  if (m1 == 0.0 && m2 == 0.0) return 0;
+  return tl_orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
+int tl_orient2d(double ax, double ay, double bx, double by, double cx, double cy)
+{
+#if TALUS_WITH_CGAL
+  double pa[2] = {ax, ay}, pb[2] = {bx, by}, pc[2] = {cx, cy};
+  return tl_cgal_orient2d(pa, pb, pc);
+#else
+  return tl_orient2d_filtered(ax, ay, bx, by, cx, cy);
+#endif
+}
+
+int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c)
+{
+  /* collinear in space iff collinear in the three coordinate planes */
+  return tl_orient2d_filtered(a.x, a.y, b.x, b.y, c.x, c.y) == 0 && tl_orient2d_filtered(a.y, a.z, b.y, b.z, c.y, c.z) == 0 &&
+         tl_orient2d_filtered(a.z, a.x, b.z, b.x, c.z, c.x) == 0;
+}
+
+int tl_collinear3d(TlVec3 a, TlVec3 b, TlVec3 c)
+{
+#if TALUS_WITH_CGAL
+  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+  return tl_cgal_collinear3d(pa, pb, pc);
+#else
+  return tl_collinear3d_filtered(a, b, c);
+#endif
+}
+
+/* In-sphere.  Its exact stage needs expansions far longer than the fixed
+ * ones above (a lifted coordinate times a 3 x 3 minor: up to 9216
+ * components before compression), so they live on the heap and are
+ * compressed after every product, which keeps them short for the inputs
+ * that reach the stage (nearly cospherical points). */
+typedef struct {
+  int n, cap;
+  double *c;
+} TlBigExpansion;
+
+static int big_reserve(TlBigExpansion *h, int n)
+{
+  if (n <= h->cap) return 1;
+  int cap = n > 2 * h->cap ? n : 2 * h->cap;
+  double *c = realloc(h->c, (size_t)cap * sizeof *c);
+  if (!c) return 0;
+  h->c = c;
+  h->cap = cap;
+  return 1;
+}
+
+static int big_grow(TlBigExpansion *h, double b)
+{
+  if (b == 0.0) return 1;
+  if (!big_reserve(h, h->n + 1)) return 0;
+  double q = b;
+  int m = 0;
+  for (int i = 0; i < h->n; ++i) {
+    double s, e;
+    tl_two_sum(q, h->c[i], &s, &e);
+    q = s;
+    if (e != 0.0) h->c[m++] = e;
+  }
+  if (q != 0.0) h->c[m++] = q;
+  h->n = m;
+  return 1;
+}
+
+/* Shortens h in place without changing its value (the components are
+ * re-summed from the top so that each carries as many bits as it can). */
+static void big_compress(TlBigExpansion *h)
+{
+  if (h->n < 2) return;
+  double *e = h->c, q, qn;
+  int bottom = h->n - 1;
+  q = e[bottom];
+  for (int i = h->n - 2; i >= 0; --i) {
+    double enow = e[i];
+    qn = q + enow;
+    double r = enow - (qn - q);
+    if (r != 0.0) {
+      e[bottom--] = qn;
+      q = r;
+    } else {
+      q = qn;
+    }
+  }
+  int top = 0;
+  for (int i = bottom + 1; i < h->n; ++i) {
+    double hnow = e[i];
+    qn = hnow + q;
+    double r = q - (qn - hnow);
+    if (r != 0.0) e[top++] = r;
+    q = qn;
+  }
+  e[top++] = q;
+  h->n = q == 0.0 && top == 1 ? 0 : top;
+}
+
+/* h += sign * e * f */
+static int big_add_product(TlBigExpansion *h, const TlBigExpansion *e, const TlBigExpansion *f, double sign)
+{
+  for (int i = 0; i < e->n; ++i)
+    for (int j = 0; j < f->n; ++j) {
+      double p, err;
+      tl_two_product(sign * e->c[i], f->c[j], &p, &err);
+      if (!big_grow(h, err) || !big_grow(h, p)) return 0;
+    }
+  big_compress(h);
+  return 1;
+}
+
+static int big_set_diff(TlBigExpansion *h, double b, double a)
+{
+  h->n = 0;
+  return big_grow(h, b) && big_grow(h, -a);
+}
+
+/* Exact sign of the in-sphere determinant of the points relative to e;
+ * -2 when memory ran out. */
+static int tl_insphere_exact(const TlVec3 p[4], TlVec3 e)
+{
+  TlBigExpansion d[4][3], lift[4], m2, m3, det;
+  memset(d, 0, sizeof d), memset(lift, 0, sizeof lift), memset(&m2, 0, sizeof m2), memset(&m3, 0, sizeof m3);
+  memset(&det, 0, sizeof det);
+  int ok = 1, sign = -2;
+  for (int i = 0; i < 4 && ok; ++i) {
+    ok = big_set_diff(&d[i][0], p[i].x, e.x) && big_set_diff(&d[i][1], p[i].y, e.y) && big_set_diff(&d[i][2], p[i].z, e.z);
+    for (int k = 0; k < 3 && ok; ++k) ok = big_add_product(&lift[i], &d[i][k], &d[i][k], 1.0);
+  }
+  /* det = sum_i (-1)^i lift_i * M_i, M_i the 3 x 3 determinant of the
+   * other three rows: minus the 4 x 4 determinant [d_i, lift_i] expanded
+   * along its lifted column, the sign that makes +1 inside for a positive
+   * tetrahedron */
+  for (int i = 0; i < 4 && ok; ++i) {
+    int r[3], n = 0;
+    for (int j = 0; j < 4; ++j)
+      if (j != i) r[n++] = j;
+    m3.n = 0;
+    for (int k = 0; k < 3 && ok; ++k) {
+      int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      m2.n = 0;
+      ok = big_add_product(&m2, &d[r[1]][k1], &d[r[2]][k2], 1.0) && big_add_product(&m2, &d[r[1]][k2], &d[r[2]][k1], -1.0) &&
+           big_add_product(&m3, &d[r[0]][k], &m2, 1.0);
+    }
+    if (ok) ok = big_add_product(&det, &lift[i], &m3, i % 2 ? -1.0 : 1.0);
+  }
+  if (ok) sign = det.n == 0 ? 0 : (det.c[det.n - 1] > 0.0 ? 1 : -1);
+  for (int i = 0; i < 4; ++i) {
+    free(lift[i].c);
+    for (int k = 0; k < 3; ++k) free(d[i][k].c);
+  }
+  free(m2.c), free(m3.c), free(det.c);
+  return sign;
+}
+
+int tl_insphere_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, TlVec3 e, int *exact_stage)
+{
+  const TlVec3 p[4] = {a, b, c, d};
+  double x[4][4], ax[4][4];
+  for (int i = 0; i < 4; ++i) {
+    TlVec3 q = tl_v3_sub(p[i], e);
+    x[i][0] = q.x, x[i][1] = q.y, x[i][2] = q.z;
+    x[i][3] = q.x * q.x + q.y * q.y + q.z * q.z;
+    for (int k = 0; k < 4; ++k) ax[i][k] = fabs(x[i][k]);
+  }
+  double det = 0.0, perm = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    int r[3], n = 0;
+    for (int j = 0; j < 4; ++j)
+      if (j != i) r[n++] = j;
+    double m = 0.0, pm = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      m += x[r[0]][k] * (x[r[1]][k1] * x[r[2]][k2] - x[r[1]][k2] * x[r[2]][k1]);
+      pm += ax[r[0]][k] * (ax[r[1]][k1] * ax[r[2]][k2] + ax[r[1]][k2] * ax[r[2]][k1]);
+    }
+    det += (i % 2 ? -1.0 : 1.0) * x[i][3] * m;
+    perm += ax[i][3] * pm;
+  }
+  /* the rounded differences (1u), the lift (3u more), the minors (5u as in
+   * orient3d), the product and the sum (3u): 12u, doubled for the rounding
+   * of the permanent: 24u, and a margin of 4/3: 32u = 16 DBL_EPSILON */
+  double bound = 16.0 * DBL_EPSILON * perm;
+  if (exact_stage) *exact_stage = 0;
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  if (perm == 0.0) return 0;
+  if (exact_stage) *exact_stage = 1;
+  return tl_insphere_exact(p, e);
+}
+
+int tl_insphere(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, TlVec3 e)
+{
+#if TALUS_WITH_CGAL
+  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pd[3] = {d.x, d.y, d.z},
+         pe[3] = {e.x, e.y, e.z};
+  return tl_cgal_insphere(pa, pb, pc, pd, pe);
+#else
+  return tl_insphere_filtered(a, b, c, d, e, NULL);
+#endif
+}
+
+/* Dihedral angle against a cosine, exactly: with n1 = u x v, n2 = u x w
+ * (u = b - a, v = c - a, w = d - a) the angle's cosine is
+ * n1.n2 / (|n1| |n2|); its comparison with k is decided by the signs of
+ * n1.n2 and k, else by (n1.n2)^2 against k^2 |n1|^2 |n2|^2 (degree 8 in
+ * the coordinates, in expansions).  -2 if memory ran out. */
+static int tl_dihedral_exact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double k)
+{
+  TlBigExpansion u[3], v[3], w[3], n1[3], n2[3], dot, q1, q2, lhs, rhs, kk, kexp;
+  memset(u, 0, sizeof u), memset(v, 0, sizeof v), memset(w, 0, sizeof w), memset(n1, 0, sizeof n1);
+  memset(n2, 0, sizeof n2), memset(&dot, 0, sizeof dot), memset(&q1, 0, sizeof q1), memset(&q2, 0, sizeof q2);
+  memset(&lhs, 0, sizeof lhs), memset(&rhs, 0, sizeof rhs), memset(&kk, 0, sizeof kk), memset(&kexp, 0, sizeof kexp);
+  const double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pd[3] = {d.x, d.y, d.z};
+  int ok = 1, result = -2;
+  for (int i = 0; i < 3 && ok; ++i)
+    ok = big_set_diff(&u[i], pb[i], pa[i]) && big_set_diff(&v[i], pc[i], pa[i]) && big_set_diff(&w[i], pd[i], pa[i]);
+  for (int i = 0; i < 3 && ok; ++i) {
+    int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    ok = big_add_product(&n1[i], &u[i1], &v[i2], 1.0) && big_add_product(&n1[i], &u[i2], &v[i1], -1.0) &&
+         big_add_product(&n2[i], &u[i1], &w[i2], 1.0) && big_add_product(&n2[i], &u[i2], &w[i1], -1.0);
+  }
+  for (int i = 0; i < 3 && ok; ++i)
+    ok = big_add_product(&dot, &n1[i], &n2[i], 1.0) && big_add_product(&q1, &n1[i], &n1[i], 1.0) &&
+         big_add_product(&q2, &n2[i], &n2[i], 1.0);
+  if (ok) {
+    int sd = dot.n ? (dot.c[dot.n - 1] > 0 ? 1 : -1) : 0, sk = (k > 0) - (k < 0);
+    if (sd >= 0 && sk < 0) result = -1;     /* cos >= 0 > k: the angle is smaller */
+    else if (sd <= 0 && sk > 0) result = 1; /* cos <= 0 < k: larger */
+    else if (sd == 0 && sk == 0) result = 0;
+    else {
+      ok = big_grow(&kexp, k) && big_add_product(&kk, &kexp, &kexp, 1.0) && big_add_product(&lhs, &dot, &dot, 1.0) &&
+           big_add_product(&rhs, &q1, &q2, 1.0);
+      if (ok) {
+        TlBigExpansion diff;
+        memset(&diff, 0, sizeof diff);
+        ok = big_add_product(&diff, &kk, &rhs, -1.0);
+        for (int i = 0; i < lhs.n && ok; ++i) ok = big_grow(&diff, lhs.c[i]);
+        if (ok) {
+          big_compress(&diff);
+          int s = diff.n ? (diff.c[diff.n - 1] > 0 ? 1 : -1) : 0; /* sign of cos^2 - k^2 */
+          result = sd > 0 ? -s : s;
+        }
+        free(diff.c);
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i) free(u[i].c), free(v[i].c), free(w[i].c), free(n1[i].c), free(n2[i].c);
+  free(dot.c), free(q1.c), free(q2.c), free(lhs.c), free(rhs.c), free(kk.c), free(kexp.c);
+  return result;
+}
+
+int tl_dihedral_compare_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double cosine, int *exact_stage)
+{
+  TlVec3 u = tl_v3_sub(b, a), v = tl_v3_sub(c, a), w = tl_v3_sub(d, a);
+  TlVec3 n1 = tl_v3_cross(u, v), n2 = tl_v3_cross(u, w);
+  double l1 = tl_v3_norm(n1), l2 = tl_v3_norm(n2);
+  if (exact_stage) *exact_stage = 0;
+  if (l1 > 0.0 && l2 > 0.0 && isfinite(l1 * l2)) {
+    double cs = tl_v3_dot(n1, n2) / (l1 * l2);
+    /* the rounding of each normal relative to its length (differences and
+     * cross product: a few units in the last place of |u| |v|, which the
+     * normal's length divides when the triangle is thin), doubled for the
+     * cosine, with a margin of 8 */
+    double nu = tl_v3_norm(u);
+    double bound = 64.0 * DBL_EPSILON * (1.0 + nu * tl_v3_norm(v) / l1 + nu * tl_v3_norm(w) / l2);
+    if (cs - cosine > bound) return -1;
+    if (cosine - cs > bound) return 1;
+  }
+  if (exact_stage) *exact_stage = 1;
+  return tl_dihedral_exact(a, b, c, d, cosine);
+}
+
+int tl_dihedral_compare(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double cosine)
+{
+#if TALUS_WITH_CGAL
+  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pd[3] = {d.x, d.y, d.z};
+  return tl_cgal_dihedral_compare(pa, pb, pc, pd, cosine);
+#else
+  return tl_dihedral_compare_filtered(a, b, c, d, cosine, NULL);
 #endif
 }
 

@@ -1,9 +1,15 @@
 /* Geometric predicates whose sign must be right: whether a point lies above,
- * on or below a plane through three points.  Used where a wrong sign changes
- * topology (classifying a shared edge of a triangulated wall as flat, convex
- * or concave).
+ * on or below a plane through three points (orient3d), on which side of a
+ * line in the plane (orient2d), whether three points are collinear (a
+ * zero-area triangle), inside or outside a sphere through four (insphere),
+ * and whether a dihedral angle exceeds a given one.  Used wherever the
+ * library takes a discrete decision from geometry: the flat, convex or
+ * concave shape of a shared edge of a triangulated wall and whether its fold
+ * exceeds the feature angle (tl_trisurface.c), zero-area facets
+ * (tl_surface_mesh_check), a point inside a closed surface
+ * (tl_surface_mesh_contains, for particle insertion).
  *
- * The sign is exact on both paths.  With TALUS_WITH_CGAL it comes from
+ * Every sign is exact on both paths.  With TALUS_WITH_CGAL it comes from
  * CGAL's filtered exact predicates (a small C++ shim).  Without it, a
  * floating-point filter: the determinant in doubles with a forward error
  * bound proportional to its permanent decides every clear case (the
@@ -12,7 +18,12 @@
  * expansion arithmetic (error-free sums and products, each value carried as
  * an unevaluated sum of non-overlapping doubles), in the manner of adaptive
  * exact predicates.  Exact for every finite input whose products of three
- * coordinate differences neither overflow nor underflow the double range. */
+ * coordinate differences neither overflow nor underflow the double range
+ * (for insphere and the dihedral comparison, products of five and eight).
+ * The exact stages of insphere and of the dihedral comparison keep their
+ * longer expansions on the heap.  The path without CGAL stays as the
+ * fallback of builds without it (-DTALUS_WITH_CGAL=OFF) and as the
+ * independent check of the CGAL path in the tests. */
 #ifndef TL_PREDICATES_H
 #define TL_PREDICATES_H
 
@@ -25,6 +36,28 @@ int tl_orient3d(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d);
  * available: *exact_stage (may be NULL) is set to 1 when the filter could not
  * decide and the exact expansion stage ran. */
 int tl_orient3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, int *exact_stage);
+/* Sign of det[b - a, c - a] in the plane: +1 when (a, b, c) turn
+ * counter-clockwise. */
+int tl_orient2d(double ax, double ay, double bx, double by, double cx, double cy);
+/* 1 when the three points lie exactly on one line (a zero-area triangle). */
+int tl_collinear3d(TlVec3 a, TlVec3 b, TlVec3 c);
+/* In-sphere: +1 when e lies inside the sphere through a, b, c, d, -1
+ * outside, 0 on it, for a positively oriented tetrahedron
+ * (tl_orient3d(a, b, c, d) = +1); the sign flips with the orientation. */
+int tl_insphere(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, TlVec3 e);
+/* The library's own exact path (filter, then expansions on the heap: the
+ * one predicate whose exact stage allocates; -2 if that allocation fails). */
+int tl_insphere_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, TlVec3 e, int *exact_stage);
+/* The dihedral angle at edge (a, b) between the half-planes (a, b, c) and
+ * (a, b, d), in [0, 180] degrees, against the angle whose cosine is
+ * `cosine` (in [-1, 1]): -1 smaller, 0 equal, +1 larger.  Exact for the
+ * given double cosine: decides whether a fold exceeds a feature angle.
+ * Degenerate half-planes (c or d on the line ab) are the caller's to avoid. */
+int tl_dihedral_compare(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double cosine);
+int tl_dihedral_compare_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double cosine, int *exact_stage);
+/* The library's own exact paths of the two (used without CGAL). */
+int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy);
+int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
 /* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
 /* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */

@@ -51,6 +51,12 @@ const TlTypeEntry *tl_registry_entry(const char *kind, size_t i)
   return NULL;
 }
 
+const TlTypeEntry *tl_registry_at(size_t i)
+{
+  if (tl_initialize() != TL_OK) return NULL;
+  return i < tl_n_entries ? &tl_entries[i] : NULL;
+}
+
 TlStatus tl_registry_add(const TlOpsHeader *ops)
 {
   if (!ops || !ops->kind || !ops->name) TL_ERROR(TL_ERR_ARG, "ops table without kind or name");

@@ -56,6 +56,10 @@ TlStatus tl_registry_lookup(const char *kind, const char *name, const TlTypeEntr
  * (for listings: -help, catalogues). */
 const TlTypeEntry *tl_registry_entry(const char *kind, size_t i);
 
+/* The i-th entry of any kind in registration order, or NULL past the end
+ * (for the catalogue of every registered type: talus_catalogue). */
+const TlTypeEntry *tl_registry_at(size_t i);
+
 /* Shorthand for types whose ops table, beginning with a TlOpsHeader, is all
  * there is to them: registers {kind, name, description} of the header with
  * `ops` = the table. */

@@ -202,6 +202,9 @@ static TlStatus triangle_geometry(TlTriSurface *s, size_t t)
   const int *v = s->tri + 3 * t;
   TlVec3 a = s->x[v[0]], b = s->x[v[1]], c = s->x[v[2]];
   double q = tl_triangle_quality(a, b, c);
+  /* zero area decided exactly, whatever the tolerance (a poor triangle's
+   * quality in doubles could pass a tolerance set very low) */
+  if (q < 1e-3 && tl_collinear3d(a, b, c)) q = 0.0;
   if (!(q >= s->quality_tolerance))
     TL_ERROR(TL_ERR_NUMERIC, "triangle %zu (vertices %d, %d, %d) is degenerate: quality %.3g "
              "below the tolerance %.3g (1 = equilateral, 0 = zero area or needle)",
@@ -263,9 +266,15 @@ static void edge_geometry(TlTriSurface *s, size_t e)
   s->edge_shape[e] = fold > s->flat_tolerance    ? TL_EDGE_CONCAVE
                      : fold < -s->flat_tolerance ? TL_EDGE_CONVEX
                                                  : TL_EDGE_FLAT;
-  /* the fold angle is the angle between the normals (0 when flat, up to
-   * 180 degrees for a closed blade): its cosine against the feature's */
-  s->edge_sharp[e] = s->edge_shape[e] != TL_EDGE_FLAT && tl_v3_dot(s->normal[ta], s->normal[tb]) < s->feature_cos;
+  /* The fold angle is the angle between the normals (0 when flat, up to
+   * 180 degrees for a closed blade), 180 degrees less the dihedral angle
+   * between the two half-planes at the edge: sharp when the dihedral angle
+   * is below 180 - feature, whose cosine is -feature_cos, decided exactly
+   * (a fold on the feature angle is not sharp). */
+  int fa = va[0];
+  for (int k = 0; k < 3; ++k)
+    if (va[k] != s->edge_vertex[2 * e] && va[k] != s->edge_vertex[2 * e + 1]) fa = va[k];
+  s->edge_sharp[e] = s->edge_shape[e] != TL_EDGE_FLAT && tl_dihedral_compare(p0, p1, s->x[fa], q, -s->feature_cos) < 0;
 }
 
 static void surface_box(TlTriSurface *s)
@@ -294,6 +303,16 @@ TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const dou
   for (size_t i = 0; i < s->n_vertices; ++i) s->x[i] = tl_v3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
   if (v)
     for (size_t i = 0; i < s->n_vertices; ++i) s->v[i] = tl_v3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+  TL_CHECK(check_vertices(s));
+  surface_box(s);
+  ++s->version;
+  s->geometry_stale = 1;
+  return TL_OK;
+}
+
+TlStatus tl_trisurface_vertices_moved(TlTriSurface *s)
+{
+  if (!s) TL_ERROR(TL_ERR_ARG, "tl_trisurface_vertices_moved: NULL surface");
   TL_CHECK(check_vertices(s));
   surface_box(s);
   ++s->version;
@@ -338,11 +357,7 @@ TlStatus tl_trisurface_set_feature_angle(TlTriSurface *s, double degrees)
     TL_ERROR(TL_ERR_ARG, "feature angle %g degrees outside [0, 180]", degrees);
   s->feature_angle = degrees;
   s->feature_cos = cos(degrees * (TL_PI / 180.0));
-  for (size_t e = 0; e < s->n_edges; ++e)
-    if (s->edge_shape[e] != TL_EDGE_BOUNDARY) {
-      int ta = s->edge_tri[2 * e], tb = s->edge_tri[2 * e + 1];
-      s->edge_sharp[e] = s->edge_shape[e] != TL_EDGE_FLAT && tl_v3_dot(s->normal[ta], s->normal[tb]) < s->feature_cos;
-    }
+  for (size_t e = 0; e < s->n_edges; ++e) edge_geometry(s, e);
   return TL_OK;
 }
 
@@ -350,11 +365,13 @@ TlEdgeShape tl_trisurface_edge_shape_seen_from(const TlTriSurface *s, int e, TlV
 {
   TlEdgeShape shape = (TlEdgeShape)s->edge_shape[e];
   if (shape == TL_EDGE_FLAT || shape == TL_EDGE_BOUNDARY) return shape;
+  /* which side of each face's plane the centre lies on, decided exactly
+   * (x in A's frame, x + shift in B's across a periodic face) */
   if (t == s->edge_tri[2 * e + 1]) x = tl_v3_sub(x, s->edge_shift[e]);
-  TlVec3 p0 = s->x[s->edge_vertex[2 * e]];
-  TlVec3 r = tl_v3_sub(x, p0);
-  int above_a = tl_v3_dot(s->normal[s->edge_tri[2 * e]], r) > 0.0;
-  int above_b = tl_v3_dot(s->normal[s->edge_tri[2 * e + 1]], r) > 0.0;
+  const int *va = s->tri + 3 * (size_t)s->edge_tri[2 * e], *vb = s->tri + 3 * (size_t)s->edge_tri[2 * e + 1];
+  TlVec3 xb = tl_v3_add(x, s->edge_shift[e]);
+  int above_a = tl_orient3d(s->x[va[0]], s->x[va[1]], s->x[va[2]], x) > 0;
+  int above_b = tl_orient3d(s->x[vb[0]], s->x[vb[1]], s->x[vb[2]], xb) > 0;
   int outside = shape == TL_EDGE_CONVEX ? (above_a || above_b) : (above_a && above_b);
   if (outside) return shape;
   return shape == TL_EDGE_CONVEX ? TL_EDGE_CONCAVE : TL_EDGE_CONVEX;

@@ -19,12 +19,15 @@
  * inverted (tl_trisurface_edge_shape_seen_from).  The shape is decided by the
  * sign of an exact orientation predicate (tl_predicates.h) and the flat
  * tolerance; a folded edge is also sharp (edge_sharp) when its fold exceeds
- * the feature angle.  Shapes and sharpness are refreshed with the rest of the
+ * the feature angle (the exact comparison of its dihedral angle with the
+ * feature's, tl_dihedral_compare; the side of a face a particle is on is
+ * also the exact predicate's).  Shapes and sharpness are refreshed with the rest of the
  * geometry by every update, of the whole surface or of the triangles a moving
  * surface's contacts touch (a fold may cross the feature angle as the
  * surface deforms; the predicate's floating-point filter keeps the refresh
  * as cheap as the fold itself).  Degenerate triangles
- * (zero-area slivers or needles, quality below quality_tolerance) are refused
+ * (zero-area slivers, exactly collinear corners whatever the tolerance, or
+ * needles, quality below quality_tolerance) are refused
  * at creation and at every update, with the triangle and its quality named:
  * their normal is undefined. */
 #ifndef TL_TRISURFACE_H
@@ -119,6 +122,9 @@ TlStatus tl_trisurface_update(TlTriSurface *s);
  * O(triangles).  Both compute the same numbers bit for bit. */
 TlStatus tl_trisurface_move_vertices(TlTriSurface *s, const double *x, const double *v);
 TlStatus tl_trisurface_update_triangles(TlTriSurface *s, size_t n, const int32_t *triangles);
+/* The owner wrote s->x and s->v in place: as tl_trisurface_move_vertices
+ * without the copy. */
+TlStatus tl_trisurface_vertices_moved(TlTriSurface *s);
 /* Sets the feature angle (degrees, in [0, 180]; 180: no edge is sharp, the
  * corrections of seeds/001 alone) and reclassifies the sharpness of every
  * edge from the current normals. */

@@ -64,6 +64,39 @@ TlStatus tl_wall_trisurface_set_feature_angle(TlWall *w, double degrees)
   return TL_OK;
 }
 
+TlStatus tl_wall_trisurface_set_motion(TlWall *w, const TlRigidMotion *motion, double time)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  TlWallTriSurface *t = tl_as_trisurface(w);
+  TL_REQUIRE_SURFACE(t);
+  if (!motion) TL_ERROR(TL_ERR_ARG, "wall '%s': NULL motion", w->name);
+  if (!tl_v3_isfinite(motion->velocity) || !tl_v3_isfinite(motion->omega) || !tl_v3_isfinite(motion->center))
+    TL_ERROR(TL_ERR_ARG, "wall '%s': motion velocity (%g, %g, %g), omega (%g, %g, %g) or centre (%g, %g, %g) not finite",
+             w->name, motion->velocity.x, motion->velocity.y, motion->velocity.z, motion->omega.x, motion->omega.y,
+             motion->omega.z, motion->center.x, motion->center.y, motion->center.z);
+  if (!(motion->start >= 0.0) || !(motion->stop >= motion->start))
+    TL_ERROR(TL_ERR_ARG, "wall '%s': motion from %g s to %g s: start must be >= 0 and stop >= start", w->name,
+             motion->start, motion->stop);
+  TlTriSurface *s = t->surface;
+  TL_CHECK(tl_realloc(&t->x_ref, s->n_vertices, sizeof *t->x_ref));
+  memcpy(t->x_ref, s->x, s->n_vertices * sizeof *s->x);
+  t->motion = *motion;
+  t->moving = 1;
+  t->drift = 0;
+  TL_CHECK(tl_wall_trisurface_place(t, time));
+  return TL_OK;
+}
+
+TlStatus tl_wall_trisurface_get_motion(const TlWall *w, TlRigidMotion *motion)
+{
+  TL_REQUIRE_TRISURFACE(w);
+  if (!motion) TL_ERROR(TL_ERR_ARG, "tl_wall_trisurface_get_motion: NULL output");
+  const TlWallTriSurface *t = (const TlWallTriSurface *)w;
+  if (t->moving) *motion = t->motion;
+  else *motion = (TlRigidMotion){tl_v3(0, 0, 0), tl_v3(0, 0, 0), tl_v3(0, 0, 0), 0.0, 0.0};
+  return TL_OK;
+}
+
 TlStatus tl_wall_trisurface_set_drift(TlWall *w, int on)
 {
   TL_REQUIRE_TRISURFACE(w);
@@ -92,12 +125,14 @@ static void tl_wall_trisurface_destroy_impl(TlWall *w)
   tl_free(&t->vertex_list);
   tl_free(&t->listed);
   tl_free(&t->seen);
+  tl_free(&t->x_ref);
   tl_free(&t);
 }
 
 /* The parameter block of the constructor by name: switches as 0 or 1. */
 typedef struct {
   double corrections, brute_force, drift, feature_angle;
+  double velocity[3], omega[3], center[3], motion_start, motion_stop;
 } TriSurfaceParams;
 
 static const TlParam tl_wall_trisurface_params[] = {
@@ -111,6 +146,18 @@ static const TlParam tl_wall_trisurface_params[] = {
      "concave folds sharper than this are corners between faces, whose contacts add; flatter ones are folds of one "
      "smooth surface, whose contacts are averaged (seeds/001 Modification 2); 180: average all",
      offsetof(TriSurfaceParams, feature_angle)},
+    {"velocity_x", 0.0, -1e6, 1e6, "m/s", "prescribed translation velocity, x", offsetof(TriSurfaceParams, velocity[0])},
+    {"velocity_y", 0.0, -1e6, 1e6, "m/s", "prescribed translation velocity, y", offsetof(TriSurfaceParams, velocity[1])},
+    {"velocity_z", 0.0, -1e6, 1e6, "m/s", "prescribed translation velocity, z", offsetof(TriSurfaceParams, velocity[2])},
+    {"omega_x", 0.0, -1e6, 1e6, "rad/s", "prescribed angular velocity, x", offsetof(TriSurfaceParams, omega[0])},
+    {"omega_y", 0.0, -1e6, 1e6, "rad/s", "prescribed angular velocity, y", offsetof(TriSurfaceParams, omega[1])},
+    {"omega_z", 0.0, -1e6, 1e6, "rad/s", "prescribed angular velocity, z", offsetof(TriSurfaceParams, omega[2])},
+    {"center_x", 0.0, -1e12, 1e12, "m", "a point of the rotation axis at motion_start, x", offsetof(TriSurfaceParams, center[0])},
+    {"center_y", 0.0, -1e12, 1e12, "m", "a point of the rotation axis at motion_start, y", offsetof(TriSurfaceParams, center[1])},
+    {"center_z", 0.0, -1e12, 1e12, "m", "a point of the rotation axis at motion_start, z", offsetof(TriSurfaceParams, center[2])},
+    {"motion_start", 0.0, 0.0, 1e12, "s", "time at which the prescribed motion starts (the surface as given holds then)",
+     offsetof(TriSurfaceParams, motion_start)},
+    {"motion_stop", 1e12, 0.0, 1e12, "s", "time at which the prescribed motion stops", offsetof(TriSurfaceParams, motion_stop)},
 };
 
 /* The constructor by name: a wall without a surface yet. */
@@ -127,6 +174,11 @@ static TlStatus tl_wall_trisurface_construct(const void *params, TlWall **w)
   t->brute_force = q->brute_force != 0.0;
   t->drift = q->drift != 0.0;
   t->feature_angle = q->feature_angle;
+  t->motion.velocity = tl_v3(q->velocity[0], q->velocity[1], q->velocity[2]);
+  t->motion.omega = tl_v3(q->omega[0], q->omega[1], q->omega[2]);
+  t->motion.center = tl_v3(q->center[0], q->center[1], q->center[2]);
+  t->motion.start = q->motion_start;
+  t->motion.stop = q->motion_stop;
   t->n_threads = omp_get_max_threads();
   if (t->n_threads < 1) t->n_threads = 1;
   TL_CHECK_GOTO(status, tl_tricontacts_create(&t->current), fail);
@@ -155,6 +207,11 @@ TlStatus tl_wall_trisurface_set_surface(TlWall *w, TlTriSurface *surface)
   t->surface = surface;
   /* the wall's feature angle classifies the surface's edges */
   TL_CHECK(tl_trisurface_set_feature_angle(surface, t->feature_angle));
+  /* a motion given by name starts now */
+  if (tl_v3_norm2(t->motion.velocity) > 0.0 || tl_v3_norm2(t->motion.omega) > 0.0) {
+    TlRigidMotion m = t->motion;
+    TL_CHECK(tl_wall_trisurface_set_motion(w, &m, m.start));
+  }
   return TL_OK;
 }
 
@@ -502,6 +559,7 @@ static TlStatus tl_wall_trisurface_remap(TlWall *w, const size_t *old_to_new, si
 static TlStatus tl_wall_trisurface_advance(TlWall *w, double time, double dt)
 {
   TlWallTriSurface *t = tl_as_trisurface(w);
+  if (t->moving) return tl_wall_trisurface_place(t, time + dt);
   if (!t->drift) return TL_OK;
   TL_REQUIRE_SURFACE(t);
   TlTriSurface *s = t->surface;

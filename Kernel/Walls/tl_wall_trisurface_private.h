@@ -51,7 +51,16 @@ typedef struct {
   unsigned char *seen; /* per triangle, scratch of the above */
   size_t seen_capacity;
   unsigned long listed_version; /* list build they belong to (0: none) */
+  /* Prescribed rigid motion (tl_wall_trisurface_set_motion): the vertex
+   * positions at motion.start, from which advance places the surface at
+   * every time (positions from time, not accumulated: no drift). */
+  TlRigidMotion motion;
+  int moving;
+  TlVec3 *x_ref;
 } TlWallTriSurface;
+
+/* Places the surface of a moving wall at time `time` (tl_wall_trisurface_motion.c). */
+TlStatus tl_wall_trisurface_place(TlWallTriSurface *t, double time);
 
 #define TL_REQUIRE_SURFACE(t)                                                                 \
   do {                                                                                        \
