@@ -75,6 +75,8 @@ TlStatus tl_api_dem_set_box(TlDem *dem, const double lo[3], const double hi[3], 
  * the work its prescribed motion did. */
 void tl_api_wall_account(const TlWall *w, double force[3], double torque[3], size_t *n_contacts,
                          double *elastic_energy, double *work);
+/* The registered name of a wall's type ("plane", "trisurface", ...). */
+const char *tl_api_wall_type(const TlWall *w);
 /* The vertex arrays (3 doubles each: positions, velocities) and triangles
  * (3 ints each) of a surface. */
 void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n_vertices, int **tri,

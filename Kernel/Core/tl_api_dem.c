@@ -74,6 +74,8 @@ void tl_api_wall_account(const TlWall *w, double force[3], double torque[3], siz
   *work = w->work;
 }
 
+const char *tl_api_wall_type(const TlWall *w) { return w->ops->header.name; }
+
 void tl_api_trisurface_arrays(TlTriSurface *s, double **x, double **v, size_t *n_vertices, int **tri,
                               size_t *n_triangles)
 {

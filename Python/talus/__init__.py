@@ -19,12 +19,12 @@ from ._lib import TalusError
 from .coupling import CoupledLoop, SurfaceCoupling
 from .dem import ContactLaw, Wall, World
 from .fem import Material, Mesh, Solid, Stepper
-from .output import ParticleWriter, SolidWriter
+from .output import ParticleWriter, SolidWriter, WallWriter
 
 library_path = _lib.path
 
 __all__ = ["TalusError", "World", "ContactLaw", "Wall", "Mesh", "Material", "Solid", "Stepper",
-           "SurfaceCoupling", "CoupledLoop", "ParticleWriter", "SolidWriter", "types", "library_path"]
+           "SurfaceCoupling", "CoupledLoop", "ParticleWriter", "SolidWriter", "WallWriter", "types", "library_path"]
 
 
 def types(kind):

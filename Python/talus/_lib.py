@@ -134,6 +134,8 @@ _prototypes = {
     # walls
     "tl_wall_create": (S, [ctypes.c_char_p, ctypes.c_size_t, ctypes.POINTER(WallSetting), handle_p]),
     "tl_wall_destroy": (None, [handle_p]),
+    "tl_dem_wall": (handle, [handle, ctypes.c_size_t]),
+    "tl_api_wall_type": (ctypes.c_char_p, [handle]),
     "tl_api_wall_account": (None, [handle, c_double_p, c_double_p, c_size_p, c_double_p, c_double_p]),
     "tl_trisurface_create": (S, [ctypes.c_size_t, c_double_p, ctypes.c_size_t, c_int_p, handle_p]),
     "tl_trisurface_create_rectangle": (S, [ctypes.c_double] * 5 + [ctypes.c_int] * 3 + [handle_p]),

@@ -115,7 +115,7 @@ class Wall(_lib.Handle):
         return w
 
     def _surface_arrays(self):
-        if self.type != "trisurface":
+        if self.type != "trisurface":  # its own type name: a trisurface wall made by the coupling too
             raise _lib.TalusError(10, "unsupported", f"a wall of type {self.type} has no vertices")
         s = lib.tl_wall_trisurface_surface(self._h)
         x, v, t = ctypes.c_void_p(), ctypes.c_void_p(), ctypes.c_void_p()
@@ -230,6 +230,16 @@ class World(_lib.Handle):
     @property
     def n_walls(self):
         return lib.tl_dem_n_walls(self._h)
+
+    def wall(self, k):
+        """Wall k of the world in the order added (a coupling's wall too), as a Wall handle."""
+        if not 0 <= k < self.n_walls:
+            raise IndexError(f"wall {k} of a world of {self.n_walls} walls")
+        w = Wall.__new__(Wall)
+        w._h = ctypes.c_void_p(lib.tl_dem_wall(self._h, int(k)))
+        w._owner = self
+        w.type = lib.tl_api_wall_type(w._h).decode()
+        return w
 
     def reserve(self, n):
         """Room for n particles: insertions up to n do not reallocate (views stay valid)."""

@@ -107,6 +107,10 @@ def coupled_scene(substeps=10):
 def test_coupled_scene_energy_and_momentum():
     w, beam, sc, loop, weight = coupled_scene()
     assert w.n_walls == 1 and sc.n_elements > 0
+    surface = w.wall(0)                            # the coupling's wall, owned by the world
+    assert surface.type == "trisurface" and surface.vertices.shape[1] == 3
+    with pytest.raises(IndexError):
+        w.wall(1)
     u = loop.u                                     # taken before stepping: a live view
     assert np.all(u == 0.0)
     e = loop.energy()
@@ -123,6 +127,8 @@ def test_coupled_scene_energy_and_momentum():
     assert worst_balance < 1e-12                   # coupling forces = - particle-wall forces
     assert worst_energy < 0.02                     # conserved (no damping) to 2 % of the particle's energy
     assert sc.n_contacts == 1
+    lowest = surface.vertices[:, 2].min()          # the wall moved with the beam (bottom face at -0.4)
+    assert surface.account["n_contacts"] == 1 and lowest < -0.4 - 1e-4
 
 
 def test_coupling_refusals_are_exceptions():
