@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_renamed.h"
 #include "tl_cg_fields.h"
 #include "tl_cg_kernel.h"
 #include "tl_dem.h"
@@ -57,6 +58,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
                              "Coarse-grains a settled packing onto a grid (seeds/001 Eqs. 8-12): density, velocity, "
                              "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.",
                              &o));
+  static const TlRenamedOption renamed[] = {{"-kernel", "-cg_kernel", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-packing", "random", "'random' or a particle snapshot .h5 file",
                                          &c->packing), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.01, 1e-9, 1e3, "m", "mean particle diameter (unit 'd' of lengths)",
@@ -84,7 +87,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-settle_tolerance", 1e-6, 0.0, 1.0, "",
                                        "settled when the kinetic energy per particle is below this times m g d",
                                        &c->settle_tol), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-kernel", "lucy", "CG kernel: lucy, gaussian, heaviside (dirac when c = 0)",
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-cg_kernel", "lucy", "CG kernel: lucy, gaussian, heaviside (dirac when c = 0)",
                                          &c->kernel), done);
   TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "2d", 0.0, 1e9, "m", d_scale, 1, "CG width c (0: Dirac, cell averages)",
                                          &c->c), done);

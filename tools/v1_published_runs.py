@@ -30,7 +30,7 @@ from the folder name, the weights from the weighted masses.
 
 FOLDER=OURDIR (1P only, e.g. Default=results/pub_c0): compares the v_y layer
 profile (y <= 12 m) of our run in OURDIR (its profiles.csv, run with
--snapshots at the published frames 0.0308628064,0.0501520604) with the
+-profile_times at the published frames 0.0308628064,0.0501520604) with the
 published coupled run in FOLDER, and our full-DEM reference with theirs.
 """
 import math
