@@ -160,6 +160,7 @@ static long snapshot_step(const Settings *s, double dt, long steps, long j)
   if (!(s->snapshot_dt > 0.0) || j < 0) return -1;
   const long on_grid = (long)floor(s->t_end / s->snapshot_dt * (1.0 + 1e-12)); /* last j with j dt_s <= t_end */
   if (j <= on_grid) {
+    if (s->t_end - (double)j * s->snapshot_dt < dt) return steps; /* -t_end on the grid: its last step */
     long k = lround((double)j * s->snapshot_dt / dt);
     return k < steps ? k : steps;
   }
