@@ -42,6 +42,7 @@
 #include "talus.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
@@ -661,6 +662,11 @@ static TlStatus run(int argc, char **argv)
   if (c.mode == MODE_LINEAR) TL_CHECK_GOTO(s, run_linear(&c, &sum, &failed), done);
   if (c.mode == MODE_MODAL) TL_CHECK_GOTO(s, run_modal(&c, &sum, &failed), done);
   if (c.mode == MODE_NLGEOM) TL_CHECK_GOTO(s, run_large(&c, 1, &sum, &failed), done);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cantilever_fem.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+  }
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
   s = tl_summary_print(&sum, stdout);
   if (failed) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "a -check criterion failed (see above)");

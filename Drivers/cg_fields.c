@@ -29,6 +29,7 @@
 
 #include "talus.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_cg_fields.h"
 #include "tl_cg_kernel.h"
 #include "tl_dem.h"
@@ -581,6 +582,11 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   }
   tl_timers_stop(&timers, ph_out);
   tl_timers_print(&timers, stderr);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cg_profile.py", plot_cmd, sizeof plot_cmd),
+           (tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/profile.csv")));
+  }
 
   tl_summary_int(sum, "particles", (long)P->n);
   tl_summary_int(sum, "contacts", (long)sink.n);

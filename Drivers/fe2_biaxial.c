@@ -46,6 +46,7 @@
 #include "tl_nhl_material.h"
 #include "tl_mesh_snapshot.h"
 #include "tl_output_dir.h"
+#include "tl_plot_hint.h"
 #include "tl_solid.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
@@ -753,6 +754,11 @@ static TlStatus run(int argc, char **argv)
          c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
          steps_post ? (double)iterations_post / steps_post : 0.0, cuts, es.points,
          es.points ? es.t_points / (double)es.points : 0.0, es.t_wall, wall);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_fe2_biaxial.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+  }
   s = tl_summary_print(&sum, stdout);
   if (c.check && rp.mat && !(ref_diff <= c.ref_tolerance * ref_peak))
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,

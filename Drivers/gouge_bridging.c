@@ -22,6 +22,7 @@
 
 #include "talus.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_gouge_bridging.h"
 #include "tl_memory.h"
 #include "tl_output_dir.h"
@@ -334,6 +335,13 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "us_fe", tm.t_fe * per);
   tl_summary_real(&sum, "us_correct", tm.t_correct * per);
   tl_summary_real(&sum, "wall_loop", wall_loop);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    const char *mode = r.p.mode == TL_GOUGE_WAVE ? "wave" : "rest";
+    tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir);
+    printf("plots: %s %s %s/%s.png %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_gouge_bridging.py", plot_cmd, sizeof plot_cmd),
+           mode, plot_dir, mode, plot_dir);
+  }
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   s = tl_summary_print(&sum, stdout);
 done:

@@ -29,6 +29,7 @@
 #include "talus.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
 #include "tl_io.h"
@@ -502,8 +503,14 @@ static TlStatus run(int argc, char **argv)
   printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
          fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
          wall - fs.t_step);
-  printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
-         c.output_dir, sn.beam ? ", beam.xmf, particles.xmf" : "", c.output_dir);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir);
+    printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s\n", plot_dir,
+           sn.beam ? ", beam.xmf, particles.xmf" : "");
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_particle_cantilever.py", plot_cmd, sizeof plot_cmd),
+           plot_dir);
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_real(&sum, "c", c.cg_width);

@@ -29,6 +29,7 @@
 #include "talus.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_particle_snapshot.h"
@@ -344,6 +345,11 @@ static TlStatus run(int argc, char **argv)
            "packing fraction %.3f are of grains still moving: run longer (-t_end)\n",
            t_now, balance, ke, ke / ke_scale, z, vol / (s.box * s.box * top));
     printf("energy balance error %.2e\n", energy_error);
+  }
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_timeseries.py", plot_cmd, sizeof plot_cmd),
+           (tl_plot_abs_dir(s.out, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/energies.csv")));
   }
   TlSummary sum;
   tl_summary_init(&sum);

@@ -10,6 +10,7 @@
 
 #include "talus.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_output_dir.h"
 #include "tl_timeseries.h"
@@ -144,6 +145,11 @@ static TlStatus run(int argc, char **argv)
   printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
          "after the excitation); output in %s\n",
          cases[icase], excitations[iexc], r.n_particles, r.dt, r.steps, e_ref, e_dev, dir);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_string(&sum, "case", cases[icase]);

@@ -8,6 +8,7 @@
 
 #include "talus.h"
 #include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_output_dir.h"
 #include "tl_timeseries.h"
@@ -427,6 +428,11 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK_GOTO(s, compare_tables(path, baseline, baseline_tol, &worst), out);
     printf("energies.csv matches %s (largest relative difference %.3g, tolerance %g)\n", baseline, worst, baseline_tol);
     baseline_diff = worst;
+  }
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
   }
   TlSummary sum;
   tl_summary_init(&sum);

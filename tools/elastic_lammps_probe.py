@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Side-by-side affine strain probe of one packing by LAMMPS and by Talus.
 
 LAMMPS reads the data file, evaluates the stress at once (run 0, the

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """V1 figures of the paper's own runs, measured as wave_volume_coupling measures ours.
 
 usage: v1_published_runs.py <Oomph-Mercury checkout or its git directory> [out.csv] [FOLDER=OURDIR ...]
