@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_atomic_file.h"
 #include "tl_checkpoint.h"
 #include "tl_options_checkpoint.h"
@@ -122,7 +123,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
                              "A compression pulse along a Hex8 bar (V1's FEM bar); the measured wave "
-                             "speed against sqrt(E/rho).",
+                             "speed against sqrt(E/rho).  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const char *const steppers[] = {"central_difference", "newmark", NULL};
   static const char *const elements[] = {"hex8", "hex27", NULL};

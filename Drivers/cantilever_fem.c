@@ -1,4 +1,4 @@
-/* The cantilever of REFERENCE.md S1 (2 x 2 x 30 Hex8, 0.8 x 0.8 x 12 m,
+/* The cantilever of S1 (Cheng et al. 2022, §6.1) (2 x 2 x 30 Hex8, 0.8 x 0.8 x 12 m,
  * E = 100 MPa, nu = 0, rho = 1309 kg/m^3, clamped at y = 0) on its own:
  *
  *   -mode small      a small tip load, quasi-statically; the tip deflection
@@ -21,7 +21,7 @@
  *                    a reference).
  *
  * -material picks the law by its registered name (default hooke, the law
- * of seeds/001; saint_venant_kirchhoff is CalculiX's and Abaqus's linear
+ * of Cheng et al. 2022; saint_venant_kirchhoff is CalculiX's and Abaqus's linear
  * elasticity under NLGEOM, for comparisons with them).
  *
  * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
@@ -40,6 +40,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
@@ -73,7 +74,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
                              "The S1 cantilever alone: static tip load (small and large deflection) "
-                             "and free vibration, against beam theory and the elastica.",
+                             "and free vibration, against beam theory and the elastica.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const TlRenamedOption renamed[] = {
       {"-rtol", "-newton_rtol", NULL},

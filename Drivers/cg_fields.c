@@ -1,4 +1,4 @@
-/* Coarse-grains a packing onto a regular grid (seeds/001 §4, Eqs. 8-12):
+/* Coarse-grains a packing onto a regular grid (Cheng et al. 2022 §4, Eqs. 8-12):
  * density, velocity, kinetic and contact stress, boundary force density of
  * the floor, and fabric.
  *
@@ -21,13 +21,14 @@
  * x-y layers against z, with the weight of the material above each layer
  * as a check of sigma_zz), and packing.xmf (the particles).  The last line
  * is `summary: ...` with the volume-averaged CG stress against the
- * Cauchy-Poisson stress of the same contacts (seeds/004 Eq. 27). */
+ * Cauchy-Poisson stress of the same contacts (Desrues et al. 2019 Eq. 27). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
 #include "tl_cg_fields.h"
@@ -56,8 +57,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "Coarse-grains a settled packing onto a grid (seeds/001 Eqs. 8-12): density, velocity, "
-                             "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.",
+                             "Coarse-grains a settled packing onto a grid (Cheng et al. 2022, Eqs. 8-12): density, velocity, "
+                             "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const TlRenamedOption renamed[] = {{"-kernel", "-cg_kernel", NULL}};
   TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);

@@ -1,5 +1,5 @@
-/* The plane-strain biaxial test of seeds/004 §2.5.3 and §3 (REFERENCE.md
- * F1, spec fem-x-dem.md §10 S-F1): a rectangle of -width x -height under a
+/* The plane-strain biaxial test of Desrues et al. 2019 §2.5.3 and §3 (the
+ * F1 test): a rectangle of -width x -height under a
  * constant lateral pressure, shortened axially at a constant rate, a
  * constitutive law at every Gauss point chosen by name (-material: the
  * DEM-cell law, or an analytic law standing in for it).
@@ -42,6 +42,7 @@
 #include <omp.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_material.h"
 #include "tl_nhl_material.h"
 #include "tl_mesh_snapshot.h"
@@ -154,9 +155,9 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "Plane-strain biaxial test (seeds/004 §2.5.3, §3): constant lateral pressure, axial "
+                             "Plane-strain biaxial test (Desrues et al. 2019, §2.5.3, §3): constant lateral pressure, axial "
                              "shortening, a constitutive law per Gauss point (a DEM cell or an analytic stand-in), "
-                             "the quasi-static Newton loop with the paper's |F|/|R| test.",
+                             "the quasi-static Newton loop with the paper's |F|/|R| test.  Paper: " TL_PAPER_DESRUES_2019 ".",
                              &o));
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-macro", "q8", macros,
                                          "macro elements: q8 (plane strain, 2 x 2 Gauss points: the paper's), q8_3x3 "

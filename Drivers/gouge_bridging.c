@@ -1,5 +1,5 @@
 /* gouge_bridging: the pre-stressed granular gouge between two elastic bars
- * of seeds/000 (Voisin-Leprince et al., §4-5), coupled by the bridging
+ * of Voisin-Leprince et al. 2023 (§4-5), coupled by the bridging
  * domain method (Scenes/tl_gouge_bridging.h, Coupling/Bridging/tl_bdm.h).
  *
  *   -mode rest   the coupled bar at rest (Fig. 4): section-averaged
@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
 #include "tl_gouge_bridging.h"
@@ -147,8 +148,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
                              "The bridging domain method on a pre-stressed granular gouge between two elastic bars "
-                             "(seeds/000, Voisin-Leprince et al.): noise at rest (Fig. 4) or a P/S pulse through the "
-                             "gouge (Figs. 5-8).",
+                             "(Voisin-Leprince et al. 2023): noise at rest (Fig. 4) or a P/S pulse through the "
+                             "gouge (Figs. 5-8).  Paper: " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              &o));
   TlStatus s = read_options(o, &r);
   if (s == TL_OK) s = tl_output_dir(o, &dir);

@@ -1,4 +1,4 @@
-/* S1 of REFERENCE.md (seeds/001 §6.1): two frictionless particles sliding
+/* S1 of Cheng et al. 2022 (§6.1): two frictionless particles sliding
  * along an elastic cantilever, surface-coupled with CG width c.
  *
  * Beam: 2 x 30 x 2 hex8, 0.8 x 12 x 0.8 m (y along the beam, clamped at
@@ -27,6 +27,7 @@
 #include <string.h>
 #include <time.h>
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
@@ -58,8 +59,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "S1 of seeds/001 §6.1: two frictionless particles sliding along an elastic "
-                             "cantilever, surface-coupled through coarse-grained contact forces.",
+                             "S1 of Cheng et al. 2022, §6.1: two frictionless particles sliding along an elastic "
+                             "cantilever, surface-coupled through coarse-grained contact forces.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const TlRenamedOption renamed[] = {
       {"-rho_g", "-density", NULL},

@@ -1,10 +1,10 @@
 /* Polydisperse spheres poured into a box and settled under gravity: the
  * floor is a triangulated surface (squares split into four triangles around
- * their centres, as seeds/001 represents quadrilateral faces) and the four
+ * their centres, as Cheng et al. 2022 represents quadrilateral faces) and the four
  * sides are infinite planes.  Particles are inserted on a jittered lattice in
  * the upper part of the box with small random velocities and fall.
  *
- * Material (seeds/000 Table 1 where it applies): density 2500 kg/m^3,
+ * Material (Voisin-Leprince et al. 2023 Table 1 where it applies): density 2500 kg/m^3,
  * diameters uniform in [2.5, 3.5] mm, friction 0.5; the linear normal
  * stiffness follows the coupling paper's k_n = E d with a soft E = 10 MPa
  * (stated in -help) so that settling takes a fraction of a second;
@@ -27,6 +27,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
@@ -50,19 +51,19 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Polydisperse spheres poured into a box and settled on a triangulated floor and plane "
-                             "side walls; energies, coordination and the weight carried by the walls.",
+                             "side walls; energies, coordination and the weight carried by the walls.  Material after " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              o));
   static const TlRenamedOption renamed[] = {
       {"-snapshots", "-snapshot_dt", "snapshots are now every -snapshot_dt seconds, as in every time-stepping driver"}};
   TL_CHECK(tl_options_refuse_renamed(*o, renamed, 1));
   TL_CHECK(tl_options_get_int(*o, "-n", 1500, 1, 100000000, "number of particles", &s->n));
-  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
-  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
-  TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (seeds/000 Table 1)", &s->density));
+  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_min));
+  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_max));
+  TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (Voisin-Leprince et al. 2023 Table 1)", &s->density));
   TL_CHECK(tl_options_get_real(*o, "-E", 1e7, 1.0, 1e12, "Pa",
                                "modulus giving the linear stiffness k_n = E d_mean (soft, so that settling is quick)", &s->E));
   /* linear spring-dashpot k_n = E d_mean, restitution 0.5, Coulomb mu = 0.5
-   * (seeds/000 Table 1); -contact_* override */
+   * (Voisin-Leprince et al. 2023 Table 1); -contact_* override */
   const TlContactValue law_values[] = {
       {"k_n", s->E * 0.5 * (s->d_min + s->d_max)}, {"restitution", 0.5}, {"mu", 0.5}};
   const TlContactSpec law_spec = {"linear", "coulomb", NULL, NULL, law_values, 3};

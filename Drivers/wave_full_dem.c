@@ -1,4 +1,4 @@
-/* The full-DEM reference of V1 (seeds/001 §6.2): the bonded simple-cubic
+/* The full-DEM reference of V1 (Cheng et al. 2022 §6.2): the bonded simple-cubic
  * bar over its whole length, the same particles, excitation and fixed right
  * end as wave_volume_coupling.  Restart: -checkpoint_every n writes
  * <output_dir>/checkpoint.h5 every n steps (the options, the particles and
@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
@@ -62,8 +63,8 @@ static TlStatus run(int argc, char **argv)
   TlOptions *o = NULL;
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
-                             "The full-DEM reference of V1 (seeds/001 §6.2): bonded simple-cubic particles over "
-                             "the whole bar, right end fixed, left layer excited as in Table 4.",
+                             "The full-DEM reference of V1 (Cheng et al. 2022, §6.2): bonded simple-cubic particles over "
+                             "the whole bar, right end fixed, left layer excited as in Table 4.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
   static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};

@@ -1,4 +1,4 @@
-/* V1 (seeds/001 §6.2): a wave passing from bonded particles into a hex8
+/* V1 (Cheng et al. 2022 §6.2): a wave passing from bonded particles into a hex8
  * bar through a volume-coupled overlap, against the full-DEM reference run
  * in the same program. */
 #include <math.h>
@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_renamed.h"
 #include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
@@ -167,9 +168,9 @@ static TlStatus run(int argc, char **argv)
   TlOptions *o = NULL;
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
-                             "V1 of seeds/001 §6.2: a wave from bonded particles into a hex8 bar through a "
+                             "V1 of Cheng et al. 2022, §6.2: a wave from bonded particles into a hex8 bar through a "
                              "volume-coupled overlap (Arlequin, CG-enriched homogenisation), compared with the "
-                             "full-DEM reference run in the same program.",
+                             "full-DEM reference run in the same program.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
   static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};

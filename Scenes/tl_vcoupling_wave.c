@@ -1,4 +1,4 @@
-/* The wave-propagation scene of seeds/001 §6.2 with the volume coupling,
+/* The wave-propagation scene of Cheng et al. 2022 §6.2 with the volume coupling,
  * on the library's models: TlDem (bonded lattice, weighted equations), the
  * finite-strain TlSolid with the VCoupling element type, and a library
  * stepper for the solid. */
