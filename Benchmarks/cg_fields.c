@@ -19,6 +19,7 @@
 #include "tl_bench.h"
 #include "tl_cg_fields.h"
 #include "tl_cg_kernel.h"
+#include "tl_options_renamed.h"
 
 static double uniform(uint64_t *s)
 {
@@ -36,13 +37,15 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   int n_c = 0;
   const char *kernel_name = "lucy";
   TlStatus s = TL_OK;
+  static const TlRenamedOption renamed[] = {{"-kernel", "-cg_kernel", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-side", 47, 2, 1000, "particles per lattice side (n = side^3)", &side), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-grid", 64, 2, 1024, "grid nodes per direction", &grid), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-repeats", 3, 1, 100, "timed repeats per width (the fastest counts)", &repeats), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-sample", 400, 1, 100000, "points of the brute-force comparison", &sample), done);
   TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-c_list", "0,0.5,1,2,3,4", "d", "CG widths c/d (0: Dirac cell averages)",
                                             c_list, 16, &n_c), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-kernel", "lucy", "kernel for c > 0", &kernel_name), done);
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-cg_kernel", "lucy", "CG kernel for c > 0", &kernel_name), done);
   char kname[64];
   snprintf(kname, sizeof kname, "%s", kernel_name);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);

@@ -16,6 +16,7 @@
 
 #include "talus.h"
 #include "tl_cantilever.h"
+#include "tl_options_renamed.h"
 #include "tl_stepper.h"
 
 typedef struct {
@@ -87,12 +88,14 @@ static TlStatus run(int argc, char **argv)
   long steps, reuse, threads;
   double rtol;
   TlStatus s = TL_OK;
+  static const TlRenamedOption renamed[] = {{"-rtol", "-newton_rtol", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
   TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-dofs", "1e3,1e4,1e5", "", "target sizes (dofs)",
                                             sizes, 7, &n_sizes), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-with_1e6", 0, "add the 1e6-dof case (memory, time)", &with_1e6), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-steps", 3, 1, 100000, "Newmark steps per case", &steps), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 20, 2, 100000, "modified Newton: iterations per factorisation", &reuse), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-8, 1e-14, 1e-2, "", "Newton tolerance relative to the force scale", &rtol), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-newton_rtol", 1e-8, 1e-14, 1e-2, "", "Newton tolerance relative to the force scale", &rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-threads", 1, 1, 256, "OpenMP threads", &threads), done);
   TL_CHECK_GOTO(s, tl_options_finish(o, stdout), done);
   omp_set_num_threads((int)threads);

@@ -1,4 +1,4 @@
-/* The cantilever of REFERENCE.md S1 (2 x 2 x 30 Hex8, 0.8 x 0.8 x 12 m,
+/* The cantilever of S1 (Cheng et al. 2022, §6.1) (2 x 2 x 30 Hex8, 0.8 x 0.8 x 12 m,
  * E = 100 MPa, nu = 0, rho = 1309 kg/m^3, clamped at y = 0) on its own:
  *
  *   -mode small      a small tip load, quasi-statically; the tip deflection
@@ -21,7 +21,7 @@
  *                    a reference).
  *
  * -material picks the law by its registered name (default hooke, the law
- * of seeds/001; saint_venant_kirchhoff is CalculiX's and Abaqus's linear
+ * of Cheng et al. 2022; saint_venant_kirchhoff is CalculiX's and Abaqus's linear
  * elasticity under NLGEOM, for comparisons with them).
  *
  * Output: <output_dir>/<mode>.csv time series, and for the vibration of a
@@ -40,7 +40,10 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
 #include "tl_checkpoint.h"
@@ -71,10 +74,15 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
                              "The S1 cantilever alone: static tip load (small and large deflection) "
-                             "and free vibration, against beam theory and the elastica.",
+                             "and free vibration, against beam theory and the elastica.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
+  static const TlRenamedOption renamed[] = {
+      {"-rtol", "-newton_rtol", NULL},
+      {"-snapshot_every", "-snapshot_dt", "now a time interval in seconds, as in every time-stepping driver"}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
   tl_cantilever_params_default(&c->beam);
   int mode = 0, elem = 0, solver = 0, check = 0;
+  double snapshot_dt = 0.0;
   long nx, ny, nz;
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-mode", "all", modes, "what to run", &mode), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-elements", "hex8", elements, "element type", &elem), done);
@@ -103,12 +111,14 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-periods", 3.0, 0.1, 1e4, "", "vibration: duration in first-mode periods", &c->periods), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-solver", "cholmod", solvers, "sparse direct solver", &solver), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-reuse", 1, 1, 1000, "refactorise every n Newton iterations (1 = full Newton)", &c->reuse), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-newton_rtol", 1e-10, 1e-16, 1e-2, "", "Newton residual tolerance relative to the force scale", &c->rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-output_dir", "results/cantilever_fem", "output folder", &c->output_dir), done);
   TL_CHECK_GOTO(s, tl_output_dir_check(c->output_dir), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-snapshot_every", 10, 0, 1000000,
-                                      "vibration: HDF5/XDMF mesh snapshot every n steps (0: none)",
-                                      &c->snapshot_every), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-snapshot_dt", 0.2, 0.0, 1e6, "s",
+                                       "vibration: HDF5/XDMF mesh snapshots every (rounded to whole steps; 0: none)",
+                                       &snapshot_dt), done);
+  /* Snapshots at whole steps: the nearest multiple of -dt, at least one step. */
+  c->snapshot_every = snapshot_dt > 0.0 ? (long)fmax(1.0, round(snapshot_dt / c->dt)) : 0;
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 100000000,
                                       "vibration, large, nlgeom: checkpoint every n (load) steps to <output_dir>/checkpoint.h5 (0: none)",
                                       &c->checkpoint_every), done);
@@ -653,6 +663,11 @@ static TlStatus run(int argc, char **argv)
   if (c.mode == MODE_LINEAR) TL_CHECK_GOTO(s, run_linear(&c, &sum, &failed), done);
   if (c.mode == MODE_MODAL) TL_CHECK_GOTO(s, run_modal(&c, &sum, &failed), done);
   if (c.mode == MODE_NLGEOM) TL_CHECK_GOTO(s, run_large(&c, 1, &sum, &failed), done);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cantilever_fem.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+  }
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
   s = tl_summary_print(&sum, stdout);
   if (failed) s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "a -check criterion failed (see above)");

@@ -1,4 +1,4 @@
-/* Coarse-grains a packing onto a regular grid (seeds/001 §4, Eqs. 8-12):
+/* Coarse-grains a packing onto a regular grid (Cheng et al. 2022 §4, Eqs. 8-12):
  * density, velocity, kinetic and contact stress, boundary force density of
  * the floor, and fabric.
  *
@@ -21,13 +21,16 @@
  * x-y layers against z, with the weight of the material above each layer
  * as a check of sigma_zz), and packing.xmf (the particles).  The last line
  * is `summary: ...` with the volume-averaged CG stress against the
- * Cauchy-Poisson stress of the same contacts (seeds/004 Eq. 27). */
+ * Cauchy-Poisson stress of the same contacts (Desrues et al. 2019 Eq. 27). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_cg_fields.h"
 #include "tl_cg_kernel.h"
 #include "tl_dem.h"
@@ -54,9 +57,11 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "Coarse-grains a settled packing onto a grid (seeds/001 Eqs. 8-12): density, velocity, "
-                             "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.",
+                             "Coarse-grains a settled packing onto a grid (Cheng et al. 2022, Eqs. 8-12): density, velocity, "
+                             "stress, boundary force density, fabric; HDF5+XDMF and a CSV profile against z.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
+  static const TlRenamedOption renamed[] = {{"-kernel", "-cg_kernel", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
   TL_CHECK_GOTO(s, tl_options_get_string(o, "-packing", "random", "'random' or a particle snapshot .h5 file",
                                          &c->packing), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.01, 1e-9, 1e3, "m", "mean particle diameter (unit 'd' of lengths)",
@@ -84,7 +89,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-settle_tolerance", 1e-6, 0.0, 1.0, "",
                                        "settled when the kinetic energy per particle is below this times m g d",
                                        &c->settle_tol), done);
-  TL_CHECK_GOTO(s, tl_options_get_string(o, "-kernel", "lucy", "CG kernel: lucy, gaussian, heaviside (dirac when c = 0)",
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-cg_kernel", "lucy", "CG kernel: lucy, gaussian, heaviside (dirac when c = 0)",
                                          &c->kernel), done);
   TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "2d", 0.0, 1e9, "m", d_scale, 1, "CG width c (0: Dirac, cell averages)",
                                          &c->c), done);
@@ -578,6 +583,11 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
   }
   tl_timers_stop(&timers, ph_out);
   tl_timers_print(&timers, stderr);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cg_profile.py", plot_cmd, sizeof plot_cmd),
+           (tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/profile.csv")));
+  }
 
   tl_summary_int(sum, "particles", (long)P->n);
   tl_summary_int(sum, "contacts", (long)sink.n);

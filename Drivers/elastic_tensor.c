@@ -1,5 +1,5 @@
 /* Elastic tensor of a periodic granular packing by strain probing
- * (seeds/000 §3.2; the protocols of tl_dem_probe.h).
+ * (Voisin-Leprince et al. 2023 §3.2; the protocols of tl_dem_probe.h).
  *
  * Reads a packing, either a Talus particle snapshot (.h5, as written by
  * periodic_compress, a packing file of tl_dem_packing.h with its cell in
@@ -7,7 +7,7 @@
  * at the origin) or a LAMMPS data file (atom_style sphere; the box and tilt
  * factors from its header, the density of each atom from its Atoms line),
  * builds the periodic cell with the gouge contact law (LAMMPS's
- * gran/hertz/history with seeds/000 Table 1: lammps_hertz + lammps_history,
+ * gran/hertz/history with Voisin-Leprince et al. 2023 Table 1: lammps_hertz + lammps_history,
  * k_n = 3.663e10 Pa, k_t = 4.5249e10 Pa, gamma_n = 0.2 1/(m s), gamma_t =
  * gamma_n/2, mu = 0.5, the values of the authors' contact_law.mod), applies
  * ±ε on each of the six strain components and prints the 36 C_iJ (and the
@@ -35,6 +35,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_dem.h"
 #include "tl_dem_packing.h"
 #include "tl_dem_probe.h"
@@ -56,7 +57,8 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
 {
   TL_CHECK(tl_options_create(argc, argv,
                              "Elastic tensor of a periodic packing by +-eps strain probes on the six components "
-                             "(seeds/000 Sec. 3.2): all C_ij, cubic averages, K, G1, G2, E, nu, Zener index.",
+                             "(Voisin-Leprince et al. 2023, Sec. 3.2): all C_ij, cubic averages, K, G1, G2, E, nu, Zener index.  "
+                             "Paper: " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              o));
   TL_CHECK(tl_options_get_string(*o, "-input", "", "packing: Talus particle snapshot (.h5) or LAMMPS data file", &s->input));
   TL_CHECK(tl_options_get_real(*o, "-cell_side", 0.0, 0.0, 1e6, "m",
@@ -85,7 +87,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-viscous", 0.5, 1e-12, 1e12, "N s/m",
                                "relaxed probe: global viscous force -c v (LAMMPS fix viscous 0.5 in the scripts)", &s->ps.viscous));
   TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-4, 1e-15, 1.0, "",
-                               "relaxed probe: static balance, largest Delta_n (seeds/004 Eq. 19) of the grains whose largest contact carries >= 1e-3 of the mean contact force", &s->ps.tolerance));
+                               "relaxed probe: static balance, largest Delta_n (Desrues et al. 2019 Eq. 19) of the grains whose largest contact carries >= 1e-3 of the mean contact force", &s->ps.tolerance));
   TL_CHECK(tl_options_get_int(*o, "-max_steps", 2000000, 1, 2000000000, "relaxed probe: longest relaxation, steps", &s->ps.max_steps));
   TL_CHECK(tl_options_get_int(*o, "-check_every", 200, 1, 100000000, "relaxed probe: steps between balance checks", &s->ps.check_every));
   TL_CHECK(tl_options_get_int(*o, "-relax_reference", 1, 0, 1, "relaxed probe: relax the reference state first (1) or not (0)", &seed));
@@ -320,7 +322,7 @@ static TlStatus run(int argc, char **argv)
     printf("cubic averages: C11 %.6g  C12 %.6g  C44 %.6g Pa\n", m->C11, m->C12, m->C44);
     printf("moduli: K %.6g  G1 = C44 %.6g  G2 = (C11-C12)/2 %.6g  G %.6g  E %.6g Pa  nu %.6f  Zener %.6f\n", m->K, m->G1,
            m->G2, m->G, m->E, m->nu, m->zener);
-    printf("Table 2 (seeds/000): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
+    printf("Table 2 (Voisin-Leprince et al. 2023): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
     if (s.ps.kind == TL_PROBE_RELAXED) {
       static const char *lab[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
       printf("relaxations (steps, final imbalance): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);

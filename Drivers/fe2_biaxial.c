@@ -1,5 +1,5 @@
-/* The plane-strain biaxial test of seeds/004 §2.5.3 and §3 (REFERENCE.md
- * F1, spec fem-x-dem.md §10 S-F1): a rectangle of -width x -height under a
+/* The plane-strain biaxial test of Desrues et al. 2019 §2.5.3 and §3 (the
+ * F1 test): a rectangle of -width x -height under a
  * constant lateral pressure, shortened axially at a constant rate, a
  * constitutive law at every Gauss point chosen by name (-material: the
  * DEM-cell law, or an analytic law standing in for it).
@@ -43,10 +43,12 @@
 #include <omp.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_material.h"
 #include "tl_nhl_material.h"
 #include "tl_mesh_snapshot.h"
 #include "tl_output_dir.h"
+#include "tl_plot_hint.h"
 #include "tl_solid.h"
 #include "tl_stepper.h"
 #include "tl_timeseries.h"
@@ -154,9 +156,9 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "Plane-strain biaxial test (seeds/004 §2.5.3, §3): constant lateral pressure, axial "
+                             "Plane-strain biaxial test (Desrues et al. 2019, §2.5.3, §3): constant lateral pressure, axial "
                              "shortening, a constitutive law per Gauss point (a DEM cell or an analytic stand-in), "
-                             "the quasi-static Newton loop with the paper's |F|/|R| test.",
+                             "the quasi-static Newton loop with the paper's |F|/|R| test.  Paper: " TL_PAPER_DESRUES_2019 ".",
                              &o));
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-macro", "q8", macros,
                                          "macro elements: q8 (plane strain, 2 x 2 Gauss points: the paper's), q8_3x3 "
@@ -771,6 +773,11 @@ static TlStatus run(int argc, char **argv)
          c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
          steps_post ? (double)iterations_post / steps_post : 0.0, cuts, es.points,
          es.points ? es.t_points / (double)es.points : 0.0, es.t_wall, wall);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_fe2_biaxial.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+  }
   s = tl_summary_print(&sum, stdout);
   if (c.check && rp.mat && !(ref_diff <= c.ref_tolerance * ref_peak))
     s = tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__,

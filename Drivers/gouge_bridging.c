@@ -1,5 +1,5 @@
 /* gouge_bridging: the pre-stressed granular gouge between two elastic bars
- * of seeds/000 (Voisin-Leprince et al., §4-5), coupled by the bridging
+ * of Voisin-Leprince et al. 2023 (§4-5), coupled by the bridging
  * domain method (Scenes/tl_gouge_bridging.h, Coupling/Bridging/tl_bdm.h).
  *
  *   -mode rest   the coupled bar at rest (Fig. 4): section-averaged
@@ -21,6 +21,9 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_gouge_bridging.h"
 #include "tl_memory.h"
 #include "tl_output_dir.h"
@@ -47,6 +50,15 @@ static TlStatus read_options(TlOptions *o, Run *r)
                     *shapes[] = {"gaussian", "ricker", NULL}, *fes[] = {"solid", "linear", NULL},
                     *couplings[] = {"strong", "weak", NULL};
   int mode = 0, wave = 0, shape = 0, fe = 0, coupling = 0;
+  static const TlRenamedOption renamed[] = {
+      {"-density", "-rho", "the finite elements' density, as in every FEM driver"},
+      {"-k_n", "-contact_k_n", NULL},
+      {"-k_t", "-contact_k_t", NULL},
+      {"-gamma_n", "-contact_gamma_n", NULL},
+      {"-gamma_t", "-contact_gamma_t", NULL},
+      {"-mu", "-contact_mu", NULL},
+      {"-snapshot_every", "-snapshot_dt", "now a time interval in seconds, as in every time-stepping driver"}};
+  TL_CHECK(tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])));
   TL_CHECK(tl_options_get_string(o, "-packing", "",
                                  "packing file (.h5, with its cell) or LAMMPS data file of the relaxed periodic cell (cubic; e.g. "
                                  "SelfTests/data/gouge_6d0.h5, a packing file, or its .data copy)",
@@ -73,7 +85,7 @@ static TlStatus read_options(TlOptions *o, Run *r)
   p->cells_section = (int)cs, p->cells_y = (int)cy;
   TL_CHECK(tl_options_get_real(o, "-E", p->E, 1.0, 1e15, "Pa", "FE Young's modulus (Table 2)", &p->E));
   TL_CHECK(tl_options_get_real(o, "-nu", p->nu, -0.99, 0.49, "", "FE Poisson's ratio (Table 2)", &p->nu));
-  TL_CHECK(tl_options_get_real(o, "-density", p->rho, 1e-3, 1e6, "kg/m^3",
+  TL_CHECK(tl_options_get_real(o, "-rho", p->rho, 1e-3, 1e6, "kg/m^3",
                                "FE density (the scripts' 1643; Table 2 prints 1543)", &p->rho));
   TL_CHECK(tl_options_get_real(o, "-eigenstrain", p->eigenstrain, -0.1, 0.1, "",
                                "isotropic FE eigenstrain (scripts' eigen_grad_u 0.0025: -4.98 MPa)", &p->eigenstrain));
@@ -81,13 +93,13 @@ static TlStatus read_options(TlOptions *o, Run *r)
                                  "solid: the finite-strain solid every step (the paper); linear: K assembled once about "
                                  "the pre-stressed rest state",
                                  &fe));
-  TL_CHECK(tl_options_get_real(o, "-k_n", p->k_n, 0.0, 1e20, "Pa", "grains: Hertz normal constant (Table 1)", &p->k_n));
-  TL_CHECK(tl_options_get_real(o, "-k_t", p->k_t, 0.0, 1e20, "Pa", "grains: tangential constant (Table 1)", &p->k_t));
-  TL_CHECK(tl_options_get_real(o, "-gamma_n", p->gamma_n, 0.0, 1e10, "1/(m s)", "grains: normal damping (Table 1)",
+  TL_CHECK(tl_options_get_real(o, "-contact_k_n", p->k_n, 0.0, 1e20, "Pa", "grains: Hertz normal constant (Table 1)", &p->k_n));
+  TL_CHECK(tl_options_get_real(o, "-contact_k_t", p->k_t, 0.0, 1e20, "Pa", "grains: tangential constant (Table 1)", &p->k_t));
+  TL_CHECK(tl_options_get_real(o, "-contact_gamma_n", p->gamma_n, 0.0, 1e10, "1/(m s)", "grains: normal damping (Table 1)",
                                &p->gamma_n));
-  TL_CHECK(tl_options_get_real(o, "-gamma_t", p->gamma_t, -1.0, 1e10, "1/(m s)",
+  TL_CHECK(tl_options_get_real(o, "-contact_gamma_t", p->gamma_t, -1.0, 1e10, "1/(m s)",
                                "grains: tangential damping (-1: gamma_n / 2, LAMMPS NULL; Table 1: 0.1)", &p->gamma_t));
-  TL_CHECK(tl_options_get_real(o, "-mu", p->mu, 0.0, 10.0, "", "grains: friction coefficient (Table 1)", &p->mu));
+  TL_CHECK(tl_options_get_real(o, "-contact_mu", p->mu, 0.0, 10.0, "", "grains: friction coefficient (Table 1)", &p->mu));
   TL_CHECK(tl_options_get_real(o, "-grain_density", p->grain_density, 1e-3, 1e6, "kg/m^3", "grain density (Table 1)",
                                &p->grain_density));
   TL_CHECK(tl_options_get_real(o, "-dt", p->dt, 1e-15, 1.0, "s", "time step of both models (Table 1)", &p->dt));
@@ -106,8 +118,10 @@ static TlStatus read_options(TlOptions *o, Run *r)
                               &r->steps));
   TL_CHECK(tl_options_get_int(o, "-record_every", 5000, 1, 1000000000L,
                               "steps between samples of the histories and the ct diagram (paper: 5000)", &r->record_every));
-  TL_CHECK(tl_options_get_int(o, "-snapshot_every", 0, 0, 1000000000L, "steps between HDF5 + XDMF snapshots (0: none)",
-                              &r->snapshot_every));
+  double snapshot_dt = 0.0;
+  TL_CHECK(tl_options_get_real(o, "-snapshot_dt", 0.0, 0.0, 1e6, "s",
+                               "HDF5 + XDMF snapshots every (rounded to whole steps; 0: none)", &snapshot_dt));
+  r->snapshot_every = snapshot_dt > 0.0 ? (long)fmax(1.0, round(snapshot_dt / p->dt)) : 0;
   TL_CHECK(tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000L, "steps between checkpoints (0: none)",
                               &r->checkpoint_every));
   TL_CHECK(tl_options_get_string(o, "-restart", "", "continue from this checkpoint", &r->restart));
@@ -134,8 +148,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
                              "The bridging domain method on a pre-stressed granular gouge between two elastic bars "
-                             "(seeds/000, Voisin-Leprince et al.): noise at rest (Fig. 4) or a P/S pulse through the "
-                             "gouge (Figs. 5-8).",
+                             "(Voisin-Leprince et al. 2023): noise at rest (Fig. 4) or a P/S pulse through the "
+                             "gouge (Figs. 5-8).  Paper: " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              &o));
   TlStatus s = read_options(o, &r);
   if (s == TL_OK) s = tl_output_dir(o, &dir);
@@ -322,6 +336,13 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "us_fe", tm.t_fe * per);
   tl_summary_real(&sum, "us_correct", tm.t_correct * per);
   tl_summary_real(&sum, "wall_loop", wall_loop);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    const char *mode = r.p.mode == TL_GOUGE_WAVE ? "wave" : "rest";
+    tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir);
+    printf("plots: %s %s %s/%s.png %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_gouge_bridging.py", plot_cmd, sizeof plot_cmd),
+           mode, plot_dir, mode, plot_dir);
+  }
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   s = tl_summary_print(&sum, stdout);
 done:

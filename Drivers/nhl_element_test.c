@@ -1,4 +1,4 @@
-/* One material point of the numerically homogenised law (seeds/004 §2.2-2.5):
+/* One material point of the numerically homogenised law (Desrues et al. 2019 §2.2-2.5):
  * a periodic DEM cell (the dem_cell material, Coupling/Hierarchical) taken
  * along a prescribed path, the element test of the FEM x DEM method.
  *
@@ -19,7 +19,7 @@
  * 3d (spheres), a random packing compressed isotropically to -pressure
  * (σ0) and relaxed, or -packing fcc (3-D lattice); linear contacts with
  * Coulomb friction, k_n from κ = -kappa (2-D: k_n = κ σ0; 3-D: k_n = κ σ0
- * <d>, a reading), k_t = -kt_over_kn k_n, μ = -mu (REFERENCE.md F1: 400
+ * <d>, a reading), k_t = -kt_over_kn k_n, μ = -contact_mu (F1 of Desrues et al. 2019: 400
  * disks, k_n/k_t = 1, κ = 500, μ = 0.5).
  *
  * Output in -output_dir: path.csv / path.h5 (one row per step: strains,
@@ -33,6 +33,8 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
+#include "tl_options_renamed.h"
 #include "tl_nhl_material.h"
 #include "tl_nhl_operator.h"
 #include "tl_particle_snapshot.h"
@@ -54,12 +56,14 @@ typedef struct {
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
 {
   TL_CHECK(tl_options_create(argc, argv,
-                             "One material point of the FEM x DEM numerically homogenised law (seeds/004): a "
+                             "One material point of the FEM x DEM numerically homogenised law (Desrues et al. 2019): a "
                              "periodic DEM cell along a biaxial (plane strain) or triaxial path with constant "
-                             "lateral stress, the tangent operators printed beside the stress.",
+                             "lateral stress, the tangent operators printed beside the stress.  Paper: " TL_PAPER_DESRUES_2019 ".",
                              o));
   static const char *const cells[] = {"2d", "3d", NULL}, *const paths[] = {"biaxial", "triaxial", NULL},
                            *const packings[] = {"random", "fcc", NULL};
+  static const TlRenamedOption renamed[] = {{"-mu", "-contact_mu", NULL}, {"-restitution", "-contact_restitution", NULL}};
+  TL_CHECK(tl_options_refuse_renamed(*o, renamed, 2));
   int ci = 0, pi = 0, ki = 0;
   TL_CHECK(tl_options_get_choice(*o, "-cells", "2d", cells, "cell of disks (2d, plane strain) or spheres (3d)", &ci));
   TL_CHECK(tl_options_get_choice(*o, "-path", "biaxial", paths,
@@ -71,7 +75,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->packing_fcc = ki == 1;
   tl_nhl_packing_default(&s->p);
   TL_CHECK(tl_options_get_int(*o, "-n", s->dim == 2 ? 400 : 1000, 2, 1000000,
-                              "particles of a random cell (seeds/004: 400 disks, 1000 spheres)", &s->n));
+                              "particles of a random cell (Desrues et al. 2019: 400 disks, 1000 spheres)", &s->n));
   TL_CHECK(tl_options_get_int(*o, "-n_side", 3, 1, 40, "fcc: cubic cells per side (4 particles each)", &s->n_side));
   TL_CHECK(tl_options_get_real(*o, "-radius_min", 0.5e-3, 1e-9, 1e3, "m", "smallest radius", &s->p.radius_min));
   TL_CHECK(tl_options_get_real(*o, "-radius_max", 1.0e-3, 1e-9, 1e3, "m",
@@ -83,8 +87,8 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                "stiffness level: 2-D k_n / sigma_0, 3-D k_n / (sigma_0 <d>) (F1: 500)", &s->p.kappa));
   TL_CHECK(tl_options_get_real(*o, "-kt_over_kn", 1.0, 0.0, 100.0, "", "tangential / normal stiffness (F1: 1)",
                                &s->p.kt_over_kn));
-  TL_CHECK(tl_options_get_real(*o, "-mu", 0.5, 0.0, 100.0, "", "contact friction coefficient (F1: 0.5)", &s->p.mu));
-  TL_CHECK(tl_options_get_real(*o, "-restitution", 0.1, 1e-6, 1.0, "",
+  TL_CHECK(tl_options_get_real(*o, "-contact_mu", 0.5, 0.0, 100.0, "", "contact friction coefficient (F1: 0.5)", &s->p.mu));
+  TL_CHECK(tl_options_get_real(*o, "-contact_restitution", 0.1, 1e-6, 1.0, "",
                                "normal restitution of a contact (sets the damping ratio)", &s->p.restitution));
   TL_CHECK(tl_options_get_real(*o, "-dt_fraction", 0.2, 1e-3, 1.0, "", "DEM time step / critical time step",
                                &s->p.dt_fraction));

@@ -1,10 +1,10 @@
-/* S1 of REFERENCE.md (seeds/001 §6.1): two frictionless particles sliding
+/* S1 of Cheng et al. 2022 (§6.1): two frictionless particles sliding
  * along an elastic cantilever, surface-coupled with CG width c.
  *
  * Beam: 2 x 30 x 2 hex8, 0.8 x 12 x 0.8 m (y along the beam, clamped at
  * y = 0, top face z = 0.4 m), E = 100 MPa, nu = 0, rho = 1309 kg/m^3, no
  * gravity on the beam.  Particles: d = 0.2 m, rho = 2e4 kg/m^3, linear
- * spring k_n = E d, no damping (-restitution adds the dashpot of the published
+ * spring k_n = E d, no damping (-pair_restitution adds the dashpot of the published
  * runs), no friction, gravity on the particles only,
  * at (+-0.2, 0.2) over the top face with overlap m g / k_n, released with
  * v_y = 0.1 m/s.  dt = 0.01 pi sqrt(2 m / k_n) for both models.
@@ -27,7 +27,10 @@
 #include <string.h>
 #include <time.h>
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
 #include "tl_io.h"
@@ -56,9 +59,16 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TlOptions *o = NULL;
   TlStatus s = TL_OK;
   TL_CHECK(tl_options_create(argc, argv,
-                             "S1 of seeds/001 §6.1: two frictionless particles sliding along an elastic "
-                             "cantilever, surface-coupled through coarse-grained contact forces.",
+                             "S1 of Cheng et al. 2022, §6.1: two frictionless particles sliding along an elastic "
+                             "cantilever, surface-coupled through coarse-grained contact forces.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
+  static const TlRenamedOption renamed[] = {
+      {"-rho_g", "-density", NULL},
+      {"-restitution", "-pair_restitution", "one dashpot for every contact from a pair's restitution, "
+                                            "not the contact law's -contact_restitution"},
+      {"-g", "-gravity", NULL},
+      {"-fem", "-stepper", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
   tl_cantilever_params_default(&c->beam);
   c->beam.load = 0.0;
   long nx, ny, nz;
@@ -73,8 +83,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-nu", 0.0, -0.99, 0.49, "", "beam Poisson's ratio", &c->beam.nu), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho", 1309.0, 1e-6, 1e6, "kg/m^3", "beam density", &c->beam.rho), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-d", 0.2, 1e-6, 1e3, "m", "particle diameter", &c->d), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-rho_g", 2e4, 1e-6, 1e8, "kg/m^3", "particle density", &c->rho_g), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-restitution", 1.0, 1e-3, 1.0, "",
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-density", 2e4, 1e-6, 1e8, "kg/m^3", "particle density", &c->rho_g), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-pair_restitution", 1.0, 1e-3, 1.0, "",
                                        "normal restitution of a pair of grains (sets the viscous damping of every contact, "
                                        "walls included; the published runs used 0.99)", &c->restitution), done);
   {
@@ -91,7 +101,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
     TL_CHECK_GOTO(s, tl_contact_law_from_options(o, &law_spec, &c->law), done);
     TL_CHECK_GOTO(s, tl_contact_law_get(c->law, "k_n", &c->kn), done);
   }
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-g", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-gravity", 9.81, 0.0, 1e4, "m/s^2", "gravity on the particles (-z)", &c->g), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-vy", 0.1, -1e3, 1e3, "m/s", "initial particle velocity along y", &c->vy), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-x0", 0.2, 0.0, 1e3, "m", "particles at x = +-x0", &c->x0), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-perturb", 0.0, -1.0, 1.0, "m",
@@ -111,7 +121,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                          "published runs)", &c->cg_support), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_factor", 0.01, 1e-6, 10.0, "",
                                        "dt = factor * pi * sqrt(2 m / k_n) (0.01 t_c: dt = 9.09e-5 s)", &c->dt_factor), done);
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "newmark", steppers, "FEM time stepper", &c->stepper), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-stepper", "newmark", steppers, "FEM time stepper", &c->stepper), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-substeps", 1, 1, 100000, "DEM steps per FEM step (1: lock-step)", &c->substeps), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-one_way", 0, "rigid beam (one-way coupling)", &c->one_way), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling", "predict", schemes,
@@ -315,7 +325,7 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK_GOTO(s, tl_stepper_critical_dt(st, &dt_crit), done);
     if (c.substeps * dt > dt_crit)
       TL_CHECK_GOTO(s, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
-                                    "FEM step %ld x %g s = %g s is beyond the explicit critical step %g s: lower -substeps or use -fem newmark",
+                                    "FEM step %ld x %g s = %g s is beyond the explicit critical step %g s: lower -substeps or use -stepper newmark",
                                     c.substeps, dt, c.substeps * dt, dt_crit), done);
   }
   if (!c.one_way) {
@@ -390,8 +400,11 @@ static TlStatus run(int argc, char **argv)
   printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements, "
          "contact damping %g N s/m\n", c.cg_width, c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "",
          c.substeps, schemes[c.scheme], tl_scoupling_n_elements(sc), gamma_n + 0.0 /* no -0 */);
+  /* Progress: the time fraction to -t_end, or, when the run ends as the
+   * particles leave the beam, the larger of the fraction of -t_max and the
+   * distance the slower particle has travelled along the beam. */
   TlProgress bar;
-  tl_progress_init(&bar, "coupled steps", (double)n_macro);
+  tl_progress_init(&bar, c.t_end > 0.0 ? "S1 (time)" : "S1 (along the beam)", 1.0);
   long step = (long)d.step;
   for (;; step++) {
     if (resumed) {
@@ -430,11 +443,25 @@ static TlStatus run(int argc, char **argv)
       /* The undamped coupled system conserves energy: growth far beyond
        * the start is the coupling going unstable; stop before it runs away. */
       if (c.energy_limit > 0.0 && !(total <= c.energy_limit * fmax(d.e0[5], 1e-300))) {
+        /* Advice for what this run did: sub-cycling, a lagged order, or
+         * (lock-step, predictor order) the step and the CG width. */
+        char advice[256];
+        if (c.substeps > 1)
+          snprintf(advice, sizeof advice, "fewer DEM steps per FEM step (-substeps, down to lock-step 1) may keep it stable");
+        else if (c.scheme != TL_COUPLING_PREDICT)
+          snprintf(advice, sizeof advice,
+                   "the run is lock-step; -coupling %s lags one model by a step, the default -coupling predict does not",
+                   schemes[c.scheme]);
+        else
+          snprintf(advice, sizeof advice,
+                   "the run is lock-step with the predictor order; a smaller step (-dt_factor) or another CG width "
+                   "(-cg_width) may keep it stable");
         s = tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                          "coupled total energy %.4g J at t = %.4g s exceeds %g x its start %.4g J: the coupling is "
-                         "unstable with c = %g m, %s FEM, %ld DEM steps per FEM step (fewer sub-steps or lock-step "
-                         "keep it stable; -energy_limit 0 runs on)",
-                         total, t, c.energy_limit, d.e0[5], c.cg_width, steppers[c.stepper], c.substeps);
+                         "unstable with c = %g m, %s FEM, %ld DEM step%s per FEM step, -coupling %s (%s; -energy_limit 0 "
+                         "runs on)",
+                         total, t, c.energy_limit, d.e0[5], c.cg_width, steppers[c.stepper], c.substeps,
+                         c.substeps == 1 ? "" : "s", schemes[c.scheme], advice);
         goto done;
       }
       double erow[9] = {t, e.dem_kinetic, e.dem_elastic, grav, e.fem_kinetic, e.fem_strain, e.work_on_solid,
@@ -443,7 +470,12 @@ static TlStatus run(int argc, char **argv)
       double trow[12] = {t, xp[0].x, xp[0].y, xp[0].z, xp[1].x, xp[1].y, xp[1].z, zr[0], zr[1], err,
                          (double)tl_scoupling_n_contacts(sc), (double)tl_scoupling_n_active_elements(sc)};
       TL_CHECK_GOTO(s, tl_timeseries_append(traj, trow), done);
-      tl_progress_update(&bar, (double)step);
+      double done_frac = (double)step / (double)(n_macro > 0 ? n_macro : 1);
+      if (c.t_end <= 0.0) {
+        const double along = (fmin(xp[0].y, xp[1].y) - c.y0) / fmax(c.beam.L - c.y0, 1e-300);
+        done_frac = fmax(done_frac, fmin(fmax(along, 0.0), 1.0));
+      }
+      tl_progress_update(&bar, done_frac);
     }
     if (snap_every > 0 && (step % snap_every == 0 || last))
       TL_CHECK_GOTO(s, snapshots_write(&sn, step, t, st, P), done);
@@ -472,8 +504,14 @@ static TlStatus run(int argc, char **argv)
   printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
          fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
          wall - fs.t_step);
-  printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s; plots: python3 tools/plot_particle_cantilever.py %s\n",
-         c.output_dir, sn.beam ? ", beam.xmf, particles.xmf" : "", c.output_dir);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir);
+    printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s\n", plot_dir,
+           sn.beam ? ", beam.xmf, particles.xmf" : "");
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_particle_cantilever.py", plot_cmd, sizeof plot_cmd),
+           plot_dir);
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_real(&sum, "c", c.cg_width);

@@ -1,14 +1,14 @@
 /* A periodic packing compressed isotropically to a target pressure and
- * relaxed, the way seeds/000 §3.1 prepares its gouge, by one of two
+ * relaxed, the way Voisin-Leprince et al. 2023 §3.1 prepares its gouge, by one of two
  * protocols (-protocol):
  *
- * servo (default): polydisperse Hertz spheres with friction (seeds/000
+ * servo (default): polydisperse Hertz spheres with friction (Voisin-Leprince et al. 2023
  * supplementary Eqs. 18-20, Table 1) start as a loose random gas without
  * overlaps in a cubic periodic cell; the cell shrinks at a strain rate set
- * by an inertial number (seeds/004 Eq. 18, ε̇ = I sqrt(p/ρ)/<d>) until the
+ * by an inertial number (Desrues et al. 2019 Eq. 18, ε̇ = I sqrt(p/ρ)/<d>) until the
  * pressure reaches the target, then a servo holds the pressure (ḣ = ε̇ h with
  * ε̇ proportional to the pressure error) while the packing relaxes, until the
- * static balance of every particle (seeds/004 Eq. 19, Δ_n < tolerance) and
+ * static balance of every particle (Desrues et al. 2019 Eq. 19, Δ_n < tolerance) and
  * the pressure error are both met, or -t_end.
  *
  * scripts: the authors' LAMMPS preparation (create_random.py, relax.in, and
@@ -32,7 +32,7 @@
  * initial overlaps beyond its limit, 0.5 of a radius by default, raised here
  * to -max_initial_overlap; the scripts allow any overlap).
  *
- * Defaults are seeds/000 Table 1: E = 50 GPa, ν = 0.3, ρ = 2500 kg/m³,
+ * Defaults are Voisin-Leprince et al. 2023 Table 1: E = 50 GPa, ν = 0.3, ρ = 2500 kg/m³,
  * d ∈ [2.5, 3.5] mm, μ = 0.5, γ_n = 0.2, γ_t = 0.1 (1/(m s), the Hertz
  * form's damping), dt = 1e-8 s, 5 MPa; the cell side is 12 d0 (the size at
  * which the paper's moduli plateau).
@@ -48,6 +48,7 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_dem_packing.h"
@@ -77,14 +78,14 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Isotropic compression of a periodic Hertz packing to a target pressure, then "
-                             "relaxation (seeds/000 §3.1 preparation): under a pressure servo (-protocol servo) or "
+                             "relaxation (the preparation of Voisin-Leprince et al. 2023, §3.1): under a pressure servo (-protocol servo) or "
                              "by the authors' LAMMPS scripts (-protocol scripts: frictionless compaction under "
-                             "viscous damping until the pressure is reached, then friction on and relaxation).",
+                             "viscous damping until the pressure is reached, then friction on and relaxation).  Paper: " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              o));
   static const char *const protocols[] = {"servo", "scripts", NULL};
   TL_CHECK(tl_options_get_choice(*o, "-protocol", "servo", protocols,
                                  "servo: inertial-number compression and pressure servo; scripts: the LAMMPS "
-                                 "preparation of seeds/000's scripts (see the options marked [scripts])",
+                                 "preparation of Voisin-Leprince et al.'s scripts (see the options marked [scripts])",
                                  &s->protocol));
   const int scripts = s->protocol == PROTOCOL_SCRIPTS;
   static const char *const dists[] = {"uniform", "bidisperse", NULL};
@@ -92,31 +93,31 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                  "grain diameters: uniform in [d_min, d_max], or d_min or d_max with probability 1/2 "
                                  "each (the scripts' bi_size); default bidisperse with -protocol scripts",
                                  &s->distribution));
-  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
-  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
+  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_min));
+  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_max));
   TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (Table 1)", &s->density));
   if (scripts) {
     /* the gouge law of Table 1 = gran/hertz/history 3.663e10 4.5249e10 0.2 NULL 0.5 1 */
     TL_CHECK(tl_contact_law_from_options(*o, &tl_gouge_law_spec, &s->law));
   } else {
-    /* Hertz with viscous damping and Coulomb friction, seeds/000 Table 1:
+    /* Hertz with viscous damping and Coulomb friction, Voisin-Leprince et al. 2023 Table 1:
      * E = 50 GPa, nu = 0.3, mu_g = 0.5, gamma_n = 0.2, gamma_t = 0.1 1/(m s) */
     const TlContactValue law_values[] = {{"E", 50e9}, {"nu", 0.3}, {"mu", 0.5}, {"gamma_n", 0.2}, {"gamma_t", 0.1}};
     const TlContactSpec law_spec = {"hertz", "coulomb", NULL, NULL, law_values, 5};
     TL_CHECK(tl_contact_law_from_options(*o, &law_spec, &s->law));
   }
-  TL_CHECK(tl_options_get_real(*o, "-pressure", 5e6, 1.0, 1e12, "Pa", "target confining pressure (seeds/000: 5 MPa)", &s->pressure));
+  TL_CHECK(tl_options_get_real(*o, "-pressure", 5e6, 1.0, 1e12, "Pa", "target confining pressure (Voisin-Leprince et al. 2023: 5 MPa)", &s->pressure));
   TL_CHECK(tl_options_get_real(*o, "-dt", 1e-8, 1e-15, 1.0, "s", "time step (Table 1)", &s->dt));
   TL_CHECK(tl_options_get_real(*o, "-box", scripts ? 6.0 : 12.0, 2.0, 1000.0, "d0",
                                "cell side in mean diameters d0 (servo: of the final packing, default 12; scripts: of "
                                "the initial box at -fill_fraction, default 6, as the scripts' box_0.018)", &s->box_d0));
   TL_CHECK(tl_options_get_real(*o, "-phi0", 0.3, 0.01, 0.5, "", "[servo] initial packing fraction of the gas", &s->phi0));
   TL_CHECK(tl_options_get_real(*o, "-inertial", 1e-3, 1e-7, 1.0, "",
-                               "[servo] inertial number setting the strain rate near the target (seeds/004 Eq. 18)", &s->inertial));
+                               "[servo] inertial number setting the strain rate near the target (Desrues et al. 2019 Eq. 18)", &s->inertial));
   TL_CHECK(tl_options_get_real(*o, "-inertial_gas", 3e-2, 1e-7, 10.0, "",
                                "[servo] inertial number of the initial compression, while the pressure is low", &s->inertial_gas));
   TL_CHECK(tl_options_get_real(*o, "-t_end", 0.05, 0.0, 1e6, "s", "[servo] longest simulated time", &s->t_end));
-  TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-3, 1e-12, 1.0, "", "[servo] static balance Δ_n of every particle (seeds/004 Eq. 19)", &s->tolerance));
+  TL_CHECK(tl_options_get_real(*o, "-tolerance", 1e-3, 1e-12, 1.0, "", "[servo] static balance Δ_n of every particle (Desrues et al. 2019 Eq. 19)", &s->tolerance));
   TL_CHECK(tl_options_get_real(*o, "-pressure_tolerance", 1e-2, 1e-9, 1.0, "", "[servo] relative pressure error at the end", &s->pressure_tolerance));
   TL_CHECK(tl_options_get_real(*o, "-fill_fraction", 0.6, 0.01, 0.9, "",
                                "[scripts] solid volume / box volume at which the random insertion stops (scripts: 0.60)", &s->fill));

@@ -1,10 +1,10 @@
 /* Polydisperse spheres poured into a box and settled under gravity: the
  * floor is a triangulated surface (squares split into four triangles around
- * their centres, as seeds/001 represents quadrilateral faces) and the four
+ * their centres, as Cheng et al. 2022 represents quadrilateral faces) and the four
  * sides are infinite planes.  Particles are inserted on a jittered lattice in
  * the upper part of the box with small random velocities and fall.
  *
- * Material (seeds/000 Table 1 where it applies): density 2500 kg/m^3,
+ * Material (Voisin-Leprince et al. 2023 Table 1 where it applies): density 2500 kg/m^3,
  * diameters uniform in [2.5, 3.5] mm, friction 0.5; the linear normal
  * stiffness follows the coupling paper's k_n = E d with a soft E = 10 MPa
  * (stated in -help) so that settling takes a fraction of a second;
@@ -28,7 +28,10 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
 #include "tl_options_checkpoint.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_particle_snapshot.h"
@@ -37,8 +40,8 @@
 
 typedef struct {
   long n;
-  double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance;
-  long snapshots, samples, floor_cells, checkpoint_every, stop_step;
+  double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance, snapshot_dt;
+  long samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
   const char *out, *restart;
   TlContactLaw *law;
@@ -49,16 +52,19 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->law = NULL;
   TL_CHECK(tl_options_create(argc, argv,
                              "Polydisperse spheres poured into a box and settled on a triangulated floor and plane "
-                             "side walls; energies, coordination and the weight carried by the walls.",
+                             "side walls; energies, coordination and the weight carried by the walls.  Material after " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              o));
+  static const TlRenamedOption renamed[] = {
+      {"-snapshots", "-snapshot_dt", "snapshots are now every -snapshot_dt seconds, as in every time-stepping driver"}};
+  TL_CHECK(tl_options_refuse_renamed(*o, renamed, 1));
   TL_CHECK(tl_options_get_int(*o, "-n", 1500, 1, 100000000, "number of particles", &s->n));
-  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (seeds/000 Table 1)", &s->d_min));
-  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (seeds/000 Table 1)", &s->d_max));
-  TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (seeds/000 Table 1)", &s->density));
+  TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_min));
+  TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_max));
+  TL_CHECK(tl_options_get_real(*o, "-density", 2500, 1e-6, 1e6, "kg/m^3", "grain density (Voisin-Leprince et al. 2023 Table 1)", &s->density));
   TL_CHECK(tl_options_get_real(*o, "-E", 1e7, 1.0, 1e12, "Pa",
                                "modulus giving the linear stiffness k_n = E d_mean (soft, so that settling is quick)", &s->E));
   /* linear spring-dashpot k_n = E d_mean, restitution 0.5, Coulomb mu = 0.5
-   * (seeds/000 Table 1); -contact_* override */
+   * (Voisin-Leprince et al. 2023 Table 1); -contact_* override */
   const TlContactValue law_values[] = {
       {"k_n", s->E * 0.5 * (s->d_min + s->d_max)}, {"restitution", 0.5}, {"mu", 0.5}};
   const TlContactSpec law_spec = {"linear", "coulomb", NULL, NULL, law_values, 3};
@@ -71,7 +77,11 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                "stop with a diagnosis when |E_total - E_0| exceeds this fraction of |E_0| (E_total "
                                "counts the dissipated energy: it is conserved by an accurate run)",
                                &s->energy_tolerance));
-  TL_CHECK(tl_options_get_int(*o, "-snapshots", 10, 0, 100000, "particle snapshots written", &s->snapshots));
+  TL_CHECK(tl_options_get_real(*o, "-snapshot_dt", 0.04, 0.0, 1e6, "s",
+                               "particle snapshots at t = 0, dt, 2 dt, ... and at -t_end (0: none)", &s->snapshot_dt));
+  if (s->snapshot_dt > 0.0 && !(s->t_end / s->snapshot_dt <= 100000.0))
+    TL_ERROR(TL_ERR_ARG, "-snapshot_dt %g s makes %.3g snapshots of -t_end %g s, beyond the limit 100000: at least "
+             "-snapshot_dt %g s", s->snapshot_dt, s->t_end / s->snapshot_dt, s->t_end, s->t_end / 100000.0);
   TL_CHECK(tl_options_get_int(*o, "-samples", 400, 1, 10000000, "rows of the energy table", &s->samples));
   TL_CHECK(tl_options_get_int(*o, "-floor_cells", 8, 1, 10000, "floor squares per side (4 triangles each)", &s->floor_cells));
   TL_CHECK(tl_options_get_bool(*o, "-plane_floor", 0, "use an infinite plane as floor instead of triangles", &s->plane_floor));
@@ -143,6 +153,22 @@ static TlStatus check_sizes(const Settings *s)
     TL_ERROR(TL_ERR_ARG, "%ld particles need %ld layers of %g m: more than the box height %g allows", s->n, layers, pitch,
              s->height);
   return TL_OK;
+}
+
+/* The loop step of snapshot j, or -1 past the last: snapshots at t = 0,
+ * dt_s, 2 dt_s, ... up to -t_end on the step grid, and one at -t_end when it
+ * is not on the dt_s grid, so -t_end 0.1 -snapshot_dt 0.01 writes 11. */
+static long snapshot_step(const Settings *s, double dt, long steps, long j)
+{
+  if (!(s->snapshot_dt > 0.0) || j < 0) return -1;
+  const long on_grid = (long)floor(s->t_end / s->snapshot_dt * (1.0 + 1e-12)); /* last j with j dt_s <= t_end */
+  if (j <= on_grid) {
+    if (s->t_end - (double)j * s->snapshot_dt < dt) return steps; /* -t_end on the grid: its last step */
+    long k = lround((double)j * s->snapshot_dt / dt);
+    return k < steps ? k : steps;
+  }
+  if (j == on_grid + 1 && snapshot_step(s, dt, steps, on_grid) < steps) return steps;
+  return -1;
 }
 
 static TlStatus run(int argc, char **argv)
@@ -228,7 +254,6 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, sizeof cols / sizeof cols[0], cols, &ts), done);
   TL_CHECK_GOTO(st, tl_timeseries_reserve(ts, (size_t)s.samples + 2), done);
   long every = steps / s.samples > 0 ? steps / s.samples : 1;
-  long snap_every = s.snapshots > 0 ? (steps / s.snapshots > 0 ? steps / s.snapshots : 1) : 0;
   TlProgress prog;
   tl_progress_init(&prog, "settle", (double)steps);
   double weight = 0.0;
@@ -252,6 +277,8 @@ static TlStatus run(int argc, char **argv)
     for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
   }
   long last = s.stop_step > 0 && s.stop_step < steps ? s.stop_step : steps;
+  long next_snap = 0, snap_k; /* the next snapshot's index and its step */
+  while ((snap_k = snapshot_step(&s, dt, steps, next_snap)) >= 0 && snap_k < (long)pr.next_step) next_snap++;
   for (long k = (long)pr.next_step; k <= steps; ++k) {
     if (k % every == 0 || k == steps) {
       TL_CHECK_GOTO(st, tl_dem_energy(dem, &en), done);
@@ -274,10 +301,11 @@ static TlStatus run(int argc, char **argv)
         goto done;
       }
     }
-    if (snap_every && (k % snap_every == 0 || k == steps)) {
+    if (snapshot_step(&s, dt, steps, next_snap) == k) {
       TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
       TL_CHECK_GOTO(st, tl_particle_writer_write(writer, k, tl_dem_time(dem), &view), done);
       TL_CHECK_GOTO(st, tl_wall_writer_write_dem(walls, k, dem), done);
+      while (snapshot_step(&s, dt, steps, next_snap) == k) next_snap++; /* -snapshot_dt below dt: one per step */
     }
     if (k == steps || k == last) break;
     TL_CHECK_GOTO(st, tl_dem_step(dem, 1), done);
@@ -300,17 +328,40 @@ static TlStatus run(int argc, char **argv)
     top = fmax(top, P->x[i].z + P->radius[i]);
     vol += 4.0 / 3.0 * TL_PI * pow(P->radius[i], 3);
   }
-  /* the walls push up on the particles: their reactions are -force */
-  double balance = -wall_fz / weight;
+  /* the walls push up on the particles: their reactions are -force (+ 0.0:
+   * no "-0.0000" when nothing touches them) */
+  double balance = -wall_fz / weight + 0.0;
   double energy_error = (en.total - pr.e0) / fmax(fabs(pr.e0), 1e-300);
-  printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
-         en.kinetic_translational + en.kinetic_rotational, en.elastic, en.dissipated, z, znr);
-  printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
-         balance, top, vol / (s.box * s.box * top), energy_error);
+  /* Settled: the walls carry the weight (within 5 %) and the grains are at
+   * rest (kinetic energy below 1e-3 of lifting the packing by one mean
+   * diameter).  Otherwise coordination, wall load and packing fraction
+   * describe grains still falling, and the run says so. */
+  const double ke = en.kinetic_translational + en.kinetic_rotational;
+  const double ke_scale = weight * 0.5 * (s.d_min + s.d_max);
+  const int settled = fabs(balance - 1.0) <= 0.05 && ke <= 1e-3 * ke_scale;
+  const double t_now = tl_dem_time(dem);
+  if (settled) {
+    printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
+           ke, en.elastic, en.dissipated, z, znr);
+    printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
+           balance, top, vol / (s.box * s.box * top), energy_error);
+  } else {
+    printf("not settled at t = %.4g s: the walls carry %.4f of the weight (settled: 1 within 0.05), kinetic energy "
+           "%.3e J is %.3g of the weight times the mean diameter (settled: below 1e-3); the coordination %.2f and "
+           "packing fraction %.3f are of grains still moving: run longer (-t_end)\n",
+           t_now, balance, ke, ke / ke_scale, z, vol / (s.box * s.box * top));
+    printf("energy balance error %.2e\n", energy_error);
+  }
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_timeseries.py", plot_cmd, sizeof plot_cmd),
+           (tl_plot_abs_dir(s.out, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/energies.csv")));
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", (long)P->n);
   tl_summary_int(&sum, "steps", last);
+  tl_summary_string(&sum, "settled", settled ? "true" : "false");
   tl_summary_real(&sum, "kinetic_final", en.kinetic_translational + en.kinetic_rotational);
   tl_summary_real(&sum, "coordination", z);
   tl_summary_real(&sum, "weight_balance", balance);

@@ -1,4 +1,4 @@
-/* The full-DEM reference of V1 (seeds/001 §6.2): the bonded simple-cubic
+/* The full-DEM reference of V1 (Cheng et al. 2022 §6.2): the bonded simple-cubic
  * bar over its whole length, the same particles, excitation and fixed right
  * end as wave_volume_coupling.  Restart: -checkpoint_every n writes
  * <output_dir>/checkpoint.h5 every n steps (the options, the particles and
@@ -9,34 +9,53 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_output_dir.h"
+#include "tl_timeseries.h"
 #include "tl_vcoupling_wave.h"
 
-static TlStatus write_energies(FILE *f, void *ctx)
+/* The energy table and the velocity profiles through the documented table
+ * writer (tl_timeseries.h): columns with units, 17 significant digits, CSV
+ * and HDF5, written atomically; the column names are those of
+ * wave_volume_coupling's DEM part, so tools/plot_wave.py reads both. */
+static const TlColumn energy_columns[] = {{"t", "s"},       {"mass_dem", "kg"}, {"mom_dem", "kg m/s"},
+                                          {"kin_dem", "J"}, {"pot_dem", "J"},   {"total", "J"}};
+static const TlColumn profile_columns[] = {{"t", "s"}, {"y", "m"}, {"vy", "m/s"}};
+
+static TlStatus write_tables(const char *dir, const TlWaveRecord *r, int n_snap)
 {
-  const TlWaveRecord *r = ctx;
-  fprintf(f, "t,mass,momentum,kinetic,potential,total\n");
-  for (size_t k = 0; k < r->n; ++k) {
-    const TlWaveState *s = &r->state[k];
-    fprintf(f, "%.9g,%.12g,%.9g,%.9g,%.9g,%.9g\n", s->t, s->mass_dem, s->mom_dem, s->kin_dem, s->pot_dem, s->total);
+  char base[4096];
+  TlTimeSeries *ts = NULL;
+  snprintf(base, sizeof base, "%s/energies", dir);
+  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, 6, energy_columns, &ts));
+  TlStatus s = tl_timeseries_reserve(ts, r->n);
+  for (size_t k = 0; s == TL_OK && k < r->n; ++k) {
+    const TlWaveState *w = &r->state[k];
+    const double row[6] = {w->t, w->mass_dem, w->mom_dem, w->kin_dem, w->pot_dem, w->total};
+    s = tl_timeseries_append(ts, row);
   }
-  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the energy table failed") : TL_OK;
-}
-
-typedef struct {
-  const TlWaveRecord *r;
-  int n_snap;
-} Prof;
-
-static TlStatus write_profiles(FILE *f, void *ctx)
-{
-  const Prof *P = ctx;
-  fprintf(f, "t,y,vy\n");
-  for (int s = 0; s < P->n_snap; ++s)
-    for (size_t j = 0; j < P->r->ny; ++j)
-      fprintf(f, "%.6g,%.6g,%.9g\n", P->r->snap_t[s], P->r->y[j], P->r->profile[s * P->r->ny + j]);
-  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the profiles failed") : TL_OK;
+  if (s != TL_OK) {
+    tl_timeseries_destroy(&ts);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  TL_CHECK(tl_timeseries_close(&ts));
+  snprintf(base, sizeof base, "%s/profiles", dir);
+  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, 3, profile_columns, &ts));
+  s = tl_timeseries_reserve(ts, (size_t)n_snap * r->ny);
+  for (int q = 0; s == TL_OK && q < n_snap; ++q)
+    for (size_t j = 0; s == TL_OK && j < r->ny; ++j) {
+      const double row[3] = {r->snap_t[q], r->y[j], r->profile[(size_t)q * r->ny + j]};
+      s = tl_timeseries_append(ts, row);
+    }
+  if (s != TL_OK) {
+    tl_timeseries_destroy(&ts);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  TL_CHECK(tl_timeseries_close(&ts));
+  return TL_OK;
 }
 
 static TlStatus run(int argc, char **argv)
@@ -44,8 +63,8 @@ static TlStatus run(int argc, char **argv)
   TlOptions *o = NULL;
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
-                             "The full-DEM reference of V1 (seeds/001 §6.2): bonded simple-cubic particles over "
-                             "the whole bar, right end fixed, left layer excited as in Table 4.",
+                             "The full-DEM reference of V1 (Cheng et al. 2022, §6.2): bonded simple-cubic particles over "
+                             "the whole bar, right end fixed, left layer excited as in Table 4.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
   static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};
@@ -58,6 +77,9 @@ static TlStatus run(int argc, char **argv)
   double v0 = 0.0;
   char *dir = NULL;
   TlStatus s = TL_OK;
+  static const TlRenamedOption renamed[] = {{"-snapshots", "-profile_times", "the times of the velocity profiles, which are not snapshots"}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
+  TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-profile_times"), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element edge n: nP = n^3 (Table 6)", &icase), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-excitation", "pulse", excitations, "Table 4 excitation", &iexc), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-omega", 1950.0, 1e-3, 1e9, "rad/s", "excitation angular frequency", &p.omega), done);
@@ -70,7 +92,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-width", 0.8, 1e-3, 1e6, "m", "section side", &p.width), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_over_tc", 0.01, 1e-6, 0.3, "", "time step / contact time", &p.dt_over_tc), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time", &ro.t_end), done);
-  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-snapshots", "0.03,0.05", "s", "times of the velocity profiles",
+  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-profile_times", "0.03,0.05", "s", "times of the velocity profiles",
                                             ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
@@ -112,12 +134,7 @@ static TlStatus run(int argc, char **argv)
     s = tl_summary_print(&part, stdout);
     goto out;
   }
-  char path[4096];
-  snprintf(path, sizeof path, "%s/energies.csv", dir);
-  TL_CHECK_GOTO(s, tl_atomic_write(path, write_energies, &r), out);
-  Prof P = {&r, n_snap};
-  snprintf(path, sizeof path, "%s/profiles.csv", dir);
-  TL_CHECK_GOTO(s, tl_atomic_write(path, write_profiles, &P), out);
+  TL_CHECK_GOTO(s, write_tables(dir, &r, n_snap), out);
   /* energy is conserved once the excitation stops (t0 for the driven cases) */
   double t0 = p.excitation == TL_WAVE_PULSE ? 0.0 : 2.0 * 3.14159265358979323846 * p.cycles / p.omega;
   double e_ref = NAN, e_dev = 0.0;
@@ -129,6 +146,11 @@ static TlStatus run(int argc, char **argv)
   printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
          "after the excitation); output in %s\n",
          cases[icase], excitations[iexc], r.n_particles, r.dt, r.steps, e_ref, e_dev, dir);
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
+  }
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_string(&sum, "case", cases[icase]);

@@ -1,4 +1,4 @@
-/* V1 (seeds/001 §6.2): a wave passing from bonded particles into a hex8
+/* V1 (Cheng et al. 2022 §6.2): a wave passing from bonded particles into a hex8
  * bar through a volume-coupled overlap, against the full-DEM reference run
  * in the same program. */
 #include <math.h>
@@ -7,8 +7,12 @@
 #include <string.h>
 
 #include "talus.h"
+#include "tl_papers.h"
+#include "tl_options_renamed.h"
+#include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_output_dir.h"
+#include "tl_timeseries.h"
 #include "tl_vcoupling.h"
 #include "tl_vcoupling_wave.h"
 
@@ -17,38 +21,66 @@ typedef struct {
   int n_snap;
 } Files;
 
-static TlStatus write_energies(FILE *f, void *ctx)
+/* The energy table and the velocity profiles through the documented table
+ * writer (tl_timeseries.h): columns with units, 17 significant digits, CSV
+ * and HDF5, written atomically. */
+static TlStatus write_table(const char *dir, const char *name, size_t n_cols, const TlColumn *cols, size_t n_rows,
+                            void (*fill)(const Files *, size_t, double *), const Files *F)
 {
-  const Files *F = ctx;
-  fprintf(f, "t,mass_dem,mass_fem,mom_dem,mom_fem,mom_total,kin_dem,pot_dem,kin_fem,pot_fem,pot_coupling,"
-             "total,ref_total,ref_mom,eq41,residual,coupling_work\n");
-  for (size_t k = 0; k < F->c->n; ++k) {
-    const TlWaveState *s = &F->c->state[k];
-    const TlWaveState *r = k < F->ref->n ? &F->ref->state[k] : s;
-    fprintf(f, "%.9g,%.12g,%.12g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.3g,%.4g,%.9g\n", s->t,
-            s->mass_dem, s->mass_fem, s->mom_dem, s->mom_fem, s->mom_dem + s->mom_fem, s->kin_dem, s->pot_dem,
-            s->kin_fem, s->pot_fem, s->pot_coupling, s->total, r->total, r->mom_dem, s->eq41, s->residual,
-            s->coupling_work);
+  char base[4096];
+  snprintf(base, sizeof base, "%s/%s", dir, name);
+  TlTimeSeries *ts = NULL;
+  TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, n_cols, cols, &ts));
+  double row[32];
+  TlStatus s = n_cols <= 32 ? tl_timeseries_reserve(ts, n_rows) : TL_ERR_ARG;
+  for (size_t k = 0; s == TL_OK && k < n_rows; ++k) {
+    fill(F, k, row);
+    s = tl_timeseries_append(ts, row);
   }
-  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the energy table failed") : TL_OK;
+  if (s != TL_OK) {
+    tl_timeseries_destroy(&ts);
+    return tl_error_trace(s, __FILE__, __LINE__);
+  }
+  TL_CHECK(tl_timeseries_close(&ts));
+  return TL_OK;
 }
 
-static TlStatus write_profiles(FILE *f, void *ctx)
+static const TlColumn energy_columns[] = {
+    {"t", "s"},           {"mass_dem", "kg"},     {"mass_fem", "kg"},    {"mom_dem", "kg m/s"},
+    {"mom_fem", "kg m/s"}, {"mom_total", "kg m/s"}, {"kin_dem", "J"},      {"pot_dem", "J"},
+    {"kin_fem", "J"},      {"pot_fem", "J"},        {"pot_coupling", "J"}, {"total", "J"},
+    {"ref_total", "J"},    {"ref_mom", "kg m/s"},   {"eq41", ""},          {"residual", "m"},
+    {"coupling_work", "J"}};
+
+static void energy_row(const Files *F, size_t k, double *row)
 {
-  const Files *F = ctx;
-  fprintf(f, "t,y,vy,vy_ref,vy_weighted\n");
-  for (int s = 0; s < F->n_snap; ++s)
-    for (size_t j = 0; j < F->c->ny; ++j)
-      fprintf(f, "%.6g,%.6g,%.9g,%.9g,%.9g\n", F->c->snap_t[s], F->c->y[j], F->c->profile[s * F->c->ny + j],
-              F->ref->profile[s * F->ref->ny + j], F->c->profile_weighted[s * F->c->ny + j]);
-  return ferror(f) ? tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "writing the profiles failed") : TL_OK;
+  const TlWaveState *s = &F->c->state[k];
+  const TlWaveState *r = k < F->ref->n ? &F->ref->state[k] : s;
+  const double v[] = {s->t,       s->mass_dem, s->mass_fem, s->mom_dem,      s->mom_fem,   s->mom_dem + s->mom_fem,
+                      s->kin_dem, s->pot_dem,  s->kin_fem,  s->pot_fem,      s->pot_coupling, s->total,
+                      r->total,   r->mom_dem,  s->eq41,     s->residual,     s->coupling_work};
+  memcpy(row, v, sizeof v);
 }
 
-static TlStatus write_file(const char *dir, const char *name, TlAtomicWriteFn fn, void *ctx)
+static const TlColumn profile_columns[] = {
+    {"t", "s"}, {"y", "m"}, {"vy", "m/s"}, {"vy_ref", "m/s"}, {"vy_weighted", "m/s"}};
+
+static void profile_row(const Files *F, size_t k, double *row)
 {
-  char path[4096];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  TL_CHECK(tl_atomic_write(path, fn, ctx));
+  const size_t ny = F->c->ny, q = k / ny, j = k % ny;
+  row[0] = F->c->snap_t[q];
+  row[1] = F->c->y[j];
+  row[2] = F->c->profile[q * ny + j];
+  row[3] = F->ref->profile[q * F->ref->ny + j];
+  row[4] = F->c->profile_weighted[q * ny + j];
+}
+
+static TlStatus write_tables(const char *dir, const Files *F)
+{
+  TL_CHECK(write_table(dir, "energies", sizeof energy_columns / sizeof energy_columns[0], energy_columns, F->c->n,
+                       energy_row, F));
+  TL_CHECK(write_table(dir, "profiles", sizeof profile_columns / sizeof profile_columns[0], profile_columns,
+                       (size_t)F->n_snap * F->c->ny, profile_row, F));
   return TL_OK;
 }
 
@@ -66,11 +98,14 @@ static TlStatus read_table(const char *path, double **v, size_t *rows, int *cols
   *cols = 0;
   *v = NULL;
   TlStatus s = TL_OK;
-  if (!fgets(line, sizeof line, f)) {
-    fclose(f);
-    TL_ERROR(TL_ERR_FORMAT, "'%s' is empty", path);
-  }
+  /* '#' lines are comments (provenance); the first other line is the header */
+  int header = 0;
   while (fgets(line, sizeof line, f)) {
+    if (line[0] == '#') continue;
+    if (!header) {
+      header = 1;
+      continue;
+    }
     double row[CMP_COLS];
     int n = 0;
     char *q = line;
@@ -90,6 +125,7 @@ static TlStatus read_table(const char *path, double **v, size_t *rows, int *cols
     ++*rows;
   }
   fclose(f);
+  if (s == TL_OK && !header) TL_ERROR(TL_ERR_FORMAT, "'%s' is empty", path);
   if (s == TL_OK && *rows == 0) s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "'%s' holds no data rows", path);
   return s;
 }
@@ -132,9 +168,9 @@ static TlStatus run(int argc, char **argv)
   TlOptions *o = NULL;
   TL_CHECK(tl_initialize());
   TL_CHECK(tl_options_create(argc, argv,
-                             "V1 of seeds/001 §6.2: a wave from bonded particles into a hex8 bar through a "
+                             "V1 of Cheng et al. 2022, §6.2: a wave from bonded particles into a hex8 bar through a "
                              "volume-coupled overlap (Arlequin, CG-enriched homogenisation), compared with the "
-                             "full-DEM reference run in the same program.",
+                             "full-DEM reference run in the same program.  Paper: " TL_PAPER_CHENG_2022 ".",
                              &o));
   static const char *const cases[] = {"1P", "2P", "3P", "4P", NULL};
   static const char *const excitations[] = {"pulse", "cosine", "cycles", NULL};
@@ -148,6 +184,12 @@ static TlStatus run(int argc, char **argv)
   double v0 = 0.0;
   char *dir = NULL;
   TlStatus s = TL_OK;
+  static const TlRenamedOption renamed[] = {
+      {"-snapshots", "-profile_times", "the times of the velocity profiles; HDF5 snapshots are -snapshot_dt"},
+      {"-kernel", "-cg_kernel", NULL},
+      {"-fem", "-stepper", NULL}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
+  TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-profile_times"), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element: nP = n^3 (Table 6)", &icase), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-excitation", "pulse", excitations,
                                          "Table 4: pulse (§6.2.2), cosine (§6.2.3), cycles (§6.2.4)", &iexc), done);
@@ -158,7 +200,7 @@ static TlStatus run(int argc, char **argv)
   TlScale scales[] = {{"h", p.dx, "element size Delta X"}};
   TL_CHECK_GOTO(s, tl_options_get_scaled(o, "-cg_width", "0", 0.0, 1e3, "m", scales, 1,
                                          "CG width c (Table 5; 0: classical Eq. 19), e.g. 1.5h", &p.c), done);
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-kernel", "lucy", kernels, "CG kernel for c > 0", &iker), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_kernel", "lucy", kernels, "CG kernel for c > 0", &iker), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-epsilon", 0.0, 0.0, 1e30, "Pa/m^2", "penalty (0: Table 6, 1e4 Pa/mm^2 for 1P scaled by 1/d^2 = 1.6e9 Pa / d^2)", &p.epsilon), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-variant", "paper", variants,
                                          "paper: penalty on the step displacement (Eq. 29); spring: on the total displacement", &ivar), done);
@@ -177,7 +219,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
   static const char *const fems[] = {"central_difference", "newmark", NULL};
   int ifem = 0;
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-fem", "central_difference", fems,
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-stepper", "central_difference", fems,
                                          "the solid's stepper: central_difference (explicit, the paper's run) or "
                                          "newmark (implicit, beta = 1/4, gamma = 1/2)", &ifem), done);
   /* -configuration: the paper's text, or the choices read from the authors'
@@ -231,7 +273,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-fem_start", 8.0, 0.0, 1e6, "m", "elements on [fem_start, length]", &p.fem_start), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-dt_over_tc", 0.01, 1e-6, 0.3, "", "time step / contact time (Table 3)", &p.dt_over_tc), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time (before the reflection returns to the zone)", &ro.t_end), done);
-  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-snapshots", "0.03,0.05", "s", "times of the velocity profiles (Fig. 19)",
+  TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-profile_times", "0.03,0.05", "s", "times of the velocity profiles (Fig. 19)",
                                             ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-reference", 1, "run the full-DEM reference for the errors", &reference), done);
@@ -354,12 +396,10 @@ static TlStatus run(int argc, char **argv)
     perr = den > 0 ? sqrt(num / den) : NAN;
     perr_w = den > 0 ? sqrt(num_w / den) : NAN;
     Files F = {&rc, &rr, n_snap};
-    TL_CHECK_GOTO(s, write_file(dir, "energies.csv", write_energies, &F), out);
-    TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
+    TL_CHECK_GOTO(s, write_tables(dir, &F), out);
   } else {
     Files F = {&rc, &rc, n_snap};
-    TL_CHECK_GOTO(s, write_file(dir, "energies.csv", write_energies, &F), out);
-    TL_CHECK_GOTO(s, write_file(dir, "profiles.csv", write_profiles, &F), out);
+    TL_CHECK_GOTO(s, write_tables(dir, &F), out);
   }
   printf("%s %s, c = %g m (%.3g dX), eps = %s, %zu particles, dt = %.4g s, %ld steps: energy %.6g J -> %.6g J "
          "(reference %.6g J); coupled run %.2f s%s, reference %.2f s; %zu snapshots; output in %s\n",
@@ -389,6 +429,11 @@ static TlStatus run(int argc, char **argv)
     TL_CHECK_GOTO(s, compare_tables(path, baseline, baseline_tol, &worst), out);
     printf("energies.csv matches %s (largest relative difference %.3g, tolerance %g)\n", baseline, worst, baseline_tol);
     baseline_diff = worst;
+  }
+  {
+    char plot_cmd[4200], plot_dir[4200];
+    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
   }
   TlSummary sum;
   tl_summary_init(&sum);

@@ -1,4 +1,4 @@
-/* The cantilever of REFERENCE.md S1 as a ready scene, and its analytic
+/* The cantilever of S1 (Cheng et al. 2022, §6.1) as a ready scene, and its analytic
  * references, shared by the cantilever driver, its tests and benchmarks.
  *
  * Beam along y: cross-section [-b/2, b/2] x [-h/2, h/2] (x, z), length L;

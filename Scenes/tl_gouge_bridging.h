@@ -1,8 +1,8 @@
-/* The pre-stressed granular gouge between two elastic bars of seeds/000
- * (§4-5, REFERENCE B1; ../shared/specs/bridging-domain.md §5 S-B1, S-B2),
+/* The pre-stressed granular gouge between two elastic bars of Voisin-Leprince et al. 2023
+ * (§4-5, the B1 scene),
  * coupled by the bridging domain method (Coupling/Bridging/tl_bdm.h).
  *
- * Geometry (the scripts' canonical scene, spec note 6).  A relaxed periodic
+ * Geometry (the scripts' canonical scene).  A relaxed periodic
  * packing of side a (a LAMMPS data file, e.g. the 5 MPa gouge cells) is
  * replicated cells_section x cells_y x cells_section times: the DEM bar
  * spans y in [-Y, Y], Y = cells_y a / 2, periodic in x and z (section

@@ -1,4 +1,4 @@
-/* The wave-propagation scene of seeds/001 §6.2 with the volume coupling,
+/* The wave-propagation scene of Cheng et al. 2022 §6.2 with the volume coupling,
  * on the library's models: TlDem (bonded lattice, weighted equations), the
  * finite-strain TlSolid with the VCoupling element type, and a library
  * stepper for the solid. */
@@ -715,7 +715,7 @@ static TlStatus record_load(void *object, TlCheckpointReader *cr, const char *g)
   R->r->n = (size_t)n;
   TL_CHECK(tl_checkpoint_read_int64(cr, g, "profiles_taken", &next));
   if (next < 0 || next > R->n_snap)
-    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' has taken %lld profiles, this run takes %d (same -snapshots?)",
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' has taken %lld profiles, this run takes %d (same -profile_times?)",
              tl_checkpoint_reader_path(cr), (long long)next, R->n_snap);
   *R->next = (int)next;
   TL_CHECK(tl_checkpoint_read_doubles(cr, g, "profile_times", TL_WAVE_MAX_SNAPSHOTS, R->r->snap_t));

@@ -1,4 +1,4 @@
-/* The wave-propagation scene of seeds/001 §6.2 (REFERENCE V1): a bar along
+/* The wave-propagation scene of Cheng et al. 2022, §6.2 (V1): a bar along
  * y, bonded simple-cubic particles on [0, dem_end], hex8 elements on
  * [fem_start, length], coupled by TlVCoupling in the overlap; or the same
  * particles over the whole bar (the full-DEM reference).

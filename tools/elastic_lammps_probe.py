@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Side-by-side affine strain probe of one packing by LAMMPS and by Talus.
 
 LAMMPS reads the data file, evaluates the stress at once (run 0, the
 gouge law pair_style gran/hertz/history 3.663e10 4.5249e10 0.2 NULL 0.5 1,
-as the seeds/000 authors' contact_law.mod) for the reference and for +-eps on
+as the Voisin-Leprince et al.'s contact_law.mod) for the reference and for +-eps on
 each of the six Voigt components (change_box ... remap, the LAMMPS ELASTIC
 example's maps), every probe from a fresh read of the file; the tensor is
 C_iJ = (sigma_i(+eps_J) - sigma_i(-eps_J)) / (2 eps), sigma = -p.  Talus's

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Size study of the elastic properties of periodic packings (seeds/000
+"""Size study of the elastic properties of periodic packings (Voisin-Leprince et al. 2023
 Figs. 1a, 2a, 2b, 9a-c and Table 2): mean and standard deviation over seeds
 per box size, for each probing protocol of elastic_tensor, beside the
 authors' own per-seed results when their files are there.

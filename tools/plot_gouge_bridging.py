@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of gouge_bridging runs (seeds/000 Figs. 4, 5, 7).
+"""Plots of gouge_bridging runs (Voisin-Leprince et al. 2023 Figs. 4, 5, 7).
 
   plot_gouge_bridging.py rest OUT.png DIR[=label] ...
       Fig. 4 style: |section-averaged u_y| of the monitored plane against

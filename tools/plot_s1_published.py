@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Total energy of S1 runs against the authors' published runs (cf. Fig. 17).
 
 usage: plot_s1_published.py <Oomph-Mercury checkout> out.png LABEL=RUN_DIR [LABEL=RUN_DIR ...]

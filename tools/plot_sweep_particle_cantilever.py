@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Accuracy against time for the S1 sweep (tools/sweep_particle_cantilever.sh).
 
 usage: plot_sweep_particle_cantilever.py <sweep dir> [-o out.png]

@@ -1,15 +1,18 @@
 #!/usr/bin/python3
 """Plot columns of a Talus time-series CSV file into a PNG.
 
-The CSV is the one a TlTimeSeries writes: a header line of "name [unit]"
-cells (just "name" when dimensionless), then one row per line.  Columns are
-chosen by name; the unit goes into the axis label.
+The CSV is the one a TlTimeSeries writes: '#' comment lines, a header line
+of "name [unit]" cells (just "name" when dimensionless), then one row per
+line.  Columns are chosen by name.  Columns of one unit share a panel whose
+axis is labelled with that unit; each further unit gets a panel of its own
+below, on the same x axis (Pa, J and 1/s are never drawn on one axis).
 
   plot_timeseries.py results/run/energy.csv -y kinetic_energy elastic_energy --logy
   plot_timeseries.py energy.csv -x time -y total_energy -o energy.png
 
 Without -y every column but the x column is plotted; without -o the PNG is
-written next to the CSV (energy.csv -> energy.png).  The PNG is written to a
+written next to the CSV (energy.csv -> energy.png).  --describe prints each
+panel as "panel UNIT COLUMN ..." (for tests).  The PNG is written to a
 temporary name and renamed, like every Talus output file.
 """
 import argparse
@@ -39,7 +42,7 @@ def parse_header(cells):
 
 def read_table(path):
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = [r for r in csv.reader(f) if not (r and r[0].startswith("#"))]
     if not rows:
         raise SystemExit(f"error: {path} is empty (no header line)")
     header = parse_header(rows[0])
@@ -80,6 +83,7 @@ def main(argv=None):
     p.add_argument("--logy", action="store_true", help="logarithmic y axis (plots |value|; zeros are left out)")
     p.add_argument("--title", help="plot title (default: the CSV's file name)")
     p.add_argument("--dpi", type=int, default=150, help="resolution of the PNG (default 150)")
+    p.add_argument("--describe", action="store_true", help="print the panels (unit and columns)")
     a = p.parse_args(argv)
 
     header, data = read_table(a.csv)
@@ -90,28 +94,39 @@ def main(argv=None):
     if not data[jx]:
         raise SystemExit(f"error: {a.csv} has a header but no rows")
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    units = set()
+    # one panel per unit, in the order the units first appear
+    panels = []
     for j in ys:
-        x, y = data[jx], data[j]
+        unit = header[j][1]
+        for pu, cols in panels:
+            if pu == unit:
+                cols.append(j)
+                break
+        else:
+            panels.append((unit, [j]))
+    fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
+                             figsize=(7, 2.2 + 2.3 * len(panels)))
+    for (unit, cols), ax in zip(panels, axes[:, 0]):
+        for j in cols:
+            x, y = data[jx], data[j]
+            if a.logy:
+                pairs = [(u, abs(v)) for u, v in zip(x, y) if v != 0 and math.isfinite(v)]
+                x, y = [u for u, _ in pairs], [v for _, v in pairs]
+            ax.plot(x, y, label=header[j][0])
+        if len(cols) == 1:
+            ax.set_ylabel(label(*header[cols[0]]))
+        else:
+            ax.set_ylabel(f"[{unit}]" if unit else "(dimensionless)")
+            ax.legend(fontsize=8)
+        if a.logx:
+            ax.set_xscale("log")
         if a.logy:
-            pairs = [(u, abs(v)) for u, v in zip(x, y) if v != 0 and math.isfinite(v)]
-            x, y = [u for u, _ in pairs], [v for _, v in pairs]
-        ax.plot(x, y, label=label(*header[j]))
-        units.add(header[j][1])
-    ax.set_xlabel(label(*header[jx]))
-    if len(ys) == 1:
-        ax.set_ylabel(label(*header[ys[0]]))
-    elif len(units) == 1 and "" not in units:
-        ax.set_ylabel(f"[{units.pop()}]")
-    if a.logx:
-        ax.set_xscale("log")
-    if a.logy:
-        ax.set_yscale("log")
-    if len(ys) > 1:
-        ax.legend()
-    ax.grid(True, alpha=0.3)
-    ax.set_title(a.title if a.title is not None else os.path.basename(a.csv))
+            ax.set_yscale("log")
+        ax.grid(True, alpha=0.3)
+        if a.describe:
+            print("panel", f"[{unit}]" if unit else "[]", *[header[j][0] for j in cols])
+    axes[-1, 0].set_xlabel(label(*header[jx]))
+    axes[0, 0].set_title(a.title if a.title is not None else os.path.basename(a.csv))
     fig.tight_layout()
 
     out = a.output or os.path.splitext(a.csv)[0] + ".png"

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Dissipated fraction against CG width: the authors' published V1 runs beside ours.
 
 usage: plot_v1_published.py docs/v1_published_runs.csv <sweep table.md> [...] -o out.png

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""Plots of a wave_volume_coupling run (seeds/001 Figs. 19-21).
+"""Plots of a wave_volume_coupling or wave_full_dem run (Cheng et al. 2022,
+CMAME 403, 115651, doi:10.1016/j.cma.2022.115651, Figs. 19-21).
 
-  plot_wave.py results/wave_volume_coupling
+  plot_wave.py results/wave_volume_coupling   (or results/wave_full_dem)
       energies.png  weighted energies of the sub-models and their total
                     against the full-DEM reference (Fig. 20 d-f)
       momentum.png  weighted y momentum of each sub-model and the total
@@ -27,16 +28,23 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def read_csv(path):
+    """Columns by name from a table of the drivers' writer: '#' lines are
+    comments, the header reads "name [unit],..."; the units are returned
+    beside the columns (cols, units)."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
     if len(rows) < 2:
         sys.exit(f"{path}: no data rows")
-    head = [h.strip() for h in rows[0]]
+    head, units = [], {}
+    for h in rows[0]:
+        name, _, unit = h.strip().partition(" [")
+        head.append(name)
+        units[name] = unit.rstrip("]")
     cols = {h: [] for h in head}
     for r in rows[1:]:
         for h, v in zip(head, r):
             cols[h].append(float(v))
-    return cols
+    return cols, units
 
 
 def save(fig, path):
@@ -48,10 +56,12 @@ def save(fig, path):
 
 
 def plot_run(folder):
-    e = read_csv(os.path.join(folder, "energies.csv"))
+    e, _ = read_csv(os.path.join(folder, "energies.csv"))
     t = e["t"]
+    full_dem = "kin_fem" not in e  # a wave_full_dem folder: the DEM bar alone
     fig, ax = plt.subplots(figsize=(7, 4))
-    for key, label in [("kin_dem", "DEM kinetic (w)"), ("pot_dem", "DEM potential (w)"),
+    for key, label in [("kin_dem", "DEM kinetic" + ("" if full_dem else " (w)")),
+                       ("pot_dem", "DEM potential" + ("" if full_dem else " (w)")),
                        ("kin_fem", "FEM kinetic (1-w)"), ("pot_fem", "FEM potential (1-w)"),
                        ("pot_coupling", "coupling spring"), ("total", "total"), ("ref_total", "full DEM")]:
         if key in e and max(abs(v) for v in e[key]) > 0:
@@ -62,30 +72,34 @@ def plot_run(folder):
     save(fig, os.path.join(folder, "energies.png"))
 
     fig, ax = plt.subplots(figsize=(7, 4))
-    for key, label in [("mom_dem", "DEM (w)"), ("mom_fem", "FEM (1-w)"), ("mom_total", "total"),
+    for key, label in [("mom_dem", "DEM" if full_dem else "DEM (w)"), ("mom_fem", "FEM (1-w)"), ("mom_total", "total"),
                        ("ref_mom", "full DEM")]:
-        ax.plot(t, e[key], "--" if key == "ref_mom" else "-", label=label)
+        if key in e:
+            ax.plot(t, e[key], "--" if key == "ref_mom" else "-", label=label)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("y momentum [kg m/s]")
     ax.legend(fontsize=8)
     save(fig, os.path.join(folder, "momentum.png"))
 
-    p = read_csv(os.path.join(folder, "profiles.csv"))
+    p, _ = read_csv(os.path.join(folder, "profiles.csv"))
     fig, ax = plt.subplots(figsize=(8, 4))
     times = sorted(set(p["t"]))
     for k, ts in enumerate(times):
         idx = [i for i, v in enumerate(p["t"]) if v == ts]
         y = [p["y"][i] for i in idx]
-        ax.plot(y, [p["vy"][i] for i in idx], "-", color=f"C{k}", label=f"coupled t = {ts:.3g} s")
-        ax.plot(y, [p["vy_ref"][i] for i in idx], "o", ms=3, color=f"C{k}", label=f"full DEM t = {ts:.3g} s")
-    ax.axvspan(8.0, 12.0, color="0.9", zorder=0)
+        ax.plot(y, [p["vy"][i] for i in idx], "-", color=f"C{k}",
+                label=f"{'full DEM' if full_dem else 'coupled'} t = {ts:.3g} s")
+        if "vy_ref" in p:
+            ax.plot(y, [p["vy_ref"][i] for i in idx], "o", ms=3, color=f"C{k}", label=f"full DEM t = {ts:.3g} s")
+    if not full_dem:
+        ax.axvspan(8.0, 12.0, color="0.9", zorder=0)  # the overlap of the default scene
     ax.set_xlabel("y [m]")
     ax.set_ylabel("v_y [m/s]")
     ax.legend(fontsize=8)
     save(fig, os.path.join(folder, "profiles.png"))
 
 
-# seeds/001 §6.2.2, Fig. 21: 1P pulse, dissipated % against c / dX (no
+# Cheng et al. 2022, §6.2.2, Fig. 21: 1P pulse, dissipated % against c / dX (no
 # further gain at 2 and 2.5 dX).
 PAPER_1P_PULSE = [(0.0, 33.5), (1.5, 29.5), (2.0, 29.5), (2.5, 29.5)]
 
@@ -143,7 +157,7 @@ def plot_sweep(table, out, paper=False):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("folder", nargs="?", help="output folder of wave_volume_coupling")
+    ap.add_argument("folder", nargs="?", help="output folder of wave_volume_coupling or wave_full_dem")
     ap.add_argument("--sweep", help="Markdown table of tools/sweep_wave.sh")
     ap.add_argument("-o", default="dissipation.png", help="PNG of --sweep")
     ap.add_argument("--paper", action="store_true", help="overlay the paper's 1P pulse dissipation (Fig. 21)")

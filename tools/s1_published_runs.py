@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """S1 figures of the paper's own runs, measured as particle_cantilever measures ours.
 
 usage: s1_published_runs.py <checkout of github.com/chyalexcheng/Oomph-Mercury> [out.csv]

@@ -32,7 +32,7 @@ if [ -z "${TABLE_ONLY:-}" ]; then
     for k in $substeps; do
       for c in $widths; do
         run=$out/c${c}_${fem}_k${k}
-        ( "$driver" -cg_width "$c" -fem "$fem" -substeps "$k" -snapshot_dt 0 -output_dir "$run" "$@" \
+        ( "$driver" -cg_width "$c" -stepper "$fem" -substeps "$k" -snapshot_dt 0 -output_dir "$run" "$@" \
             > "$run.log" 2> "$run.err" || true ) &
         running=$((running + 1))
         if [ "$running" -ge "$jobs" ]; then

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The README table of the S1 sweep (tools/sweep_particle_cantilever.sh).
 
 usage: table_sweep_particle_cantilever.py sweep.csv [more.csv ...]

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """V1 figures of the paper's own runs, measured as wave_volume_coupling measures ours.
 
 usage: v1_published_runs.py <Oomph-Mercury checkout or its git directory> [out.csv] [FOLDER=OURDIR ...]
@@ -30,7 +30,7 @@ from the folder name, the weights from the weighted masses.
 
 FOLDER=OURDIR (1P only, e.g. Default=results/pub_c0): compares the v_y layer
 profile (y <= 12 m) of our run in OURDIR (its profiles.csv, run with
--snapshots at the published frames 0.0308628064,0.0501520604) with the
+-profile_times at the published frames 0.0308628064,0.0501520604) with the
 published coupled run in FOLDER, and our full-DEM reference with theirs.
 """
 import math

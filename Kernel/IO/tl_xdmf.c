@@ -12,6 +12,7 @@
 #include "tl_atomic_file.h"
 #include "tl_log.h"
 #include "tl_memory.h"
+#include "tl_series_sweep.h"
 
 /* ---------------------------------------------------------------- text */
 TlStatus tl_text_printf(TlText *t, const char *fmt, ...)
@@ -96,6 +97,7 @@ struct TlXdmfSeries {
   size_t steps;
   int dirty;                  /* steps added since the file was last written */
   double last_cost, next_due; /* seconds: last rewrite's duration, earliest next one */
+  int swept;                  /* stale files of an earlier run removed (tl_series_sweep.h) */
 };
 
 static double tl_xdmf_now(void)
@@ -185,6 +187,13 @@ TlStatus tl_xdmf_series_flush(TlXdmfSeries *s)
 
 TlStatus tl_xdmf_series_add(TlXdmfSeries *series, const char *grid)
 {
+  if (!series->swept) { /* the step being added is index steps: later files are an older run's */
+    size_t removed = 0;
+    TL_CHECK(tl_series_sweep_stale(series->path, series->steps + 1, series->steps == 0, &removed));
+    series->swept = 1;
+    if (removed)
+      tl_info("removed %zu stale snapshot file%s of an earlier run beside %s", removed, removed > 1 ? "s" : "", series->path);
+  }
   size_t before = series->grids.length;
   TL_CHECK(tl_text_printf(&series->grids, "%s", grid));
   series->steps++;

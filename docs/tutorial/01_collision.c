@@ -13,8 +13,10 @@ static TlStatus run(const char *dir, double *e_measured, double *momentum_defect
   TlParticles *P = tl_dem_particles(dem);
   int glass;
   TL_CHECK(tl_particles_add_species(P, "glass", rho, r1, r2, &glass));
-  TL_CHECK(tl_dem_add_particle(dem, tl_v3(-0.02, 0, 0), tl_v3(0.5, 0, 0), r1, glass, NULL));
-  TL_CHECK(tl_dem_add_particle(dem, tl_v3(0.02, 0, 0), tl_v3(-0.2, 0, 0), r2, glass, NULL));
+  size_t a, b; /* indices now; the world may renumber its arrays, ids stay */
+  TL_CHECK(tl_dem_add_particle(dem, tl_v3(-0.02, 0, 0), tl_v3(0.5, 0, 0), r1, glass, &a));
+  TL_CHECK(tl_dem_add_particle(dem, tl_v3(0.02, 0, 0), tl_v3(-0.2, 0, 0), r2, glass, &b));
+  const int64_t id_a = P->id[a], id_b = P->id[b];
   TlContactLaw *law;
   TL_CHECK(tl_contact_law_create("linear", NULL, NULL, NULL, &law));
   TL_CHECK(tl_contact_law_set(law, "k_n", k_n));
@@ -33,20 +35,22 @@ static TlStatus run(const char *dir, double *e_measured, double *momentum_defect
   snprintf(csv, sizeof csv, "%s/collision", dir);
   TlTimeSeries *ts;
   TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 6, cols, &ts));
-  TlVec3 p0 = tl_v3_add(tl_v3_scale(P->v[0], P->mass[0]), tl_v3_scale(P->v[1], P->mass[1]));
-  double v_before = P->v[1].x - P->v[0].x;
+  TlVec3 p0 = tl_v3_add(tl_v3_scale(P->v[a], P->mass[a]), tl_v3_scale(P->v[b], P->mass[b]));
+  double v_before = P->v[b].x - P->v[a].x;
   for (long step = 0; tl_dem_time(dem) < 0.12; ++step) {
     TL_CHECK(tl_dem_step(dem, 1));
-    double p = P->mass[0] * P->v[0].x + P->mass[1] * P->v[1].x;
-    double row[6] = {tl_dem_time(dem), P->x[0].x, P->x[1].x, P->v[0].x, P->v[1].x, p};
+    TL_CHECK(tl_particles_find(P, id_a, &a));
+    TL_CHECK(tl_particles_find(P, id_b, &b));
+    double p = P->mass[a] * P->v[a].x + P->mass[b] * P->v[b].x;
+    double row[6] = {tl_dem_time(dem), P->x[a].x, P->x[b].x, P->v[a].x, P->v[b].x, p};
     TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 200 == 0) {
       TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
       TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
     }
   }
-  TlVec3 p1 = tl_v3_add(tl_v3_scale(P->v[0], P->mass[0]), tl_v3_scale(P->v[1], P->mass[1]));
-  *e_measured = -(P->v[1].x - P->v[0].x) / v_before;
+  TlVec3 p1 = tl_v3_add(tl_v3_scale(P->v[a], P->mass[a]), tl_v3_scale(P->v[b], P->mass[b]));
+  *e_measured = -(P->v[b].x - P->v[a].x) / v_before;
   *momentum_defect = tl_v3_norm(tl_v3_sub(p1, p0)) / tl_v3_norm(p0);
   TL_CHECK(tl_timeseries_close(&ts));
   tl_particle_writer_destroy(&pw);

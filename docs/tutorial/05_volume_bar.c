@@ -97,9 +97,12 @@ static TlStatus run(const char *dir, double *t_ratio, double *v_ratio, double *e
   size_t probe = 0; /* a node at y = 16.4 m */
   while (fabs(mesh->x[3 * probe + 1] - 16.4) > 1e-9) ++probe;
   double v_peak = 0, t_peak = 0;
+  const int64_t at7 = P->id[17]; /* the particle at y = 7 m, by its id: the world may renumber its arrays */
+  size_t i7;
   for (long step = 0; tl_dem_time(c.dem) < 0.055; ++step) {
     TL_CHECK(tl_dem_step(c.dem, 1));
-    double v = c.st->v[tl_solid_dof(c.bar, probe, 1)], row[3] = {tl_dem_time(c.dem), P->v[17].y, v};
+    TL_CHECK(tl_particles_find(P, at7, &i7));
+    double v = c.st->v[tl_solid_dof(c.bar, probe, 1)], row[3] = {tl_dem_time(c.dem), P->v[i7].y, v};
     if (v > v_peak) v_peak = v, t_peak = tl_dem_time(c.dem);
     TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 20 == 0) {

@@ -1,0 +1,15 @@
+# A driver's -help cites the paper it reproduces in full (a DOI, or an archive handle) and points to
+# nothing a user of the repository does not have (seeds/..., REFERENCE.md).
+execute_process(COMMAND ${DRIVER} -help RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "-help exited ${rc}:\n${out}${err}")
+endif()
+if(out MATCHES "seeds/|REFERENCE")
+  string(REGEX MATCH "[^\n]*(seeds/|REFERENCE)[^\n]*" line "${out}")
+  message(FATAL_ERROR "-help points to a file the repository's users do not have: ${line}")
+endif()
+if(NOT out MATCHES "(doi:10\\.[0-9]+|hdl:[0-9]+)/[^ ]+")
+  message(FATAL_ERROR "-help cites no paper by its DOI or handle:\n${out}")
+endif()
+string(REGEX MATCH "(doi:10\\.[0-9]+|hdl:[0-9]+)/[^ \n]+" doi "${out}")
+message("cites ${doi}")

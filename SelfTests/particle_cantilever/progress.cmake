@@ -1,0 +1,32 @@
+# The progress bar of a run that ends when the particles leave the beam must
+# follow the particles, not the time to -t_max: run DRIVER with ARGS under a
+# pseudo-terminal (`script`, util-linux; the bar is drawn only on a terminal)
+# and pass when the last bar drawn before the closing 100 % shows at least
+# MIN_PERCENT.  (Before the fix the bar counted to -t_max = 80 s and stood at
+# 9 % when this short scene ended at t = 8.6 s.)
+find_program(SCRIPT script)
+if(NOT SCRIPT)
+  message("SKIP: no 'script' program (util-linux) to give the driver a terminal")
+  return()
+endif()
+file(REMOVE_RECURSE "${OUT}")
+separate_arguments(args UNIX_COMMAND "${ARGS}")
+string(JOIN " " cmd "${DRIVER}" ${args} -output_dir "${OUT}")
+execute_process(COMMAND env -u CI ${SCRIPT} -qec "${cmd}" /dev/null
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the run failed (exit ${rc}):\n${out}${err}")
+endif()
+# the percentages only: a "]" in a list item would join items (CMake list brackets)
+string(REGEX MATCHALL "[0-9]+\\.[0-9]%  " bars "${out}${err}")
+list(LENGTH bars n)
+if(n LESS 2)
+  message(FATAL_ERROR "fewer than two progress bars drawn (${n}):\n${out}${err}")
+endif()
+math(EXPR before_last "${n} - 2")
+list(GET bars ${before_last} bar)
+string(REGEX REPLACE "[^0-9.]" "" percent "${bar}")
+message("last bar before the end: ${percent} % (${n} drawn)")
+if(NOT percent GREATER_EQUAL ${MIN_PERCENT})
+  message(FATAL_ERROR "the bar stood at ${percent} % when the run ended; at least ${MIN_PERCENT} % expected")
+endif()
