@@ -94,22 +94,26 @@ static TlStatus corners_push(TlCorners *c, TlVec3 p)
   return TL_OK;
 }
 
-static int corner_compare(const void *pa, const void *pb, const TlVec3 *x)
+/* A corner with its index, sorted by coordinates then index (qsort has no
+ * context argument: the key carries what the comparison needs, so that
+ * readers may run in several threads at once). */
+typedef struct {
+  TlVec3 x;
+  size_t i;
+} TlCornerKey;
+
+static int corner_same(const TlCornerKey *a, const TlCornerKey *b)
 {
-  TlVec3 a = x[*(const size_t *)pa], b = x[*(const size_t *)pb];
-  if (a.x != b.x) return a.x < b.x ? -1 : 1;
-  if (a.y != b.y) return a.y < b.y ? -1 : 1;
-  if (a.z != b.z) return a.z < b.z ? -1 : 1;
-  return 0;
+  return a->x.x == b->x.x && a->x.y == b->x.y && a->x.z == b->x.z;
 }
 
-static const TlVec3 *tl_sort_x; /* qsort has no context argument; readers are not reentrant across threads here */
-static int corner_compare_qsort(const void *a, const void *b)
+static int corner_compare(const void *pa, const void *pb)
 {
-  int c = corner_compare(a, b, tl_sort_x);
-  if (c) return c;
-  size_t i = *(const size_t *)a, j = *(const size_t *)b;
-  return (i > j) - (i < j);
+  const TlCornerKey *a = pa, *b = pb;
+  if (a->x.x != b->x.x) return a->x.x < b->x.x ? -1 : 1;
+  if (a->x.y != b->x.y) return a->x.y < b->x.y ? -1 : 1;
+  if (a->x.z != b->x.z) return a->x.z < b->x.z ? -1 : 1;
+  return (a->i > b->i) - (a->i < b->i);
 }
 
 /* Joins corners with equal coordinates into vertices (in order of first
@@ -118,21 +122,23 @@ static TlStatus corners_to_mesh(const TlCorners *c, const char *name, TlSurfaceM
 {
   size_t n = c->n, nt = n / 3;
   size_t *order = NULL, *vertex_of = NULL;
+  TlCornerKey *key = NULL;
   TlSurfaceMesh *s = NULL;
   TlStatus status = TL_OK;
   if (n > (size_t)INT32_MAX) TL_ERROR(TL_ERR_FORMAT, "%s: %zu facets, the limit is %d", name, nt, INT32_MAX / 3);
   TL_CHECK_GOTO(status, tl_calloc(&order, n + 1, sizeof *order), done);
   TL_CHECK_GOTO(status, tl_calloc(&vertex_of, n + 1, sizeof *vertex_of), done);
-  for (size_t i = 0; i < n; ++i) order[i] = i;
-  tl_sort_x = c->corner;
-  qsort(order, n, sizeof *order, corner_compare_qsort);
+  TL_CHECK_GOTO(status, tl_calloc(&key, n + 1, sizeof *key), done);
+  for (size_t i = 0; i < n; ++i) key[i] = (TlCornerKey){c->corner[i], i};
+  qsort(key, n, sizeof *key, corner_compare);
   /* the representative of each class is its first corner (smallest index) */
   for (size_t i = 0; i < n;) {
     size_t j = i + 1;
-    while (j < n && corner_compare(&order[i], &order[j], c->corner) == 0) ++j;
-    for (size_t k = i; k < j; ++k) vertex_of[order[k]] = order[i];
+    while (j < n && corner_same(&key[i], &key[j])) ++j;
+    for (size_t k = i; k < j; ++k) vertex_of[key[k].i] = key[i].i;
     i = j;
   }
+  tl_free(&key);
   TL_CHECK_GOTO(status, TL_NEW(s), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->x, n + 1, sizeof *s->x), done);
   TL_CHECK_GOTO(status, tl_calloc(&s->tri, nt + 1, sizeof *s->tri), done);
@@ -154,6 +160,7 @@ done:
   tl_surface_mesh_destroy(&s);
   tl_free(&order);
   tl_free(&vertex_of);
+  tl_free(&key);
   return status;
 }
 
