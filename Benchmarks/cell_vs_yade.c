@@ -12,7 +12,7 @@
  * fastest kept:
  *   Talus  the 2-D world (tl_dem_set_dimension 2): disks, mass per unit
  *          thickness ρ π r², inertia ½ m r²; linear normal spring k_n,
- *          restitution -restitution (viscous), Coulomb friction μ with
+ *          restitution -contact_restitution (viscous), Coulomb friction μ with
  *          k_t = 2/7 k_n (the objective tangential law of seeds/004, Eq. 11);
  *   Yade   spheres blocked in the plane (blockedDOFs 'zXY') given the disks'
  *          masses and inertias, in a periodic cell of height 5 times the
@@ -38,6 +38,7 @@
 #include "peers/tl_peer.h"
 #include "talus.h"
 #include "tl_bench.h"
+#include "tl_options_renamed.h"
 #include "tl_bench.h"
 #include "tl_dem.h"
 
@@ -137,14 +138,17 @@ static TlStatus run(int argc, char **argv)
                              "biaxial at a constant velocity gradient) in Talus and in Yade: time per particle-step "
                              "and ratio talus/yade.",
                              &o));
+  static const TlRenamedOption renamed[] = {
+      {"-k_n", "-contact_k_n", NULL}, {"-mu", "-contact_mu", NULL}, {"-restitution", "-contact_restitution", NULL}};
+  TL_CHECK(tl_options_refuse_renamed(o, renamed, 3));
   TL_CHECK(tl_options_get_int(o, "-n", 400, 10, 1000000, "disks (seeds/004: 400)", &s.n));
   TL_CHECK(tl_options_get_int(o, "-steps", 20000, 1, 100000000, "timed steps per run", &s.steps));
   TL_CHECK(tl_options_get_int(o, "-repeat", 3, 1, 1000, "timed runs in a row, the fastest kept", &s.repeat));
   TL_CHECK(tl_options_get_int(o, "-warmup", 1000, 0, 100000000, "untimed steps before the timed runs", &s.warmup));
   TL_CHECK(tl_options_get_int(o, "-seed", 1, 0, 1000000000, "random seed of the gas", &s.seed));
-  TL_CHECK(tl_options_get_real(o, "-k_n", 1e6, 1e-3, 1e15, "N/m", "normal stiffness (per unit thickness)", &s.k_n));
-  TL_CHECK(tl_options_get_real(o, "-mu", 0.5, 0.0, 10.0, "", "Coulomb friction coefficient", &s.mu));
-  TL_CHECK(tl_options_get_real(o, "-restitution", 0.3, 0.01, 1.0, "", "Talus: restitution of the viscous normal damping",
+  TL_CHECK(tl_options_get_real(o, "-contact_k_n", 1e6, 1e-3, 1e15, "N/m", "normal stiffness (per unit thickness)", &s.k_n));
+  TL_CHECK(tl_options_get_real(o, "-contact_mu", 0.5, 0.0, 10.0, "", "Coulomb friction coefficient", &s.mu));
+  TL_CHECK(tl_options_get_real(o, "-contact_restitution", 0.3, 0.01, 1.0, "", "Talus: restitution of the viscous normal damping",
                                &s.restitution));
   TL_CHECK(tl_options_get_real(o, "-yade_damping", 0.2, 0.0, 0.99, "", "Yade: NewtonIntegrator non-viscous damping",
                                &s.yade_damping));

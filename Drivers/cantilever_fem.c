@@ -43,6 +43,7 @@
 #include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_series_sweep.h"
 #include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_cantilever.h"
@@ -460,7 +461,12 @@ typedef struct {
 static TlStatus snapshots_open(const Config *c, const TlCantilever *beam, Snapshots *sn)
 {
   memset(sn, 0, sizeof *sn);
-  if (c->snapshot_every <= 0) return TL_OK;
+  if (c->snapshot_every <= 0) {
+    size_t removed;
+    if (c->restart && c->restart[0]) return TL_OK;
+    /* a rerun with snapshots off: the earlier run's series would pass for this one's */
+    return tl_series_sweep_whole(c->output_dir, "beam", &removed);
+  }
   TL_CHECK(tl_solid_output_create(beam->solid, c->output_dir, "beam", &sn->out));
   return TL_OK;
 }

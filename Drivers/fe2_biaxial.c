@@ -46,6 +46,7 @@
 #include "tl_papers.h"
 #include "tl_material.h"
 #include "tl_nhl_material.h"
+#include "tl_options_renamed.h"
 #include "tl_mesh_snapshot.h"
 #include "tl_output_dir.h"
 #include "tl_plot_hint.h"
@@ -160,6 +161,9 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
                              "shortening, a constitutive law per Gauss point (a DEM cell or an analytic stand-in), "
                              "the quasi-static Newton loop with the paper's |F|/|R| test.  Paper: " TL_PAPER_DESRUES_2019 ".",
                              &o));
+  static const TlRenamedOption renamed[] = {
+      {"-cell_mu", "-contact_mu", "the cells' contact friction, named as in every DEM driver"}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-macro", "q8", macros,
                                          "macro elements: q8 (plane strain, 2 x 2 Gauss points: the paper's), q8_3x3 "
                                          "(3 x 3) or one layer of hex8 / hex27 with u_z = 0", &c->macro), done);
@@ -193,7 +197,7 @@ static TlStatus configure(int argc, char **argv, Config *c, TlMaterial **mat, Tl
                 done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-cell_seed", 1, 0, 1000000000, "dem_cell: seed of the packing",
                                       &c->cell_seed), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-cell_mu", 0.5, 0.0, 10.0, "", "dem_cell: contact friction",
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-contact_mu", 0.5, 0.0, 10.0, "", "dem_cell: Coulomb friction of the cells' grain contacts",
                                        &c->cell_mu), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-cell_kappa", 500.0, 1.0, 1e9, "",
                                        "dem_cell: stiffness level kappa = k_n / sigma0 (2-D), k_n / (sigma0 <d>) (3-D)",

@@ -23,6 +23,7 @@
 #include "talus.h"
 #include "tl_papers.h"
 #include "tl_options_renamed.h"
+#include "tl_series_sweep.h"
 #include "tl_plot_hint.h"
 #include "tl_gouge_bridging.h"
 #include "tl_memory.h"
@@ -36,7 +37,7 @@
 
 typedef struct {
   TlGougeParams p;
-  long steps, record_every, snapshot_every, checkpoint_every, stop_step;
+  long steps, table_every, snapshot_every, checkpoint_every, stop_step;
   const char *restart;
   int progress;
 } Run;
@@ -57,7 +58,8 @@ static TlStatus read_options(TlOptions *o, Run *r)
       {"-gamma_n", "-contact_gamma_n", NULL},
       {"-gamma_t", "-contact_gamma_t", NULL},
       {"-mu", "-contact_mu", NULL},
-      {"-snapshot_every", "-snapshot_dt", "now a time interval in seconds, as in every time-stepping driver"}};
+      {"-snapshot_every", "-snapshot_dt", "now a time interval in seconds, as in every time-stepping driver"},
+      {"-record_every", "-table_every", "table cadence: -table_dt seconds, -table_every steps, -table_rows a count"}};
   TL_CHECK(tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])));
   TL_CHECK(tl_options_get_string(o, "-packing", "",
                                  "packing file (.h5, with its cell) or LAMMPS data file of the relaxed periodic cell (cubic; e.g. "
@@ -116,8 +118,8 @@ static TlStatus read_options(TlOptions *o, Run *r)
   TL_CHECK(tl_options_get_int(o, "-steps", 0, 0, 1000000000L,
                               "steps (0: 5e5 at rest, the paper's; in wave mode until the transmitted pulse has passed)",
                               &r->steps));
-  TL_CHECK(tl_options_get_int(o, "-record_every", 5000, 1, 1000000000L,
-                              "steps between samples of the histories and the ct diagram (paper: 5000)", &r->record_every));
+  TL_CHECK(tl_options_get_int(o, "-table_every", 5000, 1, 1000000000L,
+                              "steps between samples of the histories and the ct diagram (paper: 5000)", &r->table_every));
   double snapshot_dt = 0.0;
   TL_CHECK(tl_options_get_real(o, "-snapshot_dt", 0.0, 0.0, 1e6, "s",
                                "HDF5 + XDMF snapshots every (rounded to whole steps; 0: none)", &snapshot_dt));
@@ -182,7 +184,12 @@ static TlStatus run(int argc, char **argv)
   double t_i = t0 + (in.y_monitor[0] + y_end) / in.c, t_T = t0 + (in.y_monitor[1] + y_end) / in.c;
   long steps = r.steps;
   if (steps == 0) steps = r.p.mode == TL_GOUGE_WAVE ? (long)ceil((t_T + 0.8 * lam_c) / r.p.dt) : 500000;
-  if (r.snapshot_every > 0) TL_CHECK_GOTO(s, tl_gouge_open_snapshots(g, dir), done);
+  if (r.snapshot_every > 0) {
+    TL_CHECK_GOTO(s, tl_gouge_open_snapshots(g, dir), done);
+  } else if (!r.restart[0]) { /* a rerun with snapshots off: the earlier run's series would pass for this one's */
+    size_t removed;
+    TL_CHECK_GOTO(s, tl_series_sweep_whole(dir, "particles", &removed), done);
+  }
   if (r.restart[0]) {
     TL_CHECK_GOTO(s, tl_gouge_checkpoint_load(g, r.restart), done);
     printf("restarted from %s at step %ld\n", r.restart, tl_gouge_steps(g));
@@ -248,7 +255,7 @@ static TlStatus run(int argc, char **argv)
     if (k > tl_gouge_steps(g)) TL_CHECK_GOTO(s, tl_gouge_step(g), done);
     long step = tl_gouge_steps(g);
     double t = tl_gouge_time(g);
-    int sample = step % r.record_every == 0 || step == stop;
+    int sample = step % r.table_every == 0 || step == stop;
     if (sample || r.p.mode == TL_GOUGE_WAVE) tl_gouge_planes(g, NULL, u);
     for (int side = 0; side < 2; ++side)
       for (int c = 0; c < 3; ++c) {

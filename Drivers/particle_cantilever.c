@@ -30,6 +30,7 @@
 #include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_series_sweep.h"
 #include "tl_plot_hint.h"
 #include "tl_cantilever.h"
 #include "tl_coupled_loop.h"
@@ -39,7 +40,7 @@
 
 typedef struct {
   TlCantileverParams beam;
-  double d, rho_g, kn, restitution, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, output_dt, snapshot_dt, newton_rtol, energy_limit;
+  double d, rho_g, kn, restitution, g, vy, x0, perturb, y0, cg_width, dt_factor, t_end, t_max, table_dt, snapshot_dt, newton_rtol, energy_limit;
   long substeps, reuse, cg_subdivisions, checkpoint_every, stop_step;
   const char *restart;
   int stepper, one_way, keep_factors, scheme, average_forces, predictor, newton, cg_support;
@@ -67,7 +68,8 @@ static TlStatus configure(int argc, char **argv, Config *c)
       {"-restitution", "-pair_restitution", "one dashpot for every contact from a pair's restitution, "
                                             "not the contact law's -contact_restitution"},
       {"-g", "-gravity", NULL},
-      {"-fem", "-stepper", NULL}};
+      {"-fem", "-stepper", NULL},
+      {"-output_dt", "-table_dt", "table cadence: -table_dt seconds, -table_every steps, -table_rows a count"}};
   TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
   tl_cantilever_params_default(&c->beam);
   c->beam.load = 0.0;
@@ -151,7 +153,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
                                        &c->newton_rtol), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.0, 0.0, 1e6, "s", "end time (0: when the particles leave the beam)", &c->t_end), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_max", 80.0, 0.0, 1e6, "s", "end time if the particles never leave", &c->t_max), done);
-  TL_CHECK_GOTO(s, tl_options_get_real(o, "-output_dt", 0.01, 0.0, 1e6, "s", "table rows every (0: every step)", &c->output_dt), done);
+  TL_CHECK_GOTO(s, tl_options_get_real(o, "-table_dt", 0.01, 0.0, 1e6, "s", "table rows every (0: every step)", &c->table_dt), done);
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-snapshot_dt", 1.0, 0.0, 1e6, "s", "HDF5/XDMF snapshots every (0: none)", &c->snapshot_dt), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
                                       "checkpoint every n coupled steps to <output_dir>/checkpoint.h5 (0: none)", &c->checkpoint_every), done);
@@ -195,7 +197,13 @@ typedef struct {
 static TlStatus snapshots_open(const Config *c, TlSolid *solid, Snapshots *sn)
 {
   memset(sn, 0, sizeof *sn);
-  if (c->snapshot_dt <= 0.0) return TL_OK;
+  if (c->snapshot_dt <= 0.0) {
+    size_t removed;
+    if (c->restart && c->restart[0]) return TL_OK;
+    /* a rerun with snapshots off: the earlier run's series would pass for this one's */
+    TL_CHECK(tl_series_sweep_whole(c->output_dir, "beam", &removed));
+    return tl_series_sweep_whole(c->output_dir, "particles", &removed);
+  }
   TL_CHECK(tl_solid_output_create(solid, c->output_dir, "beam", &sn->beam));
   TL_CHECK(tl_particle_writer_create(c->output_dir, "particles", &sn->part));
   return TL_OK;
@@ -395,7 +403,7 @@ static TlStatus run(int argc, char **argv)
   const double Dt = c.substeps * dt;
   const double t_stop = c.t_end > 0.0 ? c.t_end : c.t_max;
   const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
-  const long out_every = c.output_dt > 0.0 ? (long)fmax(1.0, floor(c.output_dt / Dt + 0.5)) : 1;
+  const long out_every = c.table_dt > 0.0 ? (long)fmax(1.0, floor(c.table_dt / Dt + 0.5)) : 1;
   const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
   printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements, "
          "contact damping %g N s/m\n", c.cg_width, c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "",

@@ -42,13 +42,21 @@
  * and the final packing (packing_*.h5 + packing.xmf, with the cell: see
  * tl_dem_packing.h; scripts: also packing_frictionless_*.h5 and packing.data
  * for LAMMPS).  Last line:
- * summary: n=... pressure=... packing_fraction=... coordination=... wall=... */
+ * summary: n=... pressure=... packing_fraction=... coordination=... wall=...
+ *
+ * Restart (-protocol servo): -checkpoint_every n writes
+ * <output_dir>/checkpoint.h5 every n steps (a multiple of -control_every;
+ * the world, the cell and its contacts, the table, the options and the
+ * servo's state); -restart <file> rebuilds the gas from the same options,
+ * loads the file and continues bit for bit; -stop_step n ends the run after
+ * step n with a checkpoint (to make one to restart from). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "talus.h"
 #include "tl_papers.h"
+#include "tl_options_checkpoint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
 #include "tl_dem_packing.h"
@@ -66,7 +74,8 @@ typedef struct {
   double d_min, d_max, density, pressure, dt, box_d0, phi0, inertial, inertial_gas;
   double t_end, tolerance, pressure_tolerance;
   double fill, max_overlap, viscous, mu_compaction, erate, ke_rest;
-  long seed, control_every;
+  long seed, control_every, checkpoint_every, stop_step;
+  const char *restart;
   long push_steps, cycles, relax_steps, compress_steps, halt_every, chunk_steps, max_chunks, friction_damped_steps;
   int threads;
   const char *out;
@@ -153,6 +162,24 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_int(*o, "-threads", 0, 0, 1024, "OpenMP threads (0: default)", &th));
   s->threads = (int)th;
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/periodic_compress", "output folder", &s->out));
+  TL_CHECK(tl_output_dir_check(s->out));
+  TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
+                              "[servo] write <output_dir>/checkpoint.h5 every n steps, a multiple of -control_every "
+                              "(0: never)", &s->checkpoint_every));
+  TL_CHECK(tl_options_get_string(*o, "-restart", "", "[servo] continue from this checkpoint file (same options)",
+                                 &s->restart));
+  TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000,
+                              "[servo] stop after this step, a multiple of -control_every, with a checkpoint (0: run "
+                              "to convergence or -t_end)", &s->stop_step));
+  if (scripts && (s->checkpoint_every > 0 || s->restart[0] || s->stop_step > 0))
+    TL_ERROR(TL_ERR_UNSUPPORTED, "-checkpoint_every, -restart and -stop_step need -protocol servo: the scripts' "
+             "preparation (-protocol scripts) has no checkpoints");
+  if (s->checkpoint_every % s->control_every != 0)
+    TL_ERROR(TL_ERR_ARG, "-checkpoint_every %ld is not a multiple of -control_every %ld (the servo's cadence)",
+             s->checkpoint_every, s->control_every);
+  if (s->stop_step % s->control_every != 0)
+    TL_ERROR(TL_ERR_ARG, "-stop_step %ld is not a multiple of -control_every %ld (the servo's cadence)", s->stop_step,
+             s->control_every);
   return tl_options_finish(*o, stdout);
 }
 
@@ -497,7 +524,38 @@ static TlStatus run_scripts(Settings *s, double wall0)
 
 /* --------------------------------------------------------- -protocol servo */
 
-static TlStatus run_servo(Settings *s, double wall0)
+/* The servo's own state, checkpointed with the run: the loop step it
+ * continues with and whether the target pressure was reached (compression
+ * gave way to the servo). */
+typedef struct {
+  int64_t next_step, reached;
+} ServoState;
+
+static TlStatus servo_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const ServoState *p = object;
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "next_step", p->next_step));
+  TL_CHECK(tl_checkpoint_write_int64(w, group, "reached", p->reached));
+  return TL_OK;
+}
+
+static TlStatus servo_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  ServoState *p = object;
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "next_step", &p->next_step));
+  TL_CHECK(tl_checkpoint_read_int64(r, group, "reached", &p->reached));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "next_step", p->next_step, 0, INT64_MAX));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "reached", p->reached, 0, 1));
+  return TL_OK;
+}
+
+static const TlCheckpointOps servo_checkpoint_ops = {
+    .header = {"checkpoint", "periodic_compress_servo_v1", "loop step and stage of the periodic_compress servo"},
+    .save = servo_save,
+    .load = servo_load,
+};
+
+static TlStatus run_servo(Settings *s, TlOptions *o, double wall0)
 {
   const double d0 = 0.5 * (s->d_min + s->d_max);
   TlDem *dem;
@@ -544,10 +602,30 @@ static TlStatus run_servo(Settings *s, double wall0)
   tl_progress_init(&prog, "compress", (double)steps_max);
   const double rate_target = s->inertial * sqrt(s->pressure / s->density) / d0;
   const double rate_gas = s->inertial_gas * sqrt(s->pressure / s->density) / d0;
-  int reached = 0, converged = 0;
+  int reached = 0, converged = 0, stopped = 0;
   double pr = 0.0, imbalance = 1.0, z = 0.0, rate = 0.0;
   long k = 0;
-  for (k = 0; k < steps_max; k += s->control_every) {
+  ServoState sv = {0, 0};
+  TlCheckpoint *cp = NULL;
+  char cp_path[4200];
+  snprintf(cp_path, sizeof cp_path, "%s/checkpoint.h5", s->out);
+  TlStatus st = TL_OK;
+  TL_CHECK_GOTO(st, tl_checkpoint_create(&cp), fail);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o), fail);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), fail);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "table", &tl_timeseries_checkpoint_ops, ts), fail);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "servo", &servo_checkpoint_ops, &sv), fail);
+  if (s->restart[0]) {
+    TL_CHECK_GOTO(st, tl_checkpoint_load(cp, s->restart, NULL, NULL), fail);
+    if (sv.next_step % s->control_every != 0) {
+      st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "checkpoint %s is at step %lld, not a multiple of "
+                        "-control_every %ld", s->restart, (long long)sv.next_step, s->control_every);
+      goto fail;
+    }
+    reached = (int)sv.reached;
+    printf("restarted from %s at step %lld, t = %.9g s\n", s->restart, (long long)sv.next_step, tl_dem_time(dem));
+  }
+  for (k = (long)sv.next_step; k < steps_max; k += s->control_every) {
     pr = pressure_of(dem);
     TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
     TL_CHECK(tl_dem_coordination(dem, &z, NULL));
@@ -569,11 +647,34 @@ static TlStatus run_servo(Settings *s, double wall0)
     TL_CHECK(tl_domain_set_h_rate(D, tl_m3_scale(D->h, rate)));
     double row[] = {tl_dem_time(dem), pr, vol_grains / tl_domain_volume(D), kinetic_of(P), z, imbalance, rate,
                     (double)(reached ? STAGE_SERVO : STAGE_COMPRESS)};
-    TL_CHECK(tl_timeseries_append(ts, row));
-    TL_CHECK(tl_dem_step(dem, s->control_every));
+    TL_CHECK_GOTO(st, tl_timeseries_append(ts, row), fail);
+    TL_CHECK_GOTO(st, tl_dem_step(dem, s->control_every), fail);
     tl_progress_update(&prog, (double)k);
+    sv.next_step = k + s->control_every;
+    sv.reached = reached;
+    stopped = s->stop_step > 0 && sv.next_step >= s->stop_step && sv.next_step < steps_max;
+    if ((s->checkpoint_every > 0 && sv.next_step % s->checkpoint_every == 0) || stopped)
+      TL_CHECK_GOTO(st, tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), sv.next_step), fail);
+    if (stopped) {
+      k = (long)sv.next_step;
+      break;
+    }
   }
   tl_progress_finish(&prog);
+  tl_checkpoint_destroy(&cp);
+  if (stopped) {
+    TL_CHECK(tl_timeseries_close(&ts));
+    printf("stopped after step %ld (-stop_step): %s continues the run with -restart\n", k, cp_path);
+    TlSummary sum;
+    tl_summary_init(&sum);
+    tl_summary_int(&sum, "n", n);
+    tl_summary_int(&sum, "steps", k);
+    tl_summary_string(&sum, "stopped", "true");
+    tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+    TlStatus s_sum = tl_summary_print(&sum, stdout);
+    tl_dem_destroy(&dem);
+    return s_sum;
+  }
   TlDomain *D = tl_dem_domain(dem);
   TL_CHECK(tl_domain_set_h_rate(D, tl_m3_zero()));
   TL_CHECK(tl_timeseries_close(&ts));
@@ -599,6 +700,11 @@ static TlStatus run_servo(Settings *s, double wall0)
   TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_dem_destroy(&dem);
   return s_sum;
+fail:
+  tl_checkpoint_destroy(&cp);
+  if (ts) (void)tl_timeseries_close(&ts);
+  tl_dem_destroy(&dem);
+  return st;
 }
 
 /* A target pressure the contacts cannot carry at a small overlap makes no
@@ -643,7 +749,7 @@ static TlStatus run(int argc, char **argv)
     st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
   if (st == TL_OK) st = tl_output_dir_prepare(s.out);
   if (st == TL_OK) st = check_pressure(&s);
-  if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, wall0);
+  if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, o, wall0);
   tl_contact_law_destroy(&s.law);
   tl_options_destroy(&o);
   return st;

@@ -31,6 +31,7 @@
 #include "tl_papers.h"
 #include "tl_options_checkpoint.h"
 #include "tl_options_renamed.h"
+#include "tl_series_sweep.h"
 #include "tl_plot_hint.h"
 #include "tl_atomic_file.h"
 #include "tl_dem.h"
@@ -55,8 +56,9 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                              "side walls; energies, coordination and the weight carried by the walls.  Material after " TL_PAPER_VOISIN_LEPRINCE_2023 ".",
                              o));
   static const TlRenamedOption renamed[] = {
-      {"-snapshots", "-snapshot_dt", "snapshots are now every -snapshot_dt seconds, as in every time-stepping driver"}};
-  TL_CHECK(tl_options_refuse_renamed(*o, renamed, 1));
+      {"-snapshots", "-snapshot_dt", "snapshots are now every -snapshot_dt seconds, as in every time-stepping driver"},
+      {"-samples", "-table_rows", "table cadence: -table_dt seconds, -table_every steps, -table_rows a count"}};
+  TL_CHECK(tl_options_refuse_renamed(*o, renamed, (int)(sizeof renamed / sizeof renamed[0])));
   TL_CHECK(tl_options_get_int(*o, "-n", 1500, 1, 100000000, "number of particles", &s->n));
   TL_CHECK(tl_options_get_real(*o, "-d_min", 2.5e-3, 1e-9, 1e3, "m", "smallest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_min));
   TL_CHECK(tl_options_get_real(*o, "-d_max", 3.5e-3, 1e-9, 1e3, "m", "largest diameter (Voisin-Leprince et al. 2023 Table 1)", &s->d_max));
@@ -82,7 +84,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   if (s->snapshot_dt > 0.0 && !(s->t_end / s->snapshot_dt <= 100000.0))
     TL_ERROR(TL_ERR_ARG, "-snapshot_dt %g s makes %.3g snapshots of -t_end %g s, beyond the limit 100000: at least "
              "-snapshot_dt %g s", s->snapshot_dt, s->t_end / s->snapshot_dt, s->t_end, s->t_end / 100000.0);
-  TL_CHECK(tl_options_get_int(*o, "-samples", 400, 1, 10000000, "rows of the energy table", &s->samples));
+  TL_CHECK(tl_options_get_int(*o, "-table_rows", 400, 1, 10000000, "rows of the energy table", &s->samples));
   TL_CHECK(tl_options_get_int(*o, "-floor_cells", 8, 1, 10000, "floor squares per side (4 triangles each)", &s->floor_cells));
   TL_CHECK(tl_options_get_bool(*o, "-plane_floor", 0, "use an infinite plane as floor instead of triangles", &s->plane_floor));
   long th;
@@ -243,6 +245,11 @@ static TlStatus run(int argc, char **argv)
          s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
   /* output */
   TL_CHECK_GOTO(st, tl_output_dir_prepare(s.out), done);
+  if (!(s.snapshot_dt > 0.0) && !s.restart[0]) { /* a rerun with snapshots off: the earlier run's series would pass for this one's */
+    size_t removed;
+    TL_CHECK_GOTO(st, tl_series_sweep_whole(s.out, "particles", &removed), done);
+    TL_CHECK_GOTO(st, tl_series_sweep_whole(s.out, "walls", &removed), done);
+  }
   char base[4096];
   snprintf(base, sizeof base, "%s/energies", s.out);
   TL_CHECK_GOTO(st, tl_particle_writer_create(s.out, "particles", &writer), done);

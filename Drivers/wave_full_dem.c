@@ -77,8 +77,10 @@ static TlStatus run(int argc, char **argv)
   double v0 = 0.0;
   char *dir = NULL;
   TlStatus s = TL_OK;
-  static const TlRenamedOption renamed[] = {{"-snapshots", "-profile_times", "the times of the velocity profiles, which are not snapshots"}};
-  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, 1), done);
+  static const TlRenamedOption renamed[] = {
+      {"-snapshots", "-profile_times", "the times of the velocity profiles, which are not snapshots"},
+      {"-record_every", "-table_every", "table cadence: -table_dt seconds, -table_every steps, -table_rows a count"}};
+  TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
   TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-profile_times"), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element edge n: nP = n^3 (Table 6)", &icase), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-excitation", "pulse", excitations, "Table 4 excitation", &iexc), done);
@@ -94,7 +96,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time", &ro.t_end), done);
   TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-profile_times", "0.03,0.05", "s", "times of the velocity profiles",
                                             ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-table_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
   const char *restart = NULL;
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,

@@ -187,7 +187,8 @@ static TlStatus run(int argc, char **argv)
   static const TlRenamedOption renamed[] = {
       {"-snapshots", "-profile_times", "the times of the velocity profiles; HDF5 snapshots are -snapshot_dt"},
       {"-kernel", "-cg_kernel", NULL},
-      {"-fem", "-stepper", NULL}};
+      {"-fem", "-stepper", NULL},
+      {"-record_every", "-table_every", "table cadence: -table_dt seconds, -table_every steps, -table_rows a count"}};
   TL_CHECK_GOTO(s, tl_options_refuse_renamed(o, renamed, (int)(sizeof renamed / sizeof renamed[0])), done);
   TL_CHECK_GOTO(s, tl_options_set_restart_safe(o, "-profile_times"), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-case", "1P", cases, "particles per element: nP = n^3 (Table 6)", &icase), done);
@@ -275,7 +276,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_real(o, "-t_end", 0.09, 1e-9, 1e3, "s", "end time (before the reflection returns to the zone)", &ro.t_end), done);
   TL_CHECK_GOTO(s, tl_options_get_real_list(o, "-profile_times", "0.03,0.05", "s", "times of the velocity profiles (Fig. 19)",
                                             ro.snap, TL_WAVE_MAX_SNAPSHOTS, &n_snap), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-record_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-table_every", 0, 0, 1000000, "steps between table rows (0: about 1000 rows)", &every), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-reference", 1, "run the full-DEM reference for the errors", &reference), done);
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-progress", 1, "progress bar", &ro.progress), done);
   const char *baseline = NULL;

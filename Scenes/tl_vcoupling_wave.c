@@ -19,6 +19,7 @@
 #include "tl_vcoupling.h"
 #include "tl_vcoupling_element.h"
 #include "tl_options_checkpoint.h"
+#include "tl_series_sweep.h"
 
 struct TlWave {
   TlWaveParams p;
@@ -710,7 +711,7 @@ static TlStatus record_load(void *object, TlCheckpointReader *cr, const char *g)
   TL_CHECK(tl_checkpoint_read_int64(cr, g, "rows", &n));
   if (n < 1 || (size_t)n > R->cap)
     TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s' holds %lld recorded rows, this run records at most %zu (same -t_end "
-             "and -record_every?)", tl_checkpoint_reader_path(cr), (long long)n, R->cap);
+             "and -table_every?)", tl_checkpoint_reader_path(cr), (long long)n, R->cap);
   TL_CHECK(tl_checkpoint_read_doubles(cr, g, "states", (size_t)n * per, (double *)R->r->state));
   R->r->n = (size_t)n;
   TL_CHECK(tl_checkpoint_read_int64(cr, g, "profiles_taken", &next));
@@ -765,6 +766,10 @@ TlStatus tl_wave_run(const TlWaveParams *p, const TlWaveRunOptions *o, TlWaveRec
   if (o->snapshot_dt > 0) {
     TL_CHECK_GOTO(s, tl_particle_writer_create(o->output_dir, "particles", &pw), out);
     if (!p->full_dem) TL_CHECK_GOTO(s, tl_mesh_writer_create(o->output_dir, "solid", &mw), out);
+  } else if (o->output_dir && !restart) { /* a rerun with snapshots off: the earlier run's series would pass for this one's */
+    size_t removed;
+    TL_CHECK_GOTO(s, tl_series_sweep_whole(o->output_dir, "particles", &removed), out);
+    TL_CHECK_GOTO(s, tl_series_sweep_whole(o->output_dir, "solid", &removed), out);
   }
   if (o->checkpoint_every > 0 || restart) {
     snprintf(ckpt, sizeof ckpt, "%s/checkpoint.h5", o->output_dir);

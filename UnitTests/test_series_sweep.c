@@ -75,5 +75,19 @@ int main(void)
                      exists("particles_mesh_0001.h5"),
                  "restarted series: removed %zu, expected only particles_000005.h5", removed);
   TL_TEST_STATUS(tl_series_sweep_stale("no_extension", 0, 1, &removed), TL_ERR_ARG);
+  /* a fresh run with snapshots off removes the whole earlier series, its .xmf
+   * and first mesh file included, and nothing of another name: here steps
+   * 0-2, meshes 0-1 and the .xmf */
+  touch("particles.xmf");
+  touch("particles_mesh_0000.h5");
+  TL_TEST_STATUS(tl_series_sweep_whole(dir, "particles", &removed), TL_OK);
+  TL_TEST_ASSERT(removed == 6 && !exists("particles.xmf") && !exists("particles_000000.h5") &&
+                     !exists("particles_000002.h5") && !exists("particles_mesh_0000.h5") &&
+                     !exists("particles_mesh_0001.h5"),
+                 "whole sweep: removed %zu of the 6 files of the earlier series (steps 0-2, meshes 0-1, .xmf)", removed);
+  TL_TEST_ASSERT(exists("particles_frozen_000003.h5") && exists("particles_00003.h5") && exists("grains_000007.h5"),
+                 "the whole sweep removed a file of another name or pattern");
+  TL_TEST_STATUS(tl_series_sweep_whole(dir, "particles", &removed), TL_OK);
+  TL_TEST_ASSERT(removed == 0, "a second whole sweep removed %zu files", removed);
   return tl_test_report();
 }

@@ -525,8 +525,8 @@ TlStatus tl_options_finish(TlOptions *o, FILE *out)
 static int tl_builtin_restart_safe(const char *name)
 {
   static const char *const exact[] = {"-t_end", "-restart", "-output_dir", "-checkpoint_every", "-stop_step",
-                                      "-threads", "-check", "-tolerance", "-samples", NULL};
-  static const char *const prefix[] = {"-snapshot", "-output_", "-progress", NULL};
+                                      "-threads", "-check", "-tolerance", NULL};
+  static const char *const prefix[] = {"-snapshot", "-table_", "-output_", "-progress", NULL};
   for (int i = 0; exact[i]; ++i)
     if (strcmp(name, exact[i]) == 0) return 1;
   for (int i = 0; prefix[i]; ++i)

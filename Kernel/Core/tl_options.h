@@ -73,7 +73,7 @@ void tl_options_value_at(const TlOptions *o, size_t i, const char **name, const 
 const char *tl_options_value(const TlOptions *o, const char *name);
 /* Options a restart may change.  Built in: how far to run (-t_end,
  * -stop_step), where and how often to write (-output_dir, -output_*,
- * -snapshot*, -samples, -checkpoint_every), -restart, -threads, -check,
+ * -snapshot*, -table_* (table cadence), -checkpoint_every), -restart, -threads, -check,
  * -tolerance, -progress*; a driver adds its own (cantilever_fem's
  * -periods, its end time). */
 TlStatus tl_options_set_restart_safe(TlOptions *o, const char *name);

@@ -8,6 +8,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "tl_log.h"
+
 /* The index of "<name>_" + `digits` digits + ".h5" after `prefix`, or -1. */
 static long tl_sweep_index(const char *file, const char *prefix, size_t digits)
 {
@@ -20,7 +22,9 @@ static long tl_sweep_index(const char *file, const char *prefix, size_t digits)
   return strtol(p, NULL, 10);
 }
 
-TlStatus tl_series_sweep_stale(const char *xmf_path, size_t first_free, int fresh, size_t *removed)
+/* Removes the step files from `first_free` on and the mesh files from
+ * `mesh_from` on (-1: none). */
+static TlStatus tl_series_sweep(const char *xmf_path, size_t first_free, long mesh_from, size_t *removed)
 {
   *removed = 0;
   size_t n = strlen(xmf_path);
@@ -43,7 +47,7 @@ TlStatus tl_series_sweep_stale(const char *xmf_path, size_t first_free, int fres
   TlStatus s = TL_OK;
   for (struct dirent *e; s == TL_OK && (e = readdir(d)) != NULL;) {
     long step = tl_sweep_index(e->d_name, step_prefix, 6), mesh = tl_sweep_index(e->d_name, mesh_prefix, 4);
-    if (!((step >= 0 && (size_t)step >= first_free) || (fresh && mesh >= 1))) continue;
+    if (!((step >= 0 && (size_t)step >= first_free) || (mesh_from >= 0 && mesh >= mesh_from))) continue;
     char path[8192];
     snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
     if (unlink(path) != 0 && errno != ENOENT)
@@ -53,4 +57,26 @@ TlStatus tl_series_sweep_stale(const char *xmf_path, size_t first_free, int fres
   }
   closedir(d);
   return s;
+}
+
+TlStatus tl_series_sweep_stale(const char *xmf_path, size_t first_free, int fresh, size_t *removed)
+{
+  return tl_series_sweep(xmf_path, first_free, fresh ? 1 : -1, removed);
+}
+
+TlStatus tl_series_sweep_whole(const char *dir, const char *name, size_t *removed)
+{
+  *removed = 0;
+  char xmf[4096];
+  int n = snprintf(xmf, sizeof xmf, "%s%s%s.xmf", dir && dir[0] ? dir : "", dir && dir[0] ? "/" : "", name);
+  if (n < 0 || (size_t)n >= sizeof xmf) TL_ERROR(TL_ERR_ARG, "series '%s' in '%s': path too long", name, dir ? dir : "");
+  TL_CHECK(tl_series_sweep(xmf, 0, 0, removed));
+  if (unlink(xmf) == 0)
+    ++*removed;
+  else if (errno != ENOENT)
+    TL_ERROR(TL_ERR_IO, "cannot remove the stale series '%s': %s", xmf, strerror(errno));
+  if (*removed)
+    tl_info("removed %zu file%s of an earlier run's series %s (this run writes none)", *removed, *removed > 1 ? "s" : "",
+            xmf);
+  return TL_OK;
 }

@@ -18,5 +18,10 @@
 /* `xmf_path` is the series file "<dir>/<name>.xmf"; *removed counts the
  * files removed. */
 TlStatus tl_series_sweep_stale(const char *xmf_path, size_t first_free, int fresh, size_t *removed);
+/* A fresh run that writes no step of the series `name` in `dir` (its
+ * snapshots off) removes an earlier run's "<name>.xmf" and all its
+ * "<name>_NNNNNN.h5" and "<name>_mesh_NNNN.h5", which would otherwise be
+ * taken for this run's output.  *removed counts the files removed. */
+TlStatus tl_series_sweep_whole(const char *dir, const char *name, size_t *removed);
 
 #endif

@@ -6,8 +6,10 @@
 #     "not settled", the summary carries settled=false, and nothing prints
 #     "-0.0000";
 #  2. the same folder again with -snapshot_dt 0.05: 3 files, none of run 1's
-#     left beside them.
-set(common -n 300 -t_end 0.1 -samples 20 -output_dir ${OUT})
+#     left beside them;
+#  3. the same folder again with snapshots off (-snapshot_dt 0): no
+#     particles.xmf, walls.xmf or particles_*.h5 of the earlier runs left.
+set(common -n 300 -t_end 0.1 -table_rows 20 -output_dir ${OUT})
 file(REMOVE_RECURSE "${OUT}")
 foreach(run "0.01;11" "0.05;3")
   list(GET run 0 dt)
@@ -33,3 +35,12 @@ if(out MATCHES "-0\\.0000")
   message(FATAL_ERROR "a negative zero printed:\n${out}")
 endif()
 message("unsettled packing reported: settled=false")
+execute_process(COMMAND ${DRIVER} ${common} -snapshot_dt 0 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "settle -snapshot_dt 0 failed (exit ${rc}):\n${out}${err}")
+endif()
+file(GLOB left ${OUT}/particles*.h5 ${OUT}/particles.xmf ${OUT}/walls*.h5 ${OUT}/walls.xmf)
+if(left)
+  message(FATAL_ERROR "a rerun with snapshots off left the earlier series: ${left}")
+endif()
+message("-snapshot_dt 0: no earlier series left")
