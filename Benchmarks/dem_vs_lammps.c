@@ -160,6 +160,27 @@ static void kinetic(TlDem *dem, double *ke, double *erot)
   *erot = b;
 }
 
+/* The phase breakdown of a timed run: each phase's share of the wall time,
+ * and the contact loop's threads (busy seconds, imbalance). */
+static void print_phases(const char *name, int threads, TlDem *dem, double wall)
+{
+  TlDemPhaseTimes pt;
+  tl_dem_phase_times(dem, &pt);
+  const double per = 1e6 / ((double)pt.steps * (double)tl_dem_particles(dem)->n);
+  printf("talus phases: scene=%s threads=%d (us per particle-step, share of wall)", name, threads);
+  double sum = 0.0;
+  for (int p = 0; p < TL_DEM_N_PHASES; ++p) {
+    printf(" %s=%.4f(%.0f%%)", tl_dem_phase_name(p), pt.seconds[p] * per, 100.0 * pt.seconds[p] / wall);
+    sum += pt.seconds[p];
+  }
+  printf(" untimed=%.0f%%\n", 100.0 * (wall - sum) / wall);
+  if (pt.threads > 1) {
+    printf("talus contact loop: scene=%s threads=%d busy", name, pt.threads);
+    for (int t = 0; t < pt.threads && t < TL_DEM_MAX_TIMED_THREADS; ++t) printf(" t%d=%.3fs", t, pt.thread_busy[t]);
+    printf(" of %.3fs, imbalance %.3fs (slowest - mean)\n", pt.seconds[TL_DEM_PHASE_CONTACTS], pt.imbalance);
+  }
+}
+
 static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *data, int threads, const Config *c,
                            long warmup, double *us_median, double *us_min, double *ke, double *erot)
 {
@@ -169,6 +190,7 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
     TlDem *dem;
     TL_CHECK(build(data, threads, &dem));
     TL_CHECK(tl_dem_step(dem, warmup));
+    tl_dem_reset_phase_times(dem);
     struct timespec c0, c1;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
     double t0 = tl_wtime();
@@ -183,6 +205,7 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
            "cpu_share=%.2f contacts=%zu pairs=%zu rebuilds=%ld\n",
            k + 1, r, name, threads, tl_dem_particles(dem)->n, c->steps, el, t[k], cpu / (el * threads), st.n_contacts,
            st.n_pairs, st.rebuilds);
+    print_phases(name, threads, dem, el);
     fflush(stdout);
     kinetic(dem, ke, erot);
     tl_dem_destroy(&dem);

@@ -77,6 +77,41 @@ typedef struct {
   size_t n_pairs;      /* neighbour-list pairs */
 } TlDemStats;
 
+/* Where the time of tl_dem_step goes: wall seconds per phase since the
+ * world was created (or tl_dem_reset_phase_times), and in the contact loop
+ * each thread's busy seconds.  A phase runs on the world's threads where
+ * the loop is parallel (TL_DEM_PHASE_PARALLEL tells which run threaded for
+ * a large scene); the rest is the serial fraction.  The clock is read a
+ * dozen times per step (tens of ns each). */
+typedef enum {
+  TL_DEM_PHASE_INTEGRATE, /* kicks, drift, spins, displacement check (threaded) */
+  TL_DEM_PHASE_GRID,      /* neighbour search: hierarchical grid build, renumbering (serial) */
+  TL_DEM_PHASE_PAIRS,     /* neighbour search: the grid's pair scan (threaded above 20000 particles) */
+  TL_DEM_PHASE_LIST,      /* list build: laws, bonds, history carried over (serial) */
+  TL_DEM_PHASE_BODY,      /* body forces, packed positions, per-thread force arrays cleared */
+  TL_DEM_PHASE_CONTACTS,  /* detection and force evaluation over the list (threaded) */
+  TL_DEM_PHASE_REDUCE,    /* per-thread forces and torques summed (threaded) */
+  TL_DEM_PHASE_WALLS,     /* wall contacts */
+  TL_DEM_PHASE_OTHER,     /* prescribed motion, walls' motion, hooks, checks */
+  TL_DEM_N_PHASES
+} TlDemPhase;
+
+enum { TL_DEM_MAX_TIMED_THREADS = 64 };
+
+typedef struct {
+  double seconds[TL_DEM_N_PHASES];
+  /* contact loop: per thread, seconds inside its share of the list */
+  double thread_busy[TL_DEM_MAX_TIMED_THREADS];
+  int threads;        /* threads of the contact loop at the last step */
+  double imbalance;   /* Σ over evaluations of (slowest - mean) thread, s */
+  long steps;
+} TlDemPhaseTimes;
+
+void tl_dem_phase_times(const TlDem *dem, TlDemPhaseTimes *t);
+void tl_dem_reset_phase_times(TlDem *dem);
+/* Short name of a phase ("integrate", "grid", ...). */
+const char *tl_dem_phase_name(int phase);
+
 TlStatus tl_dem_create(TlDem **dem);
 void tl_dem_destroy(TlDem **dem);
 

@@ -303,8 +303,10 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   double el = 0.0, pw = 0.0;
   size_t touching = 0;
   TlStatus status = TL_OK;
+  double busy[TL_DEM_MAX_TIMED_THREADS];
   TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : el, pw, touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
+    const double tb = tl_wtime();
     ChunkCtx c;
     memset(&c, 0, sizeof c);
     c.d = d;
@@ -335,6 +337,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     size_t lo = n_chunks * (size_t)tid / (size_t)nt, hi = n_chunks * (size_t)(tid + 1) / (size_t)nt;
     if (cw) process_range_weighted(&c, chunks, lo, hi);
     else process_range(&c, chunks, lo, hi);
+    if (tid < TL_DEM_MAX_TIMED_THREADS) busy[tid] = tl_wtime() - tb;
     el += c.el;
     pw += c.pw;
     touching += c.touching;
@@ -344,6 +347,17 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     }
   });
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
+  {
+    const int m = nt < TL_DEM_MAX_TIMED_THREADS ? nt : TL_DEM_MAX_TIMED_THREADS;
+    double mx = 0.0, mean = 0.0;
+    for (int t = 0; t < m; ++t) {
+      d->prof.thread_busy[t] += busy[t];
+      mx = busy[t] > mx ? busy[t] : mx;
+      mean += busy[t] / m;
+    }
+    d->prof.imbalance += mx - mean;
+    d->prof.threads = nt;
+  }
   acc->elastic += el;
   acc->power += pw;
   acc->touching += touching;
@@ -356,6 +370,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
   const size_t n = P->n;
   const int rot = P->w != NULL;
   const int want = d->track_energy;
+  double t0 = tl_wtime();
   /* body forces, and the packed positions of this evaluation */
   const TlVec3 g = d->gravity;
   const int ntb = n >= 8192 ? d->nt : 1;
@@ -406,6 +421,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
         if (rot) tt[(size_t)t * n + i] = tl_v3(0, 0, 0);
       }
   }
+  tl_dem_tick(d, TL_DEM_PHASE_BODY, &t0);
   Accum acc = {0, 0, 0};
   const int has_bonds = d->bonds.n && d->bonds.n != (size_t)-1;
   if (weighted) {
@@ -416,6 +432,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
   if (has_bonds)
     TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, weighted ? d->cw_bonds : NULL,
                            &acc));
+  tl_dem_tick(d, TL_DEM_PHASE_CONTACTS, &t0);
   if (d->nt_now > 1) {
     const int nt = d->nt_now;
 #pragma omp parallel for num_threads(nt) schedule(static)
@@ -430,6 +447,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
       }
     }
   }
+  tl_dem_tick(d, TL_DEM_PHASE_REDUCE, &t0);
   d->n_touching = acc.touching;
   if (want) {
     d->elastic_pp = acc.elastic;
@@ -441,6 +459,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
     TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
     TL_CHECK(W->ops->interact(W, &st));
   }
+  tl_dem_tick(d, TL_DEM_PHASE_WALLS, &t0);
   return TL_OK;
 }
 

@@ -116,6 +116,7 @@ TlStatus tl_dem_rebuild(TlDem *d)
 {
   TlParticles *P = d->P;
   size_t n = P->n;
+  double t0 = tl_wtime();
   /* a 2-D world: a particle inserted off the plane would meet the others
    * only through the grid's z, which the contacts ignore */
   if (d->dim == 2)
@@ -165,7 +166,9 @@ TlStatus tl_dem_rebuild(TlDem *d)
     for (size_t i = 0; i < n; ++i) d->skip[i] = P->motion[i] != TL_MOTION_FREE;
     skip = d->skip;
   }
+  tl_dem_tick(d, TL_DEM_PHASE_GRID, &t0);
   TL_CHECK(tl_hgrid_pairs(d->grid, P->x, P->radius, skip, &d->pairs, &d->pairs_cap, &d->n_pairs));
+  tl_dem_tick(d, TL_DEM_PHASE_PAIRS, &t0);
   /* new list, grouped by law, history carried over from the old one */
   TlContactList tmp = d->old;
   d->old = d->list;
@@ -226,6 +229,7 @@ TlStatus tl_dem_rebuild(TlDem *d)
   d->h_build_inv = d->domain.h_inv;
   d->rebuilds++;
   d->need_rebuild = 0;
+  tl_dem_tick(d, TL_DEM_PHASE_LIST, &t0);
   return TL_OK;
 }
 

@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include "tl_contact_list.h"
 #include "tl_dem.h"
+#include "tl_timer.h"
 
 enum { TL_DEM_MAX_LAWS = 16, CHUNK = 64 };
 
@@ -95,7 +96,16 @@ struct TlDem {
   size_t im_w_cap, ii_w_cap;
   TlDemStepHook hook;
   void *hook_ctx;
+  TlDemPhaseTimes prof; /* tl_dem_phase_times */
 };
+
+/* Books the time since *t0 to a phase and restarts the clock. */
+static inline void tl_dem_tick(TlDem *d, int phase, double *t0)
+{
+  double t = tl_wtime();
+  d->prof.seconds[phase] += t - *t0;
+  *t0 = t;
+}
 
 /* tl_dem_neighbours.c */
 TlStatus tl_dem_build_law_table(TlDem *d);

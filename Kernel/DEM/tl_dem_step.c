@@ -50,6 +50,7 @@ static TlStatus one_step(TlDem *d)
   const size_t n = P->n;
   const double dt = d->dt, h = 0.5 * dt;
   const int rot = P->w != NULL;
+  double t0 = tl_wtime();
   TlVec3 *restrict x = P->x, *restrict v = P->v;
   const TlVec3 *restrict f = P->f;
   /* a weighted world kicks with 1 / (w m) and 1 / (w I), refreshed by
@@ -158,13 +159,20 @@ static TlStatus one_step(TlDem *d)
         P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
       });
   }
+  tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
   for (size_t w = 0; w < d->n_walls; ++w)
     if (d->walls[w]->ops->advance) TL_CHECK(d->walls[w]->ops->advance(d->walls[w], d->t, dt));
   d->t += dt;
   TL_CHECK(prescribe(d, d->t));
-  if (tl_dem_needs_rebuild(d)) TL_CHECK(tl_dem_rebuild(d));
+  if (tl_dem_needs_rebuild(d)) {
+    tl_dem_tick(d, TL_DEM_PHASE_OTHER, &t0);
+    TL_CHECK(tl_dem_rebuild(d)); /* books its own phases */
+    t0 = tl_wtime();
+  }
   if (d->hook) TL_CHECK(d->hook(d->hook_ctx, d));
-  TL_CHECK(tl_dem_eval_forces(d));
+  tl_dem_tick(d, TL_DEM_PHASE_OTHER, &t0);
+  TL_CHECK(tl_dem_eval_forces(d)); /* books its own phases */
+  t0 = tl_wtime();
   /* second half kick; a NaN anywhere poisons the sum and is then located */
   double sum = 0.0;
   if (planar)
@@ -199,6 +207,7 @@ static TlStatus one_step(TlDem *d)
       });
   }
   if (!isfinite(sum)) TL_CHECK(report_blowup(d, dt));
+  tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
   d->steps++;
   return TL_OK;
 }
