@@ -206,8 +206,9 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
            k + 1, r, name, threads, tl_dem_particles(dem)->n, c->steps, el, t[k], cpu / (el * threads), st.n_contacts,
            st.n_pairs, st.rebuilds);
     print_phases(name, threads, dem, el);
-    fflush(stdout);
     kinetic(dem, ke, erot);
+    printf("talus answers: scene=%s threads=%d kinetic=%.17g rotational=%.17g\n", name, threads, *ke, *erot);
+    fflush(stdout);
     tl_dem_destroy(&dem);
   }
   for (int a = 1; a < r; ++a)
@@ -272,6 +273,7 @@ static TlStatus run(int argc, char **argv)
     TlLammpsData *data;
     TL_CHECK(tl_lammps_data_read(path, &data));
     long steps_save = c.steps;
+    double t1 = NAN, p1 = NAN, ke1 = NAN, erot1 = NAN; /* the one-thread figures and answers */
     for (int k = 0; k < nthr; ++k) {
       double tm = NAN, tmin = NAN, pm = NAN, ke = NAN, erot = NAN;
       const long warmup = c.warmup >= 0 ? c.warmup : (sc == 0 ? 100 : 200);
@@ -311,6 +313,27 @@ static TlStatus run(int argc, char **argv)
       }
       printf("%s, %d core%s: talus %.4f us/particle-step (min %.4f)", names[sc], thr[k], thr[k] > 1 ? "s" : "", tm, tmin);
       if (c.peer) printf(", lammps %.4f, ratio talus/lammps = %.3f", pm, tm / pm);
+      if (k == 0) {
+        t1 = tm;
+        p1 = pm;
+        ke1 = ke;
+        erot1 = erot;
+      } else {
+        /* each code's gain from its threads or ranks, beside the ratio */
+        printf(", speed-up over 1 core: talus %.2f", t1 / tm);
+        if (c.peer) printf(", lammps %.2f", p1 / pm);
+        snprintf(key, sizeof key, "%s_speedup_talus", names[sc]);
+        tl_summary_real(&sum, key, t1 / tm);
+        if (c.peer) {
+          snprintf(key, sizeof key, "%s_speedup_lammps", names[sc]);
+          tl_summary_real(&sum, key, p1 / pm);
+        }
+        /* the answers do not depend on the thread count, to the last bit */
+        const int same = ke == ke1 && erot == erot1;
+        printf(", answers %s", same ? "identical to 1 thread" : "DIFFER from 1 thread");
+        snprintf(key, sizeof key, "%s_threads_identical", names[sc]);
+        tl_summary_int(&sum, key, same);
+      }
       printf("\n");
     }
     c.steps = steps_save;

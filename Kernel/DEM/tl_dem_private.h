@@ -38,6 +38,37 @@ typedef struct {
   int a, b, law;
 } PairLaw;
 
+/* A contribution to a particle's force and torque held back by a thread
+ * that does not own the particle (Split). */
+typedef struct {
+  uint32_t p;
+  TlVec3 f, t;
+} Deferred;
+
+/* How one contact list's loop is shared between threads so that every
+ * particle receives its contacts' forces in list order whatever the thread
+ * count (results bit for bit independent of it).  Thread t takes chunks
+ * [first[t], first[t+1]), cut so that the threads' estimated costs (pairs
+ * plus touching contacts) are equal.  A particle belongs to the first
+ * thread whose contacts reach it, which adds into the world's force and
+ * torque arrays directly; later threads defer their share of it, applied
+ * after the loop in thread order, then list order: the sums one thread
+ * makes.  No per-thread force arrays to clear and reduce; only the few
+ * particles at the cuts pay.  Recomputed when the list or the thread count
+ * changes. */
+typedef struct {
+  int nt;
+  size_t n; /* particles when computed */
+  unsigned long version;
+  size_t first[TL_DEM_MAX_TIMED_THREADS + 1];
+  uint8_t *owner; /* per particle: owning thread, 0xff none */
+  size_t owner_cap;
+  Deferred *def[TL_DEM_MAX_TIMED_THREADS];
+  size_t def_cap[TL_DEM_MAX_TIMED_THREADS], n_def[TL_DEM_MAX_TIMED_THREADS];
+  double *chunk_el, *chunk_pw; /* energy and power per chunk, summed in chunk order */
+  size_t chunk_cap;
+} Split;
+
 struct TlDem {
   TlParticles *P;
   TlDomain domain;
@@ -68,10 +99,8 @@ struct TlDem {
   size_t skip_cap;
   size_t *perm, *old_to_new;
   size_t perm_cap;
-  TlVec3 *tf, *tt;
   double (*xr)[4]; /* position and radius packed: one cache line per neighbour in the pair scan */
   size_t xr_cap;
-  size_t t_cap;
   int nt, nt_now;
   Prescribed *presc;
   size_t n_presc, presc_cap;
@@ -97,6 +126,8 @@ struct TlDem {
   TlDemStepHook hook;
   void *hook_ctx;
   TlDemPhaseTimes prof; /* tl_dem_phase_times */
+  Split split_list, split_bonds;
+  unsigned long list_version; /* bumped whenever a list or the particle order changes */
 };
 
 /* Books the time since *t0 to a phase and restarts the clock. */
