@@ -77,6 +77,11 @@ static TlStatus one_step(TlDem *d)
       }
   const int nt = n >= 8192 ? d->nt : 1;
   const int planar = d->dim == 2;
+  /* translation and rotation in one pass (one parallel region, not two) */
+  TlVec3 *w = P->w;
+  const TlVec3 *tq = P->torque;
+  const double *ii = rot ? (d->weight_fn ? d->ii_w : P->inv_inertia) : NULL;
+  const int orient = d->orientation;
   if (planar) {
     /* 2-D: x, y and the spin about z only; z, v_z, ω_x, ω_y never change */
     const double a00 = A.m[0][0], a01 = A.m[0][1], a10 = A.m[1][0], a11 = A.m[1][1];
@@ -101,6 +106,16 @@ static TlStatus one_step(TlDem *d)
           const double d2 = dx * dx + dy * dy;
           disp2max = d2 > disp2max ? d2 : disp2max;
         }
+        if (!rot) continue;
+        const double wz = w[i].z + h * ii[i] * tq[i].z;
+        w[i].z = wz;
+        if (!orient) continue;
+        /* dq/dt = ½ (0, ω) ⊗ q with ω = ω_z e_z */
+        TlQuat q = P->q[i];
+        const double hw = h * wz;
+        TlQuat r = {q.w - hw * q.z, q.x - hw * q.y, q.y + hw * q.x, q.z + hw * q.w};
+        double nq = 1.0 / sqrt(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
+        P->q[i] = (TlQuat){r.w * nq, r.x * nq, r.y * nq, r.z * nq};
       });
   } else
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
@@ -120,48 +135,24 @@ static TlStatus one_step(TlDem *d)
         double d2 = dx * dx + dy * dy + dz * dz;
         disp2max = d2 > disp2max ? d2 : disp2max;
       }
+      if (!rot) continue;
+      const double hr = h * ii[i];
+      TlVec3 ww = {w[i].x + hr * tq[i].x, w[i].y + hr * tq[i].y, w[i].z + hr * tq[i].z};
+      w[i] = ww;
+      if (!orient) continue;
+      /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
+       * then renormalised */
+      TlQuat q = P->q[i];
+      TlQuat dq = tl_q_mul((TlQuat){0.0, ww.x, ww.y, ww.z}, q);
+      q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
+      double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+      P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
     });
   d->disp2max = disp2max;
   if (!(v2max * dt * dt < d->r_min * d->r_min)) TL_CHECK(report_blowup(d, dt));
-  if (rot) {
-    TlVec3 *restrict w = P->w;
-    const TlVec3 *restrict tq = P->torque;
-    const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
-    const int orient = d->orientation;
-    if (planar) {
-      TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
-        for (size_t i = 0; i < n; ++i) {
-          if (motion[i] != TL_MOTION_FREE) continue;
-          const double wz = w[i].z + h * ii[i] * tq[i].z;
-          w[i].z = wz;
-          if (!orient) continue;
-          /* dq/dt = ½ (0, ω) ⊗ q with ω = ω_z e_z */
-          TlQuat q = P->q[i];
-          const double hw = h * wz;
-          TlQuat r = {q.w - hw * q.z, q.x - hw * q.y, q.y + hw * q.x, q.z + hw * q.w};
-          double nq = 1.0 / sqrt(r.w * r.w + r.x * r.x + r.y * r.y + r.z * r.z);
-          P->q[i] = (TlQuat){r.w * nq, r.x * nq, r.y * nq, r.z * nq};
-        });
-    } else
-    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
-      for (size_t i = 0; i < n; ++i) {
-        if (motion[i] != TL_MOTION_FREE) continue;
-        const double hi = h * ii[i];
-        TlVec3 ww = {w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
-        w[i] = ww;
-        if (!orient) continue;
-        /* seeds/001 Eq. 2: dq/dt = ½ (0, ω) ⊗ q, with the half-step spin,
-         * then renormalised */
-        TlQuat q = P->q[i];
-        TlQuat dq = tl_q_mul((TlQuat){0.0, ww.x, ww.y, ww.z}, q);
-        q.w += h * dq.w; q.x += h * dq.x; q.y += h * dq.y; q.z += h * dq.z;
-        double nq = 1.0 / sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-        P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
-      });
-  }
   tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
-  for (size_t w = 0; w < d->n_walls; ++w)
-    if (d->walls[w]->ops->advance) TL_CHECK(d->walls[w]->ops->advance(d->walls[w], d->t, dt));
+  for (size_t k = 0; k < d->n_walls; ++k)
+    if (d->walls[k]->ops->advance) TL_CHECK(d->walls[k]->ops->advance(d->walls[k], d->t, dt));
   d->t += dt;
   TL_CHECK(prescribe(d, d->t));
   if (tl_dem_needs_rebuild(d)) {
@@ -173,7 +164,12 @@ static TlStatus one_step(TlDem *d)
   tl_dem_tick(d, TL_DEM_PHASE_OTHER, &t0);
   TL_CHECK(tl_dem_eval_forces(d)); /* books its own phases */
   t0 = tl_wtime();
-  /* second half kick; a NaN anywhere poisons the sum and is then located */
+  /* second half kick, spins in the same pass; a NaN anywhere poisons the
+   * sum and is then located (the spin arrays read again: the force
+   * evaluation refreshes the weighted inverses) */
+  w = P->w;
+  tq = P->torque;
+  ii = rot ? (d->weight_fn ? d->ii_w : P->inv_inertia) : NULL;
   double sum = 0.0;
   if (planar)
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
@@ -183,6 +179,7 @@ static TlStatus one_step(TlDem *d)
         v[i].x = vx;
         v[i].y = vy;
         sum += vx + vy;
+        if (rot) w[i].z += h * ii[i] * tq[i].z;
       });
   else
   TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
@@ -191,21 +188,11 @@ static TlStatus one_step(TlDem *d)
       TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
       v[i] = vv;
       sum += vv.x + vv.y + vv.z;
+      if (rot) {
+        const double hr = h * ii[i];
+        w[i] = (TlVec3){w[i].x + hr * tq[i].x, w[i].y + hr * tq[i].y, w[i].z + hr * tq[i].z};
+      }
     });
-  if (rot) {
-    TlVec3 *restrict w = P->w;
-    const TlVec3 *restrict tq = P->torque;
-    const double *restrict ii = d->weight_fn ? d->ii_w : P->inv_inertia;
-    if (planar)
-      TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
-        for (size_t i = 0; i < n; ++i) w[i].z += h * ii[i] * tq[i].z;);
-    else
-    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static)",
-      for (size_t i = 0; i < n; ++i) {
-        const double hi = h * ii[i];
-        w[i] = (TlVec3){w[i].x + hi * tq[i].x, w[i].y + hi * tq[i].y, w[i].z + hi * tq[i].z};
-      });
-  }
   if (!isfinite(sum)) TL_CHECK(report_blowup(d, dt));
   tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
   d->steps++;
