@@ -353,6 +353,48 @@ static void test_threads(void)
   }
 }
 
+/* Spins can be given before set-up, on a law that needs no rotation, and
+ * the force array holds gravity (the header says so): two free spheres
+ * apart, no contact, so f = m g exactly and the spins stay. */
+static void test_spin_before_setup(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500.0, 0.01, 0.01, &a), TL_OK);
+  size_t i0, i1;
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.2, 0.5, 0.5), tl_v3(0, 0, 0), 0.01, a, &i0), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.8, 0.5, 0.5), tl_v3(0, 0, 0), 0.01, a, &i1), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, i0, tl_v3(1.0, -2.0, 3.0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, 7, tl_v3(0, 0, 0)), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, i1, tl_v3(NAN, 0, 0)), TL_ERR_ARG);
+  TlContactLaw *law;
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e4, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  const TlVec3 g = {0.0, 0.0, -9.81};
+  tl_dem_set_gravity(dem, g);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-5, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_STATUS(tl_dem_step(dem, 10), TL_OK);
+  size_t k0, k1;
+  TL_TEST_STATUS(tl_particles_find(P, 0, &k0), TL_OK);
+  TL_TEST_STATUS(tl_particles_find(P, 1, &k1), TL_OK);
+  TL_TEST_ASSERT(P->w && P->w[k0].x == 1.0 && P->w[k0].y == -2.0 && P->w[k0].z == 3.0 && P->w[k1].x == 0.0,
+                 "spin set before set-up lost: (%g, %g, %g)", P->w ? P->w[k0].x : NAN, P->w ? P->w[k0].y : NAN,
+                 P->w ? P->w[k0].z : NAN);
+  const TlVec3 mg = tl_v3_scale(g, P->mass[k0]);
+  TL_TEST_ASSERT(P->f[k0].x == mg.x && P->f[k0].y == mg.y && P->f[k0].z == mg.z,
+                 "force array (%g, %g, %g) is not m g = (%g, %g, %g) without contacts", P->f[k0].x, P->f[k0].y,
+                 P->f[k0].z, mg.x, mg.y, mg.z);
+  /* and after set-up */
+  TL_TEST_STATUS(tl_dem_set_spin(dem, k1, tl_v3(0.0, 0.0, -4.0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_step(dem, 1), TL_OK);
+  TL_TEST_STATUS(tl_particles_find(P, 1, &k1), TL_OK);
+  TL_TEST_ASSERT(P->w[k1].z == -4.0, "spin set after set-up lost: %g", P->w[k1].z);
+  tl_dem_destroy(&dem);
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -362,5 +404,6 @@ int main(void)
   test_insert_remove();
   test_adhesion_rolling();
   test_threads();
+  test_spin_before_setup();
   return tl_test_report();
 }
