@@ -262,10 +262,11 @@ static void test_bond_rebuilds(void)
  * loop shares the list so that every particle's forces are summed in list
  * order whatever the thread count (owners and deferred contributions), and
  * the energy sums go chunk by chunk.  A lattice large enough for the
- * threaded paths (more than 8192 pairs), with rotation, energy tracking and,
- * in the second scene, a pair of species with two laws and bonds. */
+ * threaded contact loop (more than 8192 pairs), with rotation, energy
+ * tracking and, in the second scene (9261 particles: threaded integration
+ * too), a pair of species with two laws and bonds. */
 typedef struct {
-  TlVec3 x[4096], v[4096], w[4096], f[4096], t[4096];
+  TlVec3 x[9261], v[9261], w[9261], f[9261], t[9261];
   TlDemEnergy e;
   size_t n, contacts;
 } ThreadRun;
@@ -276,7 +277,9 @@ static TlStatus lattice_run(int threads, int mixed, long steps, ThreadRun *out)
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
-  int per[3] = {1, 1, 1}, m = 16;
+  /* the second scene above 8192 particles: threaded integration and body
+   * forces in the contact loop's region */
+  int per[3] = {1, 1, 1}, m = mixed ? 21 : 16;
   TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), tl_v3(m, m, m), per));
   TL_CHECK(tl_dem_set_domain(dem, &dom));
   int a, b;

@@ -385,8 +385,27 @@ static TlStatus split_list(TlDem *d, const TlContactList *L, const Chunk *chunks
   return TL_OK;
 }
 
+/* The body forces of particle i (gravity, f_ext, the weight, f_coupling, in
+ * that order), its torque cleared and its packed position. */
+static inline void body_force(TlDem *d, size_t i)
+{
+  TlParticles *P = d->P;
+  TlVec3 f = tl_v3_scale(d->gravity, P->mass[i]);
+  if (P->f_ext) f = tl_v3_add(f, P->f_ext[i]);
+  if (d->weight_fn) f = tl_v3_scale(f, P->weight[i]);
+  if (P->f_coupling) f = tl_v3_add(f, P->f_coupling[i]);
+  P->f[i] = f;
+  if (P->w) P->torque[i] = tl_v3(0, 0, 0);
+  d->xr[i][0] = P->x[i].x;
+  d->xr[i][1] = P->x[i].y;
+  d->xr[i][2] = P->x[i].z;
+  d->xr[i][3] = P->radius[i];
+}
+
+/* The contact loop of one list on d->nt_now threads; with `body`, the body
+ * forces first, in the same parallel region. */
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, Split *S, int bonded,
-                              int want_energy, const double *cw, Accum *acc)
+                              int body, int want_energy, const double *cw, Accum *acc)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
@@ -403,8 +422,15 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     TL_CHECK(tl_array_reserve(&S->chunk_el, &S->chunk_cap, n_chunks + 1, sizeof *S->chunk_el));
     TL_CHECK(tl_array_reserve(&S->chunk_pw, &cap, n_chunks + 1, sizeof *S->chunk_pw));
   }
+  double body_seconds = 0.0;
   TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
+    if (body) {
+      const double t_body = tl_wtime();
+      _Pragma("omp for schedule(static)")
+      for (size_t i = 0; i < n; ++i) body_force(d, i);
+      if (tid == 0) body_seconds = tl_wtime() - t_body; /* after the loop's barrier */
+    }
     const double tb = tl_wtime();
     ChunkCtx c;
     memset(&c, 0, sizeof c);
@@ -476,6 +502,8 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
         T[q.p].z += q.t.z;
       }
     }
+  d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
+  d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= body_seconds;
   if (nt > 1) {
     const double dr = tl_wtime() - tr; /* booked as the reduction */
     d->prof.seconds[TL_DEM_PHASE_REDUCE] += dr;
@@ -505,29 +533,8 @@ TlStatus tl_dem_eval_forces(TlDem *d)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
-  const int rot = P->w != NULL;
   const int want = d->track_energy;
   double t0 = tl_wtime();
-  /* body forces, and the packed positions of this evaluation */
-  const TlVec3 g = d->gravity;
-  const int ntb = n >= 8192 ? d->nt : 1;
-  if (n > d->xr_cap) {
-    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
-    d->xr_cap = n + n / 2 + 16;
-  }
-  double(*xr)[4] = d->xr;
-  TlVec3 *tq = rot ? P->torque : NULL;
-  TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
-    for (size_t i = 0; i < n; ++i) {
-      P->f[i] = tl_v3_scale(g, P->mass[i]);
-      if (tq) tq[i] = tl_v3(0, 0, 0);
-      xr[i][0] = P->x[i].x;
-      xr[i][1] = P->x[i].y;
-      xr[i][2] = P->x[i].z;
-      xr[i][3] = P->radius[i];
-    });
-  if (P->f_ext)
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
   /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
   const int weighted = d->weight_fn != NULL;
   if (weighted) {
@@ -535,12 +542,19 @@ TlStatus tl_dem_eval_forces(TlDem *d)
       TL_ERROR(TL_ERR_UNSUPPORTED, "a weighted world (tl_dem_set_weight_field) with %zu walls: wall contacts are not "
                "weighted; remove the walls or the weight field", d->n_walls);
     TL_CHECK(tl_dem_particle_weights(d));
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(P->f[i], P->weight[i]);
   }
-  if (P->f_coupling)
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_coupling[i]);
+  if (n > d->xr_cap) {
+    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
+    d->xr_cap = n + n / 2 + 16;
+  }
   /* threads only pay for themselves on large contact lists */
   d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
+  const int ntb = n >= 8192 ? d->nt : 1;
+  /* body forces in the contact loop's parallel region when both are
+   * threaded alike (one region fewer per step) */
+  const int fused = ntb > 1 && ntb == d->nt_now;
+  if (!fused) TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
+    for (size_t i = 0; i < n; ++i) body_force(d, i););
   tl_dem_tick(d, TL_DEM_PHASE_BODY, &t0);
   Accum acc = {0, 0, 0};
   const int has_bonds = d->bonds.n && d->bonds.n != (size_t)-1;
@@ -548,10 +562,10 @@ TlStatus tl_dem_eval_forces(TlDem *d)
     TL_CHECK(tl_dem_contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
     if (has_bonds) TL_CHECK(tl_dem_contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
   }
-  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, &d->split_list, 0, want, weighted ? d->cw_list : NULL,
-                         &acc));
+  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, &d->split_list, 0, fused, want,
+                         weighted ? d->cw_list : NULL, &acc));
   if (has_bonds)
-    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, &d->split_bonds, 1, want,
+    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, &d->split_bonds, 1, 0, want,
                            weighted ? d->cw_bonds : NULL, &acc));
   tl_dem_tick(d, TL_DEM_PHASE_CONTACTS, &t0);
   d->n_touching = acc.touching;
