@@ -109,6 +109,7 @@ struct TlDem {
   int allow_above, setup_done, need_rebuild, rotation, orientation;
   int dim; /* 3, or 2: disks in the plane z = 0 (tl_dem_set_dimension) */
   long steps, rebuilds;
+  int kick_pending; /* the last step's second half kick is still to do (tl_dem_step) */
   size_t n_touching;
   /* energy bookkeeping */
   double elastic_pp, contact_work_pp, work_ext;

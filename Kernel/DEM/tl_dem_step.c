@@ -44,9 +44,16 @@ static TlStatus report_blowup(TlDem *d, double dt)
   return TL_OK;
 }
 
-static TlStatus one_step(TlDem *d)
+/* One Velocity-Verlet step.  With defer_kick, the second half kick is left
+ * pending and done by the next step's first pass, in the same arithmetic
+ * (the two half kicks one after the other per particle), which saves a
+ * parallel region per step; tl_dem_step defers only between two steps of
+ * one call, when nothing reads the full-step velocities in between. */
+static TlStatus one_step(TlDem *d, int defer_kick)
 {
   TlParticles *P = d->P;
+  const int pending = d->kick_pending;
+  d->kick_pending = 0;
   const size_t n = P->n;
   const double dt = d->dt, h = 0.5 * dt;
   const int rot = P->w != NULL;
@@ -82,11 +89,20 @@ static TlStatus one_step(TlDem *d)
   const TlVec3 *tq = P->torque;
   const double *ii = rot ? (d->weight_fn ? d->ii_w : P->inv_inertia) : NULL;
   const int orient = d->orientation;
+  double ksum = 0.0; /* the pending kick's velocities: a NaN is located */
   if (planar) {
     /* 2-D: x, y and the spin about z only; z, v_z, ω_x, ω_y never change */
     const double a00 = A.m[0][0], a01 = A.m[0][1], a10 = A.m[1][0], a11 = A.m[1][1];
-    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
+    TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max) reduction(+ : ksum)",
       for (size_t i = 0; i < n; ++i) {
+        if (pending) {
+          const double hk = h * im[i];
+          const double kx = v[i].x + hk * f[i].x, ky = v[i].y + hk * f[i].y;
+          v[i].x = kx;
+          v[i].y = ky;
+          ksum += kx + ky;
+          if (rot) w[i].z += h * ii[i] * tq[i].z;
+        }
         if (motion[i] != TL_MOTION_FREE) continue;
         const double hi = h * im[i];
         const double vx = v[i].x + hi * f[i].x, vy = v[i].y + hi * f[i].y;
@@ -118,8 +134,19 @@ static TlStatus one_step(TlDem *d)
         P->q[i] = (TlQuat){r.w * nq, r.x * nq, r.y * nq, r.z * nq};
       });
   } else
-  TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max)",
+  TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(max : v2max, disp2max) reduction(+ : ksum)",
     for (size_t i = 0; i < n; ++i) {
+      if (pending) {
+        /* the previous step's second half kick, as its own pass did it */
+        const double hk = h * im[i];
+        const TlVec3 vk = {v[i].x + hk * f[i].x, v[i].y + hk * f[i].y, v[i].z + hk * f[i].z};
+        v[i] = vk;
+        ksum += vk.x + vk.y + vk.z;
+        if (rot) {
+          const double hr = h * ii[i];
+          w[i] = (TlVec3){w[i].x + hr * tq[i].x, w[i].y + hr * tq[i].y, w[i].z + hr * tq[i].z};
+        }
+      }
       if (motion[i] != TL_MOTION_FREE) continue;
       const double hi = h * im[i];
       TlVec3 vv = {v[i].x + hi * f[i].x, v[i].y + hi * f[i].y, v[i].z + hi * f[i].z};
@@ -149,7 +176,7 @@ static TlStatus one_step(TlDem *d)
       P->q[i] = (TlQuat){q.w * nq, q.x * nq, q.y * nq, q.z * nq};
     });
   d->disp2max = disp2max;
-  if (!(v2max * dt * dt < d->r_min * d->r_min)) TL_CHECK(report_blowup(d, dt));
+  if (!(v2max * dt * dt < d->r_min * d->r_min) || !isfinite(ksum)) TL_CHECK(report_blowup(d, dt));
   tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
   for (size_t k = 0; k < d->n_walls; ++k)
     if (d->walls[k]->ops->advance) TL_CHECK(d->walls[k]->ops->advance(d->walls[k], d->t, dt));
@@ -170,6 +197,12 @@ static TlStatus one_step(TlDem *d)
   w = P->w;
   tq = P->torque;
   ii = rot ? (d->weight_fn ? d->ii_w : P->inv_inertia) : NULL;
+  if (defer_kick) {
+    d->kick_pending = 1;
+    tl_dem_tick(d, TL_DEM_PHASE_INTEGRATE, &t0);
+    d->steps++;
+    return TL_OK;
+  }
   double sum = 0.0;
   if (planar)
     TL_PARALLEL_IF(nt > 1, "omp parallel for num_threads(nt) schedule(static) reduction(+ : sum)",
@@ -202,6 +235,17 @@ static TlStatus one_step(TlDem *d)
 TlStatus tl_dem_step(TlDem *d, long n)
 {
   if (!d->setup_done) TL_ERROR(TL_ERR_STATE, "tl_dem_setup must precede tl_dem_step");
-  for (long s = 0; s < n; ++s) TL_CHECK(one_step(d));
+  /* the second half kick joins the next step's first pass unless something
+   * reads the full-step velocities before it: the work of external forces
+   * (energy tracking), the weights' inverses refreshed at each step */
+  const TlParticles *P = d->P;
+  const int join = !d->weight_fn && !(d->track_energy && (P->f_ext || P->f_coupling));
+  for (long s = 0; s < n; ++s) {
+    TlStatus st = one_step(d, join && s + 1 < n);
+    if (st != TL_OK) {
+      d->kick_pending = 0;
+      return tl_error_trace(st, __FILE__, __LINE__);
+    }
+  }
   return TL_OK;
 }
