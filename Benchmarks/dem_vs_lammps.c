@@ -13,7 +13,12 @@
  *   (b) lammps_hertz + lammps_history (k_n 7.3e5, gamma_n 50, gamma_t 25, mu 0.5),
  *       walls with the same law (fix wall/gran hertz/history).
  * Prints µs per particle-step for both codes on 1 core and on 2 (Talus with
- * 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio talus/lammps, and
+ * 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio talus/lammps,
+ * each code's speed-up from its second core beside it (summary keys
+ * <scene>_speedup_talus, <scene>_speedup_lammps), Talus's phase breakdown
+ * of every timed run (tl_dem_phase_times: share of the wall time per phase,
+ * each thread's busy time in the contact loop), whether the two-thread
+ * answers are the one-thread answers to the last bit (<scene>_threads_identical), and
  * the answers: the translational and rotational kinetic energies after the
  * same number of steps (LAMMPS: its deck's warm-up run, then the timed run;
  * Talus: the same steps in one run).  They agree to about 1e-5, not to
