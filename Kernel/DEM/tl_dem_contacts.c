@@ -461,18 +461,26 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     c.chunk_el = S->chunk_el;
     c.chunk_pw = S->chunk_pw;
     c.hd = L->history_doubles;
-    size_t lo = 0, hi = n_chunks;
-    if (nt > 1) {
-      lo = S->first[tid];
-      hi = S->first[tid + 1];
+    if (nt == 1) {
+      if (cw) process_range_weighted(&c, chunks, 0, n_chunks);
+      else process_range(&c, chunks, 0, n_chunks);
+    } else {
+      /* range r of the split as its owner; a team smaller than asked (a
+       * thread limit) takes the ranges in turn, still each as its owner */
+      const int team = omp_get_num_threads();
       c.owner = S->owner;
-      c.tid = tid;
-      c.def = S->def[tid];
-      c.def_cap = S->def_cap[tid];
+      for (int r = tid; r < nt; r += team) {
+        c.tid = r;
+        c.def = S->def[r];
+        c.def_cap = S->def_cap[r];
+        c.n_def = 0;
+        if (cw) process_range_weighted(&c, chunks, S->first[r], S->first[r + 1]);
+        else process_range(&c, chunks, S->first[r], S->first[r + 1]);
+        S->n_def[r] = c.n_def;
+      }
+      if (tid == 0)
+        for (int r = team; r < nt && r < TL_DEM_MAX_TIMED_THREADS; ++r) busy[r] = 0.0;
     }
-    if (cw) process_range_weighted(&c, chunks, lo, hi);
-    else process_range(&c, chunks, lo, hi);
-    S->n_def[tid] = c.n_def;
     if (tid < TL_DEM_MAX_TIMED_THREADS) busy[tid] = tl_wtime() - tb;
     touching += c.touching;
     if (c.status != TL_OK) {
