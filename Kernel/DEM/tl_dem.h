@@ -78,11 +78,11 @@ typedef struct {
 } TlDemStats;
 
 /* Where the time of tl_dem_step goes: wall seconds per phase since the
- * world was created (or tl_dem_reset_phase_times), and in the contact loop
- * each thread's busy seconds.  A phase runs on the world's threads where
- * the loop is parallel (TL_DEM_PHASE_PARALLEL tells which run threaded for
- * a large scene); the rest is the serial fraction.  The clock is read a
- * dozen times per step (tens of ns each). */
+ * last tl_dem_reset_phase_times, which also switches the timers on (off
+ * until then: the clock is read a dozen times per step, tens of ns each),
+ * and in the contact loop each thread's busy seconds.  The comments below
+ * say which phases run threaded for a large scene; the rest is the serial
+ * fraction. */
 typedef enum {
   TL_DEM_PHASE_INTEGRATE, /* kicks, drift, spins, displacement check (threaded) */
   TL_DEM_PHASE_GRID,      /* neighbour search: hierarchical grid build, renumbering (serial) */

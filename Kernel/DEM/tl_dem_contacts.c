@@ -426,12 +426,12 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
     if (body) {
-      const double t_body = tl_wtime();
+      const double t_body = tl_dem_clock(d);
       _Pragma("omp for schedule(static)")
       for (size_t i = 0; i < n; ++i) body_force(d, i);
-      if (tid == 0) body_seconds = tl_wtime() - t_body; /* after the loop's barrier */
+      if (tid == 0) body_seconds = tl_dem_clock(d) - t_body; /* after the loop's barrier */
     }
-    const double tb = tl_wtime();
+    const double tb = tl_dem_clock(d);
     ChunkCtx c;
     memset(&c, 0, sizeof c);
     c.d = d;
@@ -481,7 +481,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
       if (tid == 0)
         for (int r = team; r < nt && r < TL_DEM_MAX_TIMED_THREADS; ++r) busy[r] = 0.0;
     }
-    if (tid < TL_DEM_MAX_TIMED_THREADS) busy[tid] = tl_wtime() - tb;
+    if (tid < TL_DEM_MAX_TIMED_THREADS) busy[tid] = tl_dem_clock(d) - tb;
     touching += c.touching;
     if (c.status != TL_OK) {
       _Pragma("omp critical")
@@ -496,7 +496,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
    * particle's sum is the one a single thread makes */
   const int planar = d->dim == 2;
   TlVec3 *F = P->f, *T = P->torque;
-  const double tr = tl_wtime();
+  const double tr = tl_dem_clock(d);
   for (int t = 1; t < nt; ++t)
     for (size_t e = 0; e < S->n_def[t]; ++e) {
       const Deferred q = S->def[t][e];
@@ -513,7 +513,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
   d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= body_seconds;
   if (nt > 1) {
-    const double dr = tl_wtime() - tr; /* booked as the reduction */
+    const double dr = tl_dem_clock(d) - tr; /* booked as the reduction */
     d->prof.seconds[TL_DEM_PHASE_REDUCE] += dr;
     d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= dr;
   }
@@ -542,7 +542,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
   TlParticles *P = d->P;
   const size_t n = P->n;
   const int want = d->track_energy;
-  double t0 = tl_wtime();
+  double t0 = tl_dem_clock(d);
   /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
   const int weighted = d->weight_fn != NULL;
   if (weighted) {

@@ -144,6 +144,7 @@ void tl_dem_reset_phase_times(TlDem *d)
 {
   memset(&d->prof, 0, sizeof d->prof);
   d->prof.steps = d->steps;
+  d->profile = 1;
 }
 
 const char *tl_dem_phase_name(int phase)

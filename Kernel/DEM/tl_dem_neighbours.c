@@ -118,7 +118,7 @@ TlStatus tl_dem_rebuild(TlDem *d)
 {
   TlParticles *P = d->P;
   size_t n = P->n;
-  double t0 = tl_wtime();
+  double t0 = tl_dem_clock(d);
   /* a 2-D world: a particle inserted off the plane would meet the others
    * only through the grid's z, which the contacts ignore */
   if (d->dim == 2)

@@ -57,7 +57,7 @@ static TlStatus one_step(TlDem *d, int defer_kick)
   const size_t n = P->n;
   const double dt = d->dt, h = 0.5 * dt;
   const int rot = P->w != NULL;
-  double t0 = tl_wtime();
+  double t0 = tl_dem_clock(d);
   TlVec3 *restrict x = P->x, *restrict v = P->v;
   const TlVec3 *restrict f = P->f;
   /* a weighted world kicks with 1 / (w m) and 1 / (w I), refreshed by
@@ -185,12 +185,12 @@ static TlStatus one_step(TlDem *d, int defer_kick)
   if (tl_dem_needs_rebuild(d)) {
     tl_dem_tick(d, TL_DEM_PHASE_OTHER, &t0);
     TL_CHECK(tl_dem_rebuild(d)); /* books its own phases */
-    t0 = tl_wtime();
+    t0 = tl_dem_clock(d);
   }
   if (d->hook) TL_CHECK(d->hook(d->hook_ctx, d));
   tl_dem_tick(d, TL_DEM_PHASE_OTHER, &t0);
   TL_CHECK(tl_dem_eval_forces(d)); /* books its own phases */
-  t0 = tl_wtime();
+  t0 = tl_dem_clock(d);
   /* second half kick, spins in the same pass; a NaN anywhere poisons the
    * sum and is then located (the spin arrays read again: the force
    * evaluation refreshes the weighted inverses) */
