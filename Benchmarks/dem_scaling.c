@@ -4,7 +4,8 @@
  * spacing 1, in a fully periodic box, random velocities, linear
  * spring-dashpot with Coulomb friction, dt = 0.1 of the critical step).
  * The cost per particle-step should stay flat (O(N) contact detection and
- * force loop); the summary gives each figure and flatness = max / min. */
+ * force loop); the summary gives each figure and flatness = max / min, and
+ * with -threads above 1 the speed-up over one thread at each size. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -104,7 +105,9 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK(tl_options_get_int(o, "-n_max", 1000000, 8, 100000000, "largest particle count (x10 per size)", &nmax));
   TL_CHECK(tl_options_get_int(o, "-work", 20000000, 1000, 100000000000L, "particle-steps timed per size (at least)", &work));
   TL_CHECK(tl_options_get_int(o, "-steps", 40, 1, 100000000, "timed steps of each scene (after 20 warm-up steps)", &steps));
-  TL_CHECK(tl_options_get_int(o, "-threads", 1, 1, 1024, "OpenMP threads", &threads));
+  TL_CHECK(tl_options_get_int(o, "-threads", 1, 1, 1024,
+                              "OpenMP threads; above 1, each size is also run on one thread and the speed-up printed",
+                              &threads));
   TlStatus s = tl_options_finish(o, stdout);
   if (s != TL_OK) {
     tl_options_destroy(&o);
@@ -120,6 +123,14 @@ static TlStatus run(int argc, char **argv)
     char key[64];
     snprintf(key, sizeof key, "us_%ld", n);
     tl_summary_real(&sum, key, us);
+    if (threads > 1) {
+      /* the same size on one thread: the gain of the others at this size */
+      double us1 = NAN;
+      TL_CHECK(one_size(n, steps, work, 1, &us1));
+      printf("n=%ld: speed-up of %ld threads over 1: %.2f\n", n, threads, us1 / us);
+      snprintf(key, sizeof key, "speedup_%ld", n);
+      tl_summary_real(&sum, key, us1 / us);
+    }
     lo = fmin(lo, us);
     hi = fmax(hi, us);
   }

@@ -13,7 +13,12 @@
  *   (b) lammps_hertz + lammps_history (k_n 7.3e5, gamma_n 50, gamma_t 25, mu 0.5),
  *       walls with the same law (fix wall/gran hertz/history).
  * Prints µs per particle-step for both codes on 1 core and on 2 (Talus with
- * 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio talus/lammps, and
+ * 2 OpenMP threads, LAMMPS with 2 MPI ranks) and the ratio talus/lammps,
+ * each code's speed-up from its second core beside it (summary keys
+ * <scene>_speedup_talus, <scene>_speedup_lammps), Talus's phase breakdown
+ * of every timed run (tl_dem_phase_times: share of the wall time per phase,
+ * each thread's busy time in the contact loop), whether the two-thread
+ * answers are the one-thread answers to the last bit (<scene>_threads_identical), and
  * the answers: the translational and rotational kinetic energies after the
  * same number of steps (LAMMPS: its deck's warm-up run, then the timed run;
  * Talus: the same steps in one run).  They agree to about 1e-5, not to
@@ -160,6 +165,27 @@ static void kinetic(TlDem *dem, double *ke, double *erot)
   *erot = b;
 }
 
+/* The phase breakdown of a timed run: each phase's share of the wall time,
+ * and the contact loop's threads (busy seconds, imbalance). */
+static void print_phases(const char *name, int threads, TlDem *dem, double wall)
+{
+  TlDemPhaseTimes pt;
+  tl_dem_phase_times(dem, &pt);
+  const double per = 1e6 / ((double)pt.steps * (double)tl_dem_particles(dem)->n);
+  printf("talus phases: scene=%s threads=%d (us per particle-step, share of wall)", name, threads);
+  double sum = 0.0;
+  for (int p = 0; p < TL_DEM_N_PHASES; ++p) {
+    printf(" %s=%.4f(%.0f%%)", tl_dem_phase_name(p), pt.seconds[p] * per, 100.0 * pt.seconds[p] / wall);
+    sum += pt.seconds[p];
+  }
+  printf(" untimed=%.0f%%\n", 100.0 * (wall - sum) / wall);
+  if (pt.threads > 1) {
+    printf("talus contact loop: scene=%s threads=%d busy", name, pt.threads);
+    for (int t = 0; t < pt.threads && t < TL_DEM_MAX_TIMED_THREADS; ++t) printf(" t%d=%.3fs", t, pt.thread_busy[t]);
+    printf(" of %.3fs, imbalance %.3fs (slowest - mean)\n", pt.seconds[TL_DEM_PHASE_CONTACTS], pt.imbalance);
+  }
+}
+
 static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *data, int threads, const Config *c,
                            long warmup, double *us_median, double *us_min, double *ke, double *erot)
 {
@@ -169,6 +195,7 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
     TlDem *dem;
     TL_CHECK(build(data, threads, &dem));
     TL_CHECK(tl_dem_step(dem, warmup));
+    tl_dem_reset_phase_times(dem);
     struct timespec c0, c1;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
     double t0 = tl_wtime();
@@ -183,8 +210,10 @@ static TlStatus time_talus(const char *name, Builder build, const TlLammpsData *
            "cpu_share=%.2f contacts=%zu pairs=%zu rebuilds=%ld\n",
            k + 1, r, name, threads, tl_dem_particles(dem)->n, c->steps, el, t[k], cpu / (el * threads), st.n_contacts,
            st.n_pairs, st.rebuilds);
-    fflush(stdout);
+    print_phases(name, threads, dem, el);
     kinetic(dem, ke, erot);
+    printf("talus answers: scene=%s threads=%d kinetic=%.17g rotational=%.17g\n", name, threads, *ke, *erot);
+    fflush(stdout);
     tl_dem_destroy(&dem);
   }
   for (int a = 1; a < r; ++a)
@@ -249,6 +278,7 @@ static TlStatus run(int argc, char **argv)
     TlLammpsData *data;
     TL_CHECK(tl_lammps_data_read(path, &data));
     long steps_save = c.steps;
+    double t1 = NAN, p1 = NAN, ke1 = NAN, erot1 = NAN; /* the one-thread figures and answers */
     for (int k = 0; k < nthr; ++k) {
       double tm = NAN, tmin = NAN, pm = NAN, ke = NAN, erot = NAN;
       const long warmup = c.warmup >= 0 ? c.warmup : (sc == 0 ? 100 : 200);
@@ -288,6 +318,27 @@ static TlStatus run(int argc, char **argv)
       }
       printf("%s, %d core%s: talus %.4f us/particle-step (min %.4f)", names[sc], thr[k], thr[k] > 1 ? "s" : "", tm, tmin);
       if (c.peer) printf(", lammps %.4f, ratio talus/lammps = %.3f", pm, tm / pm);
+      if (k == 0) {
+        t1 = tm;
+        p1 = pm;
+        ke1 = ke;
+        erot1 = erot;
+      } else {
+        /* each code's gain from its threads or ranks, beside the ratio */
+        printf(", speed-up over 1 core: talus %.2f", t1 / tm);
+        if (c.peer) printf(", lammps %.2f", p1 / pm);
+        snprintf(key, sizeof key, "%s_speedup_talus", names[sc]);
+        tl_summary_real(&sum, key, t1 / tm);
+        if (c.peer) {
+          snprintf(key, sizeof key, "%s_speedup_lammps", names[sc]);
+          tl_summary_real(&sum, key, p1 / pm);
+        }
+        /* the answers do not depend on the thread count, to the last bit */
+        const int same = ke == ke1 && erot == erot1;
+        printf(", answers %s", same ? "identical to 1 thread" : "DIFFER from 1 thread");
+        snprintf(key, sizeof key, "%s_threads_identical", names[sc]);
+        tl_summary_int(&sum, key, same);
+      }
       printf("\n");
     }
     c.steps = steps_save;

@@ -258,59 +258,144 @@ static void test_bond_rebuilds(void)
   tl_dem_destroy(&dem);
 }
 
-/* One and two threads give the same motion (the contact loop splits the
- * list between threads with private force buffers; only the order of the
- * sums differs). */
-static TlStatus lattice_run(int threads, TlVec3 *x_out, TlVec3 *w_out, size_t *n_out)
+/* The thread count does not change the answers, bit for bit: the contact
+ * loop shares the list so that every particle's forces are summed in list
+ * order whatever the thread count (owners and deferred contributions), and
+ * the energy sums go chunk by chunk.  A lattice large enough for the
+ * threaded contact loop (more than 8192 pairs), with rotation, energy
+ * tracking and, in the second scene (9261 particles: threaded integration
+ * too), a pair of species with two laws and bonds. */
+typedef struct {
+  TlVec3 x[9261], v[9261], w[9261], f[9261], t[9261];
+  TlDemEnergy e;
+  size_t n, contacts;
+} ThreadRun;
+
+static TlStatus lattice_run(int threads, int mixed, long steps, ThreadRun *out)
 {
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
-  int per[3] = {1, 1, 1}, m = 16;
+  /* the second scene above 8192 particles: threaded integration and body
+   * forces in the contact loop's region */
+  int per[3] = {1, 1, 1}, m = mixed ? 21 : 16;
   TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), tl_v3(m, m, m), per));
   TL_CHECK(tl_dem_set_domain(dem, &dom));
-  int a;
+  int a, b;
   TL_CHECK(tl_particles_add_species(P, "a", 1.0, 0.45, 0.55, &a));
+  TL_CHECK(tl_particles_add_species(P, "b", 2.0, 0.45, 0.55, &b));
   uint64_t s = 17;
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j)
-      for (int k = 0; k < m; ++k)
+      for (int k = 0; k < m; ++k) {
+        int sp = mixed && (i + j + k) % 3 == 0 ? b : a;
         TL_CHECK(tl_dem_add_particle(dem, tl_v3(i + 0.5, j + 0.5, k + 0.5),
-                                     tl_v3(0.1 * (tl_random_uniform(&s) - 0.5), 0.1 * (tl_random_uniform(&s) - 0.5), 0),
-                                     tl_species_sample_radius(&P->species_table[a], &s), a, NULL));
+                                     tl_v3(0.1 * (tl_random_uniform(&s) - 0.5), 0.1 * (tl_random_uniform(&s) - 0.5),
+                                           mixed ? 0.1 * (tl_random_uniform(&s) - 0.5) : 0.0),
+                                     tl_species_sample_radius(&P->species_table[sp], &s), sp, NULL));
+      }
   TlContactLaw *law;
   TL_CHECK(tl_test_law(&law, "linear", "k_n", 2e5, "restitution", 0.7, "mu", 0.5, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  if (mixed) {
+    int l2;
+    TL_CHECK(tl_test_law(&law, "hertz", "E", 1e7, "tsuji_restitution", 0.5, "mu", 0.3, NULL));
+    TL_CHECK(tl_dem_add_law(dem, law, &l2));
+    TL_CHECK(tl_dem_set_pair_law(dem, a, b, l2));
+    /* bonds along a diagonal of the lattice (ids of neighbours in x) */
+    for (int q = 0; q < 40; ++q) TL_CHECK(tl_dem_add_bond(dem, (int64_t)q * 97, (int64_t)q * 97 + m * m));
+  }
   tl_dem_set_threads(dem, threads);
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
-  TL_CHECK(tl_dem_step(dem, 50));
+  TL_CHECK(tl_dem_step(dem, steps));
   for (size_t i = 0; i < P->n; ++i) {
-    x_out[P->id[i]] = P->x[i];
-    w_out[P->id[i]] = P->w[i];
+    size_t q = (size_t)P->id[i];
+    out->x[q] = P->x[i];
+    out->v[q] = P->v[i];
+    out->w[q] = P->w[i];
+    out->f[q] = P->f[i];
+    out->t[q] = P->torque[i];
   }
-  *n_out = P->n;
+  TL_CHECK(tl_dem_energy(dem, &out->e));
+  TlDemStats st;
+  tl_dem_stats(dem, &st);
+  out->contacts = st.n_contacts;
+  out->n = P->n;
   tl_dem_destroy(&dem);
   return TL_OK;
 }
 
 static void test_threads(void)
 {
-  static TlVec3 x1[4096], w1[4096], x2[4096], w2[4096];
-  size_t n1, n2;
-  TL_TEST_STATUS(lattice_run(1, x1, w1, &n1), TL_OK);
-  TL_TEST_STATUS(lattice_run(2, x2, w2, &n2), TL_OK);
-  double dx = 0.0, dw = 0.0, wmax = 0.0;
-  for (size_t i = 0; i < n1; ++i) {
-    dx = fmax(dx, tl_v3_norm(tl_v3_sub(x1[i], x2[i])));
-    dw = fmax(dw, tl_v3_norm(tl_v3_sub(w1[i], w2[i])));
-    wmax = fmax(wmax, tl_v3_norm(w1[i]));
+  static ThreadRun r1, rt;
+  for (int mixed = 0; mixed < 2; ++mixed) {
+    TL_TEST_STATUS(lattice_run(1, mixed, 60, &r1), TL_OK);
+    for (int threads = 2; threads <= 3; ++threads) {
+      TL_TEST_STATUS(lattice_run(threads, mixed, 60, &rt), TL_OK);
+      size_t bad = 0;
+      double dx = 0.0, dw = 0.0;
+      for (size_t i = 0; i < r1.n; ++i) {
+        int same = !memcmp(&r1.x[i], &rt.x[i], sizeof r1.x[i]) && !memcmp(&r1.v[i], &rt.v[i], sizeof r1.v[i]) &&
+                   !memcmp(&r1.w[i], &rt.w[i], sizeof r1.w[i]) && !memcmp(&r1.f[i], &rt.f[i], sizeof r1.f[i]) &&
+                   !memcmp(&r1.t[i], &rt.t[i], sizeof r1.t[i]);
+        bad += !same;
+        dx = fmax(dx, tl_v3_norm(tl_v3_sub(r1.x[i], rt.x[i])));
+        dw = fmax(dw, tl_v3_norm(tl_v3_sub(r1.w[i], rt.w[i])));
+      }
+      const int same_e = !memcmp(&r1.e, &rt.e, sizeof r1.e);
+      printf("1 vs %d threads, %s, %zu particles, %zu contacts, 60 steps: %zu particles differ in x, v, w, f or "
+             "torque (largest dx %.2e, dw %.2e), energies %s\n",
+             threads, mixed ? "two laws and bonds" : "one law", r1.n, r1.contacts, bad, dx, dw,
+             same_e ? "identical" : "differ");
+      TL_TEST_ASSERT(r1.n == rt.n && r1.contacts > 1000 && bad == 0 && same_e,
+                     "%d threads change the answers: %zu particles differ (dx %g, dw %g), energies %s", threads, bad,
+                     dx, dw, same_e ? "same" : "differ");
+    }
   }
-  printf("1 vs 2 threads, %zu particles, 50 steps: largest position difference %.2e, spin difference %.2e (of %.2e)\n",
-         n1, dx, dw, wmax);
-  TL_TEST_ASSERT(n1 == n2 && dx < 1e-12 && dw < 1e-9 * fmax(wmax, 1e-300),
-                 "threads change the motion: dx %g, dw %g", dx, dw);
+}
+
+/* Spins can be given before set-up, on a law that needs no rotation, and
+ * the force array holds gravity (the header says so): two free spheres
+ * apart, no contact, so f = m g exactly and the spins stay. */
+static void test_spin_before_setup(void)
+{
+  TlDem *dem;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int a;
+  TL_TEST_STATUS(tl_particles_add_species(P, "a", 2500.0, 0.01, 0.01, &a), TL_OK);
+  size_t i0, i1;
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.2, 0.5, 0.5), tl_v3(0, 0, 0), 0.01, a, &i0), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(0.8, 0.5, 0.5), tl_v3(0, 0, 0), 0.01, a, &i1), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, i0, tl_v3(1.0, -2.0, 3.0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, 7, tl_v3(0, 0, 0)), TL_ERR_ARG);
+  TL_TEST_STATUS(tl_dem_set_spin(dem, i1, tl_v3(NAN, 0, 0)), TL_ERR_ARG);
+  TlContactLaw *law;
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e4, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  const TlVec3 g = {0.0, 0.0, -9.81};
+  tl_dem_set_gravity(dem, g);
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-5, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_STATUS(tl_dem_step(dem, 10), TL_OK);
+  size_t k0, k1;
+  TL_TEST_STATUS(tl_particles_find(P, 0, &k0), TL_OK);
+  TL_TEST_STATUS(tl_particles_find(P, 1, &k1), TL_OK);
+  TL_TEST_ASSERT(P->w && P->w[k0].x == 1.0 && P->w[k0].y == -2.0 && P->w[k0].z == 3.0 && P->w[k1].x == 0.0,
+                 "spin set before set-up lost: (%g, %g, %g)", P->w ? P->w[k0].x : NAN, P->w ? P->w[k0].y : NAN,
+                 P->w ? P->w[k0].z : NAN);
+  const TlVec3 mg = tl_v3_scale(g, P->mass[k0]);
+  TL_TEST_ASSERT(P->f[k0].x == mg.x && P->f[k0].y == mg.y && P->f[k0].z == mg.z,
+                 "force array (%g, %g, %g) is not m g = (%g, %g, %g) without contacts", P->f[k0].x, P->f[k0].y,
+                 P->f[k0].z, mg.x, mg.y, mg.z);
+  /* and after set-up */
+  TL_TEST_STATUS(tl_dem_set_spin(dem, k1, tl_v3(0.0, 0.0, -4.0)), TL_OK);
+  TL_TEST_STATUS(tl_dem_step(dem, 1), TL_OK);
+  TL_TEST_STATUS(tl_particles_find(P, 1, &k1), TL_OK);
+  TL_TEST_ASSERT(P->w[k1].z == -4.0, "spin set after set-up lost: %g", P->w[k1].z);
+  tl_dem_destroy(&dem);
 }
 
 int main(void)
@@ -322,5 +407,6 @@ int main(void)
   test_insert_remove();
   test_adhesion_rolling();
   test_threads();
+  test_spin_before_setup();
   return tl_test_report();
 }

@@ -52,9 +52,14 @@ void tl_dem_destroy(TlDem **dp)
   tl_free(&d->skip);
   tl_free(&d->perm);
   tl_free(&d->old_to_new);
-  tl_free(&d->tf);
   tl_free(&d->xr);
-  tl_free(&d->tt);
+  Split *splits[2] = {&d->split_list, &d->split_bonds};
+  for (int q = 0; q < 2; ++q) {
+    tl_free(&splits[q]->owner);
+    tl_free(&splits[q]->chunk_el);
+    tl_free(&splits[q]->chunk_pw);
+    for (int t = 0; t < TL_DEM_MAX_TIMED_THREADS; ++t) tl_free(&splits[q]->def[t]);
+  }
   for (size_t k = 0; k < d->n_presc; ++k) {
     Prescribed *p = &d->presc[k];
     tl_free(&p->ids); tl_free(&p->idx); tl_free(&p->x0); tl_free(&p->xs); tl_free(&p->vs);
@@ -81,7 +86,10 @@ void tl_dem_set_threads(TlDem *d, int threads)
 {
   d->threads = threads;
   if (threads > 0) omp_set_num_threads(threads); /* walls follow the OpenMP default */
-  if (d->setup_done) d->nt = threads > 0 ? threads : omp_get_max_threads();
+  if (d->setup_done) {
+    d->nt = threads > 0 ? threads : omp_get_max_threads();
+    if (d->nt > TL_DEM_MAX_TIMED_THREADS) d->nt = TL_DEM_MAX_TIMED_THREADS;
+  }
 }
 void tl_dem_set_weight_field(TlDem *d, TlDemWeightFn fn, void *ctx)
 {
@@ -314,6 +322,7 @@ TlStatus tl_dem_setup(TlDem *d)
   d->rotation = rot;
   d->nt = d->threads > 0 ? d->threads : omp_get_max_threads();
   if (d->nt < 1) d->nt = 1;
+  if (d->nt > TL_DEM_MAX_TIMED_THREADS) d->nt = TL_DEM_MAX_TIMED_THREADS; /* owners are bytes */
   TL_CHECK(tl_dem_build_law_table(d));
   /* skin from the mean diameter */
   double mean = 0.0;

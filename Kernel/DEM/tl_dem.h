@@ -77,6 +77,41 @@ typedef struct {
   size_t n_pairs;      /* neighbour-list pairs */
 } TlDemStats;
 
+/* Where the time of tl_dem_step goes: wall seconds per phase since the
+ * last tl_dem_reset_phase_times, which also switches the timers on (off
+ * until then: the clock is read a dozen times per step, tens of ns each),
+ * and in the contact loop each thread's busy seconds.  The comments below
+ * say which phases run threaded for a large scene; the rest is the serial
+ * fraction. */
+typedef enum {
+  TL_DEM_PHASE_INTEGRATE, /* kicks, drift, spins, displacement check (threaded) */
+  TL_DEM_PHASE_GRID,      /* neighbour search: hierarchical grid build, renumbering (serial) */
+  TL_DEM_PHASE_PAIRS,     /* neighbour search: the grid's pair scan (threaded above 20000 particles) */
+  TL_DEM_PHASE_LIST,      /* list build: laws, bonds, history carried over (serial) */
+  TL_DEM_PHASE_BODY,      /* body forces, torques cleared, packed positions (threaded) */
+  TL_DEM_PHASE_CONTACTS,  /* detection and force evaluation over the list (threaded) */
+  TL_DEM_PHASE_REDUCE,    /* the threads' deferred contributions at the list's cuts (serial) */
+  TL_DEM_PHASE_WALLS,     /* wall contacts */
+  TL_DEM_PHASE_OTHER,     /* prescribed motion, walls' motion, hooks, checks */
+  TL_DEM_N_PHASES
+} TlDemPhase;
+
+enum { TL_DEM_MAX_TIMED_THREADS = 64 };
+
+typedef struct {
+  double seconds[TL_DEM_N_PHASES];
+  /* contact loop: per thread, seconds inside its share of the list */
+  double thread_busy[TL_DEM_MAX_TIMED_THREADS];
+  int threads;        /* threads of the contact loop at the last step */
+  double imbalance;   /* Σ over evaluations of (slowest - mean) thread, s */
+  long steps;
+} TlDemPhaseTimes;
+
+void tl_dem_phase_times(const TlDem *dem, TlDemPhaseTimes *t);
+void tl_dem_reset_phase_times(TlDem *dem);
+/* Short name of a phase ("integrate", "grid", ...). */
+const char *tl_dem_phase_name(int phase);
+
 TlStatus tl_dem_create(TlDem **dem);
 void tl_dem_destroy(TlDem **dem);
 
@@ -84,6 +119,14 @@ TlParticles *tl_dem_particles(TlDem *dem);
 TlDomain *tl_dem_domain(TlDem *dem);
 const TlHGrid *tl_dem_grid(const TlDem *dem);
 TlStatus tl_dem_set_domain(TlDem *dem, const TlDomain *domain);
+/* Gravity (m/s², default zero).
+ *
+ * The particle force array P->f (tl_dem_particles) is the TOTAL force of
+ * the last evaluation, gravity included: m g + f_ext (w (m g + f_ext) in a
+ * weighted world) + f_coupling + the contact forces + the walls' forces, on every
+ * particle, fixed and prescribed ones too.  The contact force alone is
+ * P->f - m g - f_ext (- f_coupling); tl_dem_visit_contacts gives each
+ * contact's.  P->torque holds the contact and wall torques only. */
 void tl_dem_set_gravity(TlDem *dem, TlVec3 g);
 /* Verlet skin as a fraction of the mean diameter (default 0.1; 0 rebuilds
  * every step). */
@@ -236,6 +279,12 @@ TlStatus tl_dem_compute_forces(TlDem *dem);
 
 /* Insertion and removal at run time. */
 TlStatus tl_dem_add_particle(TlDem *dem, TlVec3 x, TlVec3 v, double radius, int species, size_t *index);
+/* Angular velocity (rad/s) of the particle at `index`, before or after
+ * tl_dem_setup: the rotational state (tl_particles_enable_rotation) is
+ * allocated on first use, so initial spins can be given with the particles.
+ * The index is the current one (tl_particles_find maps an id to it; set-up
+ * and rebuilds renumber).  A 2-D world takes spins about z only. */
+TlStatus tl_dem_set_spin(TlDem *dem, size_t index, TlVec3 w);
 TlStatus tl_dem_remove_particle(TlDem *dem, size_t index);
 
 /* ---- diagnostics ---- */

@@ -374,6 +374,7 @@ static TlStatus dem_load(void *object, TlCheckpointReader *r, const char *group)
           TL_ERROR(TL_ERR_ARG, "%s: contact %zu joins particles %u and %u; there are %zu", path, k, lists[q]->i[k],
                    lists[q]->j[k], n);
   TL_CHECK(tl_dem_make_chunks(&d->list, &d->chunks, &d->chunks_cap, &d->n_chunks));
+  d->list_version++;
   if (d->bonds.n != (size_t)-1) {
     if (d->bonds.n) TL_CHECK(tl_contact_list_index(&d->bonds, 0));
     TL_CHECK(tl_dem_make_chunks(&d->bonds, &d->bond_chunks, &d->bond_chunks_cap, &d->n_bond_chunks));

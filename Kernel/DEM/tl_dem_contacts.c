@@ -28,8 +28,15 @@ typedef struct {
   int bonded, want_energy;
   size_t hd;
   double el, pw;
+  double *chunk_el, *chunk_pw; /* per chunk, when energy is tracked */
   size_t touching;
   TlStatus status;
+  /* threads (Split): the owners of the particles, this thread, its
+   * deferred contributions; owner NULL on one thread */
+  const uint8_t *owner;
+  int tid;
+  Deferred *def;
+  size_t n_def, def_cap;
   TlVec3 spin_mean[CHUNK], spin_rel[CHUNK]; /* staged spins of a chunk */
 } ChunkCtx;
 
@@ -51,6 +58,16 @@ static inline void release_contact(TlContactList *L, size_t k, size_t hd)
   L->touching[k] = 0;
   L->force[k] = tl_v3(0, 0, 0);
   if (hd) memset(L->history + k * hd, 0, hd * sizeof(double));
+}
+
+/* A contribution to a particle another thread owns, kept for later. */
+static inline void defer(ChunkCtx *c, uint32_t p, TlVec3 f, TlVec3 t)
+{
+  if (c->n_def >= c->def_cap) {
+    c->status = TL_ERR_STATE; /* the split counted too few: a bug, never silent */
+    return;
+  }
+  c->def[c->n_def++] = (Deferred){p, f, t};
 }
 
 _Static_assert((int)CHUNK <= (int)TL_CONTACT_CHUNK, "a chunk of the contact list must fit a TlContactChunk");
@@ -219,34 +236,72 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       f = tl_v3_scale(f, wk);
       cpl = tl_v3_scale(cpl, wk);
     }
-    if (PLANAR) {
-      F[i].x += f.x; F[i].y += f.y;
-      F[j].x -= f.x; F[j].y -= f.y;
-    } else {
-      F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
-      F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
-    }
+    /* torques: branch_i = li n, branch_j = -lj n; each term formed once, so
+     * that a deferred contribution adds the same number */
+    TlVec3 ti = {0.0, 0.0, 0.0}, tj = {0.0, 0.0, 0.0};
     if (ROT && PLANAR) {
       const TlVec3 n = cc->normal[q];
       const double nfz = n.x * f.y - n.y * f.x;
-      T[i].z += li_[q] * nfz + cpl.z;
-      T[j].z += lj_[q] * nfz - cpl.z;
+      ti.z = li_[q] * nfz + cpl.z;
+      tj.z = lj_[q] * nfz - cpl.z;
     } else if (ROT) {
-      /* branch_i = li n, branch_j = -lj n */
       const TlVec3 n = cc->normal[q];
       const double li = li_[q], lj = lj_[q];
       const TlVec3 nf = tl_v3_cross(n, f);
-      T[i].x += li * nf.x + cpl.x; T[i].y += li * nf.y + cpl.y; T[i].z += li * nf.z + cpl.z;
-      T[j].x += lj * nf.x - cpl.x; T[j].y += lj * nf.y - cpl.y; T[j].z += lj * nf.z - cpl.z;
+      ti = (TlVec3){li * nf.x + cpl.x, li * nf.y + cpl.y, li * nf.z + cpl.z};
+      tj = (TlVec3){lj * nf.x - cpl.x, lj * nf.y - cpl.y, lj * nf.z - cpl.z};
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+    /* the terms are fixed here, before the paths part: left free, the
+     * compiler forms them in each path with its own fused multiply-adds */
+    __asm__("" : "+x"(ti.x), "+x"(ti.y), "+x"(ti.z));
+    __asm__("" : "+x"(tj.x), "+x"(tj.y), "+x"(tj.z));
+#endif
+    if (!c->owner || c->owner[i] == c->tid) {
+      if (PLANAR) {
+        F[i].x += f.x; F[i].y += f.y;
+      } else {
+        F[i].x += f.x; F[i].y += f.y; F[i].z += f.z;
+      }
+      if (ROT && PLANAR) T[i].z += ti.z;
+      else if (ROT) {
+        T[i].x += ti.x; T[i].y += ti.y; T[i].z += ti.z;
+      }
+    } else {
+      defer(c, i, f, ti);
+    }
+    if (!c->owner || c->owner[j] == c->tid) {
+      if (PLANAR) {
+        F[j].x -= f.x; F[j].y -= f.y;
+      } else {
+        F[j].x -= f.x; F[j].y -= f.y; F[j].z -= f.z;
+      }
+      if (ROT && PLANAR) T[j].z += tj.z;
+      else if (ROT) {
+        T[j].x += tj.x; T[j].y += tj.y; T[j].z += tj.z;
+      }
+    } else {
+      /* a - b and a + (-b) round alike: the sum is the one thread's */
+      defer(c, j, tl_v3_neg(f), tj);
     }
     c->touching++;
   }
 }
 
+/* Energy and power of a chunk, kept per chunk and summed in chunk order
+ * after the loop, so that they too do not depend on the thread count. */
+static inline void chunk_sums(ChunkCtx *c, size_t k)
+{
+  if (!c->want_energy) return;
+  c->chunk_el[k] = c->el;
+  c->chunk_pw[k] = c->pw;
+  c->el = c->pw = 0.0;
+}
+
 #define TL_DISPATCH_ROT(FN, G, O, P, ...)                                               \
   do {                                                                                  \
-    if (rot) for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], O, G, 1, P __VA_ARGS__); \
-    else for (size_t k = lo; k < hi; ++k) FN(c, cc, chunks[k], O, G, 0, P __VA_ARGS__);     \
+    if (rot) for (size_t k = lo; k < hi; ++k) { FN(c, cc, chunks[k], O, G, 1, P __VA_ARGS__); chunk_sums(c, k); } \
+    else for (size_t k = lo; k < hi; ++k) { FN(c, cc, chunks[k], O, G, 0, P __VA_ARGS__); chunk_sums(c, k); }     \
   } while (0)
 #define TL_DISPATCH_CHUNKS(FN, ...)                                                  \
   do {                                                                               \
@@ -292,19 +347,91 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
 TL_DEFINE_PROCESS_RANGE(process_range, 0)
 TL_DEFINE_PROCESS_RANGE(process_range_weighted, 1)
 
-static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, int bonded,
-                              int want_energy, const double *cw, Accum *acc)
+/* Cuts the list between nt threads at equal estimated cost and finds each
+ * particle's owner (Split). */
+static TlStatus split_list(TlDem *d, const TlContactList *L, const Chunk *chunks, size_t n_chunks, int nt, Split *S)
+{
+  const size_t n = d->P->n;
+  /* a touching contact costs about as much as four pairs that only test
+   * their distance */
+  double total = 0.0;
+  for (size_t k = 0; k < n_chunks; ++k)
+    for (size_t e = chunks[k].start; e < chunks[k].end; ++e) total += 1.0 + 4.0 * L->touching[e];
+  int t = 1;
+  double acc = 0.0;
+  S->first[0] = 0;
+  for (size_t k = 0; k < n_chunks; ++k) {
+    while (t < nt && acc >= total * t / nt) S->first[t++] = k;
+    for (size_t e = chunks[k].start; e < chunks[k].end; ++e) acc += 1.0 + 4.0 * L->touching[e];
+  }
+  while (t <= nt) S->first[t++] = n_chunks;
+  TL_CHECK(tl_array_reserve(&S->owner, &S->owner_cap, n + 1, 1));
+  memset(S->owner, 0xff, n);
+  for (t = 0; t < nt; ++t) {
+    size_t deferred = 0;
+    for (size_t k = S->first[t]; k < S->first[t + 1]; ++k)
+      for (size_t e = chunks[k].start; e < chunks[k].end; ++e) {
+        const uint32_t p[2] = {L->i[e], L->j[e]};
+        for (int q = 0; q < 2; ++q) {
+          if (S->owner[p[q]] == 0xff) S->owner[p[q]] = (uint8_t)t;
+          else if (S->owner[p[q]] != t) ++deferred;
+        }
+      }
+    TL_CHECK(tl_array_reserve(&S->def[t], &S->def_cap[t], deferred + 1, sizeof *S->def[t]));
+  }
+  S->nt = nt;
+  S->n = n;
+  S->version = d->list_version;
+  return TL_OK;
+}
+
+/* The body forces of particle i (gravity, f_ext, the weight, f_coupling, in
+ * that order), its torque cleared and its packed position. */
+static inline void body_force(TlDem *d, size_t i)
+{
+  TlParticles *P = d->P;
+  TlVec3 f = tl_v3_scale(d->gravity, P->mass[i]);
+  if (P->f_ext) f = tl_v3_add(f, P->f_ext[i]);
+  if (d->weight_fn) f = tl_v3_scale(f, P->weight[i]);
+  if (P->f_coupling) f = tl_v3_add(f, P->f_coupling[i]);
+  P->f[i] = f;
+  if (P->w) P->torque[i] = tl_v3(0, 0, 0);
+  d->xr[i][0] = P->x[i].x;
+  d->xr[i][1] = P->x[i].y;
+  d->xr[i][2] = P->x[i].z;
+  d->xr[i][3] = P->radius[i];
+}
+
+/* The contact loop of one list on d->nt_now threads; with `body`, the body
+ * forces first, in the same parallel region. */
+static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, Split *S, int bonded,
+                              int body, int want_energy, const double *cw, Accum *acc)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
   const int rot = P->w != NULL;
   const int nt = d->nt_now;
   const TlDomain *dom = &d->domain;
-  double el = 0.0, pw = 0.0;
   size_t touching = 0;
   TlStatus status = TL_OK;
-  TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : el, pw, touching)", {
+  double busy[TL_DEM_MAX_TIMED_THREADS];
+  if (nt > 1 && (S->nt != nt || S->n != n || S->version != d->list_version))
+    TL_CHECK(split_list(d, L, chunks, n_chunks, nt, S));
+  if (want_energy) {
+    size_t cap = S->chunk_cap;
+    TL_CHECK(tl_array_reserve(&S->chunk_el, &S->chunk_cap, n_chunks + 1, sizeof *S->chunk_el));
+    TL_CHECK(tl_array_reserve(&S->chunk_pw, &cap, n_chunks + 1, sizeof *S->chunk_pw));
+  }
+  double body_seconds = 0.0;
+  TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
+    if (body) {
+      const double t_body = tl_dem_clock(d);
+      _Pragma("omp for schedule(static)")
+      for (size_t i = 0; i < n; ++i) body_force(d, i);
+      if (tid == 0) body_seconds = tl_dem_clock(d) - t_body; /* after the loop's barrier */
+    }
+    const double tb = tl_dem_clock(d);
     ChunkCtx c;
     memset(&c, 0, sizeof c);
     c.d = d;
@@ -317,8 +444,9 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     c.cw = cw;
     c.inv_mass = P->inv_mass;
     c.mass = P->mass;
-    c.F = nt > 1 ? d->tf + (size_t)tid * n : P->f;
-    c.T = nt > 1 ? (rot ? d->tt + (size_t)tid * n : NULL) : P->torque;
+    /* every thread adds into the world's arrays: only a particle's owner does */
+    c.F = P->f;
+    c.T = rot ? P->torque : NULL;
     for (int q = 0; q < 3; ++q) {
       c.len[q] = dom->periodic[q] ? dom->h.m[q][q] : 0.0;
       c.half[q] = 0.5 * c.len[q];
@@ -330,22 +458,81 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     }
     c.bonded = bonded;
     c.want_energy = want_energy;
+    c.chunk_el = S->chunk_el;
+    c.chunk_pw = S->chunk_pw;
     c.hd = L->history_doubles;
-    /* static contiguous ranges: each thread walks its own part of the list */
-    size_t lo = n_chunks * (size_t)tid / (size_t)nt, hi = n_chunks * (size_t)(tid + 1) / (size_t)nt;
-    if (cw) process_range_weighted(&c, chunks, lo, hi);
-    else process_range(&c, chunks, lo, hi);
-    el += c.el;
-    pw += c.pw;
+    if (nt == 1) {
+      if (cw) process_range_weighted(&c, chunks, 0, n_chunks);
+      else process_range(&c, chunks, 0, n_chunks);
+    } else {
+      /* range r of the split as its owner; a team smaller than asked (a
+       * thread limit) takes the ranges in turn, still each as its owner */
+      const int team = omp_get_num_threads();
+      c.owner = S->owner;
+      for (int r = tid; r < nt; r += team) {
+        c.tid = r;
+        c.def = S->def[r];
+        c.def_cap = S->def_cap[r];
+        c.n_def = 0;
+        if (cw) process_range_weighted(&c, chunks, S->first[r], S->first[r + 1]);
+        else process_range(&c, chunks, S->first[r], S->first[r + 1]);
+        S->n_def[r] = c.n_def;
+      }
+      if (tid == 0)
+        for (int r = team; r < nt && r < TL_DEM_MAX_TIMED_THREADS; ++r) busy[r] = 0.0;
+    }
+    if (tid < TL_DEM_MAX_TIMED_THREADS) busy[tid] = tl_dem_clock(d) - tb;
     touching += c.touching;
     if (c.status != TL_OK) {
       _Pragma("omp critical")
       status = c.status;
     }
   });
-  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
-  acc->elastic += el;
-  acc->power += pw;
+  if (status != TL_OK) {
+    if (status == TL_ERR_STATE) TL_ERROR(TL_ERR_STATE, "contact loop: a thread deferred more contributions than counted");
+    return tl_error_trace(status, __FILE__, __LINE__);
+  }
+  /* the deferred contributions, in thread order then list order: each
+   * particle's sum is the one a single thread makes */
+  const int planar = d->dim == 2;
+  TlVec3 *F = P->f, *T = P->torque;
+  const double tr = tl_dem_clock(d);
+  for (int t = 1; t < nt; ++t)
+    for (size_t e = 0; e < S->n_def[t]; ++e) {
+      const Deferred q = S->def[t][e];
+      F[q.p].x += q.f.x;
+      F[q.p].y += q.f.y;
+      if (!planar) F[q.p].z += q.f.z;
+      if (rot && planar) T[q.p].z += q.t.z;
+      else if (rot) {
+        T[q.p].x += q.t.x;
+        T[q.p].y += q.t.y;
+        T[q.p].z += q.t.z;
+      }
+    }
+  d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
+  d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= body_seconds;
+  if (nt > 1) {
+    const double dr = tl_dem_clock(d) - tr; /* booked as the reduction */
+    d->prof.seconds[TL_DEM_PHASE_REDUCE] += dr;
+    d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= dr;
+  }
+  {
+    const int m = nt < TL_DEM_MAX_TIMED_THREADS ? nt : TL_DEM_MAX_TIMED_THREADS;
+    double mx = 0.0, mean = 0.0;
+    for (int t = 0; t < m; ++t) {
+      d->prof.thread_busy[t] += busy[t];
+      mx = busy[t] > mx ? busy[t] : mx;
+      mean += busy[t] / m;
+    }
+    d->prof.imbalance += mx - mean;
+    d->prof.threads = nt;
+  }
+  if (want_energy)
+    for (size_t k = 0; k < n_chunks; ++k) {
+      acc->elastic += S->chunk_el[k];
+      acc->power += S->chunk_pw[k];
+    }
   acc->touching += touching;
   return TL_OK;
 }
@@ -354,26 +541,8 @@ TlStatus tl_dem_eval_forces(TlDem *d)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
-  const int rot = P->w != NULL;
   const int want = d->track_energy;
-  /* body forces, and the packed positions of this evaluation */
-  const TlVec3 g = d->gravity;
-  const int ntb = n >= 8192 ? d->nt : 1;
-  if (n > d->xr_cap) {
-    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
-    d->xr_cap = n + n / 2 + 16;
-  }
-  double(*xr)[4] = d->xr;
-  TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
-    for (size_t i = 0; i < n; ++i) {
-      P->f[i] = tl_v3_scale(g, P->mass[i]);
-      xr[i][0] = P->x[i].x;
-      xr[i][1] = P->x[i].y;
-      xr[i][2] = P->x[i].z;
-      xr[i][3] = P->radius[i];
-    });
-  if (P->f_ext)
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_ext[i]);
+  double t0 = tl_dem_clock(d);
   /* weighted equations (seeds/001 Eq. 25): w_a (m_a g + f_ext) */
   const int weighted = d->weight_fn != NULL;
   if (weighted) {
@@ -381,55 +550,32 @@ TlStatus tl_dem_eval_forces(TlDem *d)
       TL_ERROR(TL_ERR_UNSUPPORTED, "a weighted world (tl_dem_set_weight_field) with %zu walls: wall contacts are not "
                "weighted; remove the walls or the weight field", d->n_walls);
     TL_CHECK(tl_dem_particle_weights(d));
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_scale(P->f[i], P->weight[i]);
   }
-  if (P->f_coupling)
-    for (size_t i = 0; i < n; ++i) P->f[i] = tl_v3_add(P->f[i], P->f_coupling[i]);
-  if (rot) memset(P->torque, 0, n * sizeof *P->torque);
+  if (n > d->xr_cap) {
+    TL_CHECK(tl_realloc(&d->xr, n + n / 2 + 16, sizeof *d->xr));
+    d->xr_cap = n + n / 2 + 16;
+  }
   /* threads only pay for themselves on large contact lists */
   d->nt_now = d->list.n + (d->bonds.n == (size_t)-1 ? 0 : d->bonds.n) >= 8192 ? d->nt : 1;
-  if (d->nt_now > 1) {
-    const int nt = d->nt_now;
-    size_t need = (size_t)nt * n;
-    if (need > d->t_cap) {
-      TL_CHECK(tl_realloc(&d->tf, need, sizeof *d->tf));
-      /* per-thread torques only when something rotates (the rotation
-       * state is fixed at setup) */
-      if (rot) TL_CHECK(tl_realloc(&d->tt, need, sizeof *d->tt));
-      d->t_cap = need;
-    }
-    TlVec3 *tf = d->tf, *tt = d->tt;
-#pragma omp parallel for num_threads(nt) schedule(static)
-    for (size_t i = 0; i < n; ++i)
-      for (int t = 0; t < nt; ++t) {
-        tf[(size_t)t * n + i] = tl_v3(0, 0, 0);
-        if (rot) tt[(size_t)t * n + i] = tl_v3(0, 0, 0);
-      }
-  }
+  const int ntb = n >= 8192 ? d->nt : 1;
+  /* body forces in the contact loop's parallel region when both are
+   * threaded alike (one region fewer per step) */
+  const int fused = ntb > 1 && ntb == d->nt_now;
+  if (!fused) TL_PARALLEL_IF(ntb > 1, "omp parallel for num_threads(ntb) schedule(static)",
+    for (size_t i = 0; i < n; ++i) body_force(d, i););
+  tl_dem_tick(d, TL_DEM_PHASE_BODY, &t0);
   Accum acc = {0, 0, 0};
   const int has_bonds = d->bonds.n && d->bonds.n != (size_t)-1;
   if (weighted) {
     TL_CHECK(tl_dem_contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
     if (has_bonds) TL_CHECK(tl_dem_contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
   }
-  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, 0, want, weighted ? d->cw_list : NULL, &acc));
+  TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, &d->split_list, 0, fused, want,
+                         weighted ? d->cw_list : NULL, &acc));
   if (has_bonds)
-    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, 1, want, weighted ? d->cw_bonds : NULL,
-                           &acc));
-  if (d->nt_now > 1) {
-    const int nt = d->nt_now;
-#pragma omp parallel for num_threads(nt) schedule(static)
-    for (size_t i = 0; i < n; ++i) {
-      TlVec3 s = P->f[i];
-      for (int t = 0; t < nt; ++t) s = tl_v3_add(s, d->tf[(size_t)t * n + i]);
-      P->f[i] = s;
-      if (rot) {
-        TlVec3 q = P->torque[i];
-        for (int t = 0; t < nt; ++t) q = tl_v3_add(q, d->tt[(size_t)t * n + i]);
-        P->torque[i] = q;
-      }
-    }
-  }
+    TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, &d->split_bonds, 1, 0, want,
+                           weighted ? d->cw_bonds : NULL, &acc));
+  tl_dem_tick(d, TL_DEM_PHASE_CONTACTS, &t0);
   d->n_touching = acc.touching;
   if (want) {
     d->elastic_pp = acc.elastic;
@@ -441,6 +587,7 @@ TlStatus tl_dem_eval_forces(TlDem *d)
     TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
     TL_CHECK(W->ops->interact(W, &st));
   }
+  tl_dem_tick(d, TL_DEM_PHASE_WALLS, &t0);
   return TL_OK;
 }
 

@@ -134,6 +134,26 @@ void tl_dem_stats(const TlDem *d, TlDemStats *s)
   s->n_pairs = d->list.n;
 }
 
+void tl_dem_phase_times(const TlDem *d, TlDemPhaseTimes *t)
+{
+  *t = d->prof;
+  t->steps = d->steps - d->prof.steps;
+}
+
+void tl_dem_reset_phase_times(TlDem *d)
+{
+  memset(&d->prof, 0, sizeof d->prof);
+  d->prof.steps = d->steps;
+  d->profile = 1;
+}
+
+const char *tl_dem_phase_name(int phase)
+{
+  static const char *names[TL_DEM_N_PHASES] = {"integrate", "grid", "pairs",   "list", "body",
+                                               "contacts",  "reduce", "walls", "other"};
+  return phase >= 0 && phase < TL_DEM_N_PHASES ? names[phase] : "?";
+}
+
 TlStatus tl_dem_visit_contacts(TlDem *d, TlContactVisitor visit, void *ctx)
 {
   const TlParticles *P = d->P;

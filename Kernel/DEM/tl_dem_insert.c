@@ -22,6 +22,22 @@ TlStatus tl_dem_add_particle(TlDem *d, TlVec3 x, TlVec3 v, double radius, int sp
   return TL_OK;
 }
 
+TlStatus tl_dem_set_spin(TlDem *d, size_t index, TlVec3 w)
+{
+  TlParticles *P = d->P;
+  if (index >= P->n) TL_ERROR(TL_ERR_ARG, "particle index %zu out of range (n = %zu)", index, P->n);
+  if (!tl_v3_isfinite(w))
+    TL_ERROR(TL_ERR_ARG, "spin of particle id %lld: (%g, %g, %g) rad/s is not finite", (long long)P->id[index], w.x,
+             w.y, w.z);
+  if (d->dim == 2 && (w.x != 0.0 || w.y != 0.0))
+    TL_ERROR(TL_ERR_ARG, "2-D world: spin of particle id %lld is (%g, %g, %g) rad/s; disks spin about z only",
+             (long long)P->id[index], w.x, w.y, w.z);
+  /* the rotational state on first use, before or after set-up */
+  TL_CHECK(tl_particles_enable_rotation(P));
+  P->w[index] = w;
+  return TL_OK;
+}
+
 TlStatus tl_dem_remove_particle(TlDem *d, size_t index)
 {
   TlParticles *P = d->P;

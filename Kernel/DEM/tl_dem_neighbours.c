@@ -69,6 +69,7 @@ TlStatus tl_dem_remap(TlDem *d, const size_t *old_to_new, size_t n_old)
     }
     L->n = m;
   }
+  d->list_version++;
   /* the bond hash (which keeps bonded pairs out of the neighbour list) is
    * keyed by index: rebuild it */
   if (d->bonds.n != (size_t)-1 && d->bonds.n) TL_CHECK(tl_contact_list_index(&d->bonds, 0));
@@ -109,6 +110,7 @@ static TlStatus build_bonds(TlDem *d)
       }
   }
   TL_CHECK(tl_contact_list_index(B, 0));
+  d->list_version++;
   return tl_dem_make_chunks(B, &d->bond_chunks, &d->bond_chunks_cap, &d->n_bond_chunks);
 }
 
@@ -116,6 +118,7 @@ TlStatus tl_dem_rebuild(TlDem *d)
 {
   TlParticles *P = d->P;
   size_t n = P->n;
+  double t0 = tl_dem_clock(d);
   /* a 2-D world: a particle inserted off the plane would meet the others
    * only through the grid's z, which the contacts ignore */
   if (d->dim == 2)
@@ -143,8 +146,6 @@ TlStatus tl_dem_rebuild(TlDem *d)
     TL_CHECK(tl_dem_remap(d, d->old_to_new, n));
     /* the grid follows: particle k of the new order is grid entry k */
     TlHGrid *g = d->grid;
-    int32_t *c = (int32_t *)d->tf; /* not used as forces here; reuse safely below */
-    (void)c;
     TL_CHECK(tl_array_reserve(&d->scratch, &d->scratch_cap, 4 * n + 4, sizeof *d->scratch));
     TlVec3 *red = (TlVec3 *)d->scratch;
     for (size_t k = 0; k < n; ++k) red[k] = g->reduced[d->perm[k]];
@@ -165,7 +166,9 @@ TlStatus tl_dem_rebuild(TlDem *d)
     for (size_t i = 0; i < n; ++i) d->skip[i] = P->motion[i] != TL_MOTION_FREE;
     skip = d->skip;
   }
+  tl_dem_tick(d, TL_DEM_PHASE_GRID, &t0);
   TL_CHECK(tl_hgrid_pairs(d->grid, P->x, P->radius, skip, &d->pairs, &d->pairs_cap, &d->n_pairs));
+  tl_dem_tick(d, TL_DEM_PHASE_PAIRS, &t0);
   /* new list, grouped by law, history carried over from the old one */
   TlContactList tmp = d->old;
   d->old = d->list;
@@ -225,7 +228,9 @@ TlStatus tl_dem_rebuild(TlDem *d)
   memcpy(d->x_build, P->x, n * sizeof *P->x);
   d->h_build_inv = d->domain.h_inv;
   d->rebuilds++;
+  d->list_version++;
   d->need_rebuild = 0;
+  tl_dem_tick(d, TL_DEM_PHASE_LIST, &t0);
   return TL_OK;
 }
 

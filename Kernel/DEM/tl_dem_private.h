@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include "tl_contact_list.h"
 #include "tl_dem.h"
+#include "tl_timer.h"
 
 enum { TL_DEM_MAX_LAWS = 16, CHUNK = 64 };
 
@@ -36,6 +37,37 @@ typedef struct {
 typedef struct {
   int a, b, law;
 } PairLaw;
+
+/* A contribution to a particle's force and torque held back by a thread
+ * that does not own the particle (Split). */
+typedef struct {
+  uint32_t p;
+  TlVec3 f, t;
+} Deferred;
+
+/* How one contact list's loop is shared between threads so that every
+ * particle receives its contacts' forces in list order whatever the thread
+ * count (results bit for bit independent of it).  Thread t takes chunks
+ * [first[t], first[t+1]), cut so that the threads' estimated costs (pairs
+ * plus touching contacts) are equal.  A particle belongs to the first
+ * thread whose contacts reach it, which adds into the world's force and
+ * torque arrays directly; later threads defer their share of it, applied
+ * after the loop in thread order, then list order: the sums one thread
+ * makes.  No per-thread force arrays to clear and reduce; only the few
+ * particles at the cuts pay.  Recomputed when the list or the thread count
+ * changes. */
+typedef struct {
+  int nt;
+  size_t n; /* particles when computed */
+  unsigned long version;
+  size_t first[TL_DEM_MAX_TIMED_THREADS + 1];
+  uint8_t *owner; /* per particle: owning thread, 0xff none */
+  size_t owner_cap;
+  Deferred *def[TL_DEM_MAX_TIMED_THREADS];
+  size_t def_cap[TL_DEM_MAX_TIMED_THREADS], n_def[TL_DEM_MAX_TIMED_THREADS];
+  double *chunk_el, *chunk_pw; /* energy and power per chunk, summed in chunk order */
+  size_t chunk_cap;
+} Split;
 
 struct TlDem {
   TlParticles *P;
@@ -67,10 +99,8 @@ struct TlDem {
   size_t skip_cap;
   size_t *perm, *old_to_new;
   size_t perm_cap;
-  TlVec3 *tf, *tt;
   double (*xr)[4]; /* position and radius packed: one cache line per neighbour in the pair scan */
   size_t xr_cap;
-  size_t t_cap;
   int nt, nt_now;
   Prescribed *presc;
   size_t n_presc, presc_cap;
@@ -79,6 +109,7 @@ struct TlDem {
   int allow_above, setup_done, need_rebuild, rotation, orientation;
   int dim; /* 3, or 2: disks in the plane z = 0 (tl_dem_set_dimension) */
   long steps, rebuilds;
+  int kick_pending; /* the last step's second half kick is still to do (tl_dem_step) */
   size_t n_touching;
   /* energy bookkeeping */
   double elastic_pp, contact_work_pp, work_ext;
@@ -95,7 +126,24 @@ struct TlDem {
   size_t im_w_cap, ii_w_cap;
   TlDemStepHook hook;
   void *hook_ctx;
+  TlDemPhaseTimes prof; /* tl_dem_phase_times */
+  int profile;          /* clocks read: on from the first tl_dem_reset_phase_times */
+  Split split_list, split_bonds;
+  unsigned long list_version; /* bumped whenever a list or the particle order changes */
 };
+
+/* The clock of the phase timers; 0 while they are off (small scenes of
+ * many steps do not pay a dozen clock reads per step unasked). */
+static inline double tl_dem_clock(const TlDem *d) { return d->profile ? tl_wtime() : 0.0; }
+
+/* Books the time since *t0 to a phase and restarts the clock. */
+static inline void tl_dem_tick(TlDem *d, int phase, double *t0)
+{
+  if (!d->profile) return;
+  double t = tl_wtime();
+  d->prof.seconds[phase] += t - *t0;
+  *t0 = t;
+}
 
 /* tl_dem_neighbours.c */
 TlStatus tl_dem_build_law_table(TlDem *d);
