@@ -95,10 +95,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
                 done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-average_interval", 200, 1, 100000000, "DEM steps between averaged states",
                                       &c->average_interval), done);
-  long hdf5 = 1;
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-write_hdf5", 1, "write the grid fields and particles as HDF5+XDMF",
+                                       &c->write_hdf5),
                 done);
-  c->write_hdf5 = (int)hdf5;
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
                                       "random packing: checkpoint.h5 in the output folder every n settling steps (a "
                                       "multiple of 500; 0: none)", &c->checkpoint_every), done);
