@@ -9,6 +9,7 @@
 #include "tl_mesh_snapshot.h"
 #include "tl_output_dir.h"
 #include "tl_particle_snapshot.h"
+#include "tl_provenance.h"
 #include "tl_timeseries.h"
 #include "tl_xdmf.h"
 
