@@ -570,7 +570,8 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     TL_CHECK_GOTO(s, write_fields(&c, &g, f, stress), done);
     TlParticleWriter *pw = NULL;
     TL_CHECK_GOTO(s, tl_particle_writer_create(c.output_dir, "packing", &pw), done);
-    TlParticleView pv = {P->n, P->x, P->radius, P->v, NULL, P->f, NULL, NULL, 0, NULL};
+    TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f,
+                         .species = (const int *)P->species, .id = P->id};
     s = tl_particle_writer_write(pw, steps, tl_dem_time(dem), &pv);
     tl_particle_writer_destroy(&pw);
     if (s != TL_OK) goto done;
