@@ -2,7 +2,8 @@
  * in grid order (tl_dem_set_sort_interval), and the id written in a
  * snapshot (HDF5 and the XDMF attribute ParaView's pathlines read) follows
  * the particle, with its species: each particle is recognised after the
- * sort by its own radius and position. */
+ * sort by its own radius and position; the particle CSV
+ * (tl_particle_writer_set_csv) carries the same ids. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,6 +48,7 @@ int main(void)
 
   TlParticleWriter *w = NULL;
   TL_TEST_STATUS(tl_particle_writer_create("particle_ids_out", "p", &w), TL_OK);
+  tl_particle_writer_set_csv(w, 1);
   TlParticleView view;
   tl_particle_view_of(P, &view);
   TL_TEST_STATUS(tl_particle_writer_write(w, 10, tl_dem_time(dem), &view), TL_OK);
@@ -77,6 +79,20 @@ int main(void)
     for (int k = 0; k < N; ++k) TL_TEST_ASSERT(seen[k] == 1, "id %d written %d times", k, seen[k]);
   }
   tl_particle_snapshot_free(&snap);
+
+  /* The particle CSV beside it: the same rows, each with its id. */
+  TlTable t;
+  TL_TEST_STATUS(tl_table_read_csv("particle_ids_out/p_000000.csv", &t), TL_OK);
+  TL_TEST_ASSERT(t.rows == N && t.cols == 9 && strcmp(t.names[0], "id") == 0 && strcmp(t.names[1], "species") == 0 &&
+                     strcmp(t.names[5], "radius") == 0 && strcmp(t.units[5], "m") == 0,
+                 "particle CSV: %zu rows, %zu columns", t.rows, t.cols);
+  if (t.rows == N && t.cols == 9)
+    for (size_t i = 0; i < t.rows; ++i) {
+      int64_t id = (int64_t)t.data[9 * i];
+      TL_TEST_ASSERT(id >= 0 && id < N && t.data[9 * i + 5] == radius[id] && t.data[9 * i + 1] == (id % 2 ? b : a),
+                     "CSV row %zu: id %lld, radius %g", i, (long long)id, t.data[9 * i + 5]);
+    }
+  tl_table_free(&t);
 
   /* The XDMF series names the id and species arrays, so ParaView reads them
    * as point data. */

@@ -6,11 +6,13 @@
 #include "tl_atomic_file.h"
 #include "tl_hdf5_util.h"
 #include "tl_memory.h"
+#include "tl_provenance.h"
 
 _Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
 
 struct TlParticleWriter {
   TlSeriesOutput out; /* folder, name, .xmf series, step count, last file, XML buffer */
+  int csv;            /* also <name>_<k>.csv, one row per particle */
   int *vertices; /* 0..n-1, the vertex cells; grown, never shrunk */
   size_t vertices_capacity;
 };
@@ -39,6 +41,36 @@ fail:
 }
 
 size_t tl_particle_writer_count(const TlParticleWriter *writer) { return writer->out.count; }
+void tl_particle_writer_set_csv(TlParticleWriter *writer, int on) { writer->csv = on != 0; }
+
+typedef struct {
+  const TlParticleView *v;
+  double time;
+  int64_t step;
+} TlPwCsv;
+
+/* One row per particle: id, species, position, radius, velocity (the
+ * columns the view has), after the provenance lines. */
+static TlStatus tl_pw_write_csv(FILE *f, void *context)
+{
+  const TlPwCsv *c = context;
+  const TlParticleView *v = c->v;
+  TL_CHECK(tl_provenance_write_text(f, "# "));
+  fprintf(f, "# time: %.17g s, step %lld\n", c->time, (long long)c->step);
+  if (v->id) fputs("id,", f);
+  if (v->species) fputs("species,", f);
+  fputs("x [m],y [m],z [m],radius [m]", f);
+  if (v->velocity) fputs(",vx [m/s],vy [m/s],vz [m/s]", f);
+  fputc('\n', f);
+  for (size_t i = 0; i < v->n; ++i) {
+    if (v->id) fprintf(f, "%lld,", (long long)v->id[i]);
+    if (v->species) fprintf(f, "%d,", v->species[i]);
+    fprintf(f, "%.17g,%.17g,%.17g,%.17g", v->position[i].x, v->position[i].y, v->position[i].z, v->radius[i]);
+    if (v->velocity) fprintf(f, ",%.17g,%.17g,%.17g", v->velocity[i].x, v->velocity[i].y, v->velocity[i].z);
+    if (fputc('\n', f) == EOF) TL_ERROR(TL_ERR_IO, "write error at particle %zu", i);
+  }
+  return TL_OK;
+}
 const char *tl_particle_writer_last_path(const TlParticleWriter *writer) { return writer->out.last_path; }
 
 static TlStatus tl_pw_vec3(TlH5File *f, const char *path, size_t n, const TlVec3 *v)
@@ -168,6 +200,15 @@ TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double
   if (s == TL_OK) snprintf(writer->out.last_path, sizeof writer->out.last_path, "%s", path);
   tl_free(&path);
   TL_CHECK(s);
+  if (writer->csv) {
+    char csv[1100];
+    snprintf(csv, sizeof csv, "%s_%06zu.csv", writer->out.name, writer->out.count);
+    TL_CHECK(tl_path_join(writer->out.dir, csv, &path));
+    TlPwCsv ctx = {view, time, step};
+    s = tl_atomic_write(path, tl_pw_write_csv, &ctx);
+    tl_free(&path);
+    TL_CHECK(s);
+  }
   TL_CHECK(tl_pw_grid(&writer->out.grid, file, writer->out.count, time, view));
   TL_CHECK(tl_xdmf_series_add(writer->out.series, writer->out.grid.text));
   writer->out.count++;

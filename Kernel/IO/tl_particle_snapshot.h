@@ -71,6 +71,12 @@ typedef struct TlParticleWriter TlParticleWriter;
 /* A writer of <dir>/<name>_*.h5 and <dir>/<name>.xmf; creates dir if needed. */
 TlStatus tl_particle_writer_create(const char *dir, const char *name, TlParticleWriter **writer);
 void tl_particle_writer_destroy(TlParticleWriter **writer);
+/* With on != 0 each snapshot also writes <dir>/<name>_<k>.csv: the
+ * provenance lines (tl_provenance.h), a "# time: ..." line, then one row per
+ * particle "id,species,x [m],y [m],z [m],radius [m],vx [m/s],vy [m/s],vz [m/s]"
+ * (id, species and velocity when the view has them), for per-particle
+ * analysis in a spreadsheet or pandas (pandas.read_csv(path, comment='#')). */
+void tl_particle_writer_set_csv(TlParticleWriter *writer, int on);
 /* Writes one snapshot at simulation time `time` and step `step`. */
 TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double time, const TlParticleView *view);
 /* Number of snapshots written so far, and the path of the last one ("" before any). */
