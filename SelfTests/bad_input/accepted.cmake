@@ -1,6 +1,7 @@
 # Runs DRIVER with ARGS (a ;-list) in OUT and passes when the run exits 0
 # and its output matches EXPECT (a regular expression); with SUMMARY set,
-# its last summary line must also say status=ok.
+# its last summary line must also say status=ok; with MAX_WIDTH set, no
+# line of its standard output may be longer.
 if(NOT DEFINED DRIVER OR NOT DEFINED EXPECT OR NOT DEFINED OUT)
   message(FATAL_ERROR "accepted.cmake: DRIVER, EXPECT and OUT are required")
 endif()
@@ -24,6 +25,17 @@ if(SUMMARY)
   list(GET summaries -1 last)
   if(NOT last MATCHES " status=ok( |$)")
     message(FATAL_ERROR "the last summary line '${last}' does not say status=ok")
+  endif()
+endif()
+if(DEFINED MAX_WIDTH)
+  # CMake's regular expressions have no {n}: MAX_WIDTH + 1 non-newlines
+  set(beyond "[^\n]")
+  foreach(i RANGE 1 ${MAX_WIDTH})
+    string(APPEND beyond "[^\n]")
+  endforeach()
+  string(REGEX MATCH "${beyond}[^\n]*" long "${out}")
+  if(NOT long STREQUAL "")
+    message(FATAL_ERROR "a line beyond ${MAX_WIDTH} columns:\n${long}")
   endif()
 endif()
 message("accepted: ${EXPECT}")
