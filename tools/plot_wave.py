@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def read_csv(path):
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     if len(rows) < 2:
         sys.exit(f"{path}: no data rows")
     head = [h.strip() for h in rows[0]]
