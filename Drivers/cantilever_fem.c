@@ -87,6 +87,14 @@ static TlStatus configure(int argc, char **argv, Config *c)
   long nx, ny, nz;
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-mode", "all", modes, "what to run", &mode), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-elements", "hex8", elements, "element type", &elem), done);
+  const char *mesh_file = "";
+  TL_CHECK_GOTO(s, tl_options_get_string(o, "-mesh", "",
+                                         "the beam from a Gmsh mesh file (msh 4.1 or 2.2, ASCII or binary, any 3-D "
+                                         "element type) instead of the -elements -nx x -ny x -nz box: it must span "
+                                         "-width x -length x -height and name its clamped and loaded ends ymin and "
+                                         "ymax (physical surfaces)",
+                                         &mesh_file),
+                done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-nx", 2, 1, 1000, "cells across x (width)", &nx), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-ny", 30, 1, 100000, "cells along y (length)", &ny), done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-nz", 2, 1, 1000, "cells across z (height)", &nz), done);
@@ -137,6 +145,7 @@ static TlStatus configure(int argc, char **argv, Config *c)
   c->beam.nx = (size_t)nx;
   c->beam.ny = (size_t)ny;
   c->beam.nz = (size_t)nz;
+  c->beam.mesh_file = mesh_file;
   c->solver = solvers[solver];
   if ((mode == MODE_ALL || mode == MODE_SMALL || mode == MODE_VIBRATION) && !(c->beam.load > 0.0)) {
     s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,

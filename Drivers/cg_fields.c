@@ -100,10 +100,9 @@ static TlStatus configure(int argc, char **argv, Config *c)
                 done);
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-average_interval", 200, 1, 100000000, "DEM steps between averaged states",
                                       &c->average_interval), done);
-  long hdf5 = 1;
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-write_hdf5", 1, 0, 1, "write the grid fields and particles as HDF5+XDMF", &hdf5),
+  TL_CHECK_GOTO(s, tl_options_get_bool(o, "-write_hdf5", 1, "write the grid fields and particles as HDF5+XDMF",
+                                       &c->write_hdf5),
                 done);
-  c->write_hdf5 = (int)hdf5;
   TL_CHECK_GOTO(s, tl_options_get_int(o, "-checkpoint_every", 0, 0, 1000000000,
                                       "random packing: checkpoint.h5 in the output folder every n settling steps (a "
                                       "multiple of 500; 0: none)", &c->checkpoint_every), done);
@@ -576,7 +575,8 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     TL_CHECK_GOTO(s, write_fields(&c, &g, f, stress), done);
     TlParticleWriter *pw = NULL;
     TL_CHECK_GOTO(s, tl_particle_writer_create(c.output_dir, "packing", &pw), done);
-    TlParticleView pv = {P->n, P->x, P->radius, P->v, NULL, P->f, NULL, NULL, 0, NULL};
+    TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f,
+                         .species = (const int *)P->species, .id = P->id};
     s = tl_particle_writer_write(pw, steps, tl_dem_time(dem), &pv);
     tl_particle_writer_destroy(&pw);
     if (s != TL_OK) goto done;

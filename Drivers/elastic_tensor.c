@@ -90,8 +90,7 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                "relaxed probe: static balance, largest Delta_n (Desrues et al. 2019 Eq. 19) of the grains whose largest contact carries >= 1e-3 of the mean contact force", &s->ps.tolerance));
   TL_CHECK(tl_options_get_int(*o, "-max_steps", 2000000, 1, 2000000000, "relaxed probe: longest relaxation, steps", &s->ps.max_steps));
   TL_CHECK(tl_options_get_int(*o, "-check_every", 200, 1, 100000000, "relaxed probe: steps between balance checks", &s->ps.check_every));
-  TL_CHECK(tl_options_get_int(*o, "-relax_reference", 1, 0, 1, "relaxed probe: relax the reference state first (1) or not (0)", &seed));
-  s->ps.relax_reference = (int)seed;
+  TL_CHECK(tl_options_get_bool(*o, "-relax_reference", 1, "relaxed probe: relax the reference state first", &s->ps.relax_reference));
   TL_CHECK(tl_options_get_string(*o, "-scratch", "elastic_tensor_reference.h5", "scratch checkpoint of the reference state (removed at the end)", &s->ps.scratch));
   TL_CHECK(tl_options_get_string(*o, "-compare", "", "a 6x6 tensor to compare with (36 numbers, Pa; the authors' stiffness_matrix_sym.txt)", &s->compare));
   TL_CHECK(tl_options_get_string(*o, "-write_data", "", "write the probed reference state as a LAMMPS data file", &s->write_data));

@@ -167,7 +167,8 @@ static TlStatus write_cell(TlParticleWriter *w, TlNhlCell *cell, long step)
 {
   TlDem *dem = tl_nhl_cell_dem(cell);
   TlParticles *P = tl_dem_particles(dem);
-  TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
+  TlParticleView view;
+  tl_particle_view_of(P, &view); /* with ids and species */
   return tl_particle_writer_write(w, step, tl_dem_time(dem), &view);
 }
 

@@ -213,7 +213,8 @@ static TlStatus snapshots_write(Snapshots *sn, long step, double t, const TlStep
 {
   if (!sn->beam) return TL_OK;
   TL_CHECK(tl_solid_output_write(sn->beam, step, t, st->u, st->v));
-  TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
+  TlParticleView pv = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f,
+                       .species = (const int *)P->species, .id = P->id};
   TL_CHECK(tl_particle_writer_write(sn->part, step, t, &pv));
   return TL_OK;
 }

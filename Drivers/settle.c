@@ -44,7 +44,7 @@ typedef struct {
   double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance, snapshot_dt;
   long samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
-  const char *out, *restart;
+  const char *out, *restart, *particles;
   TlContactLaw *law;
 } Settings;
 
@@ -95,6 +95,11 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
                               "write <output_dir>/checkpoint.h5 every n steps (0: never)", &s->checkpoint_every));
   TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
+  TL_CHECK(tl_options_get_string(*o, "-particles", "",
+                                 "start from the particles of this file instead of the pour: a LAMMPS data file "
+                                 "(atom_style sphere) or a Talus particle snapshot (.h5), each particle of species "
+                                 "grains (-n is then the file's count)",
+                                 &s->particles));
   TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000, "stop after this step (0: run to -t_end)",
                               &s->stop_step));
   return tl_options_finish(*o, stdout);
@@ -132,6 +137,7 @@ static const TlCheckpointOps progress_checkpoint_ops = {
 static TlStatus check_sizes(const Settings *s)
 {
   if (s->d_max < s->d_min) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s->d_max, s->d_min);
+  if (s->particles[0]) return TL_OK; /* no pour: the file's particles are checked once read */
   const double pitch = 1.05 * s->d_max; /* the pour lattice's */
   const double sites = floor((s->box - pitch) / pitch);
   if (!(sites >= 1.0)) TL_ERROR(TL_ERR_ARG, "-box %g is too narrow for particles of diameter %g", s->box, s->d_max);
@@ -198,12 +204,29 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_dem_set_domain(dem, &dom), done);
   int sp;
   TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp), done);
+  if (s.particles[0]) {
+    size_t added = 0;
+    TL_CHECK_GOTO(st, tl_dem_add_particles_from_file(dem, s.particles, sp, &added), done);
+    for (size_t i = 0; i < P->n; ++i) {
+      TlVec3 x = P->x[i];
+      double r = P->radius[i];
+      if (!(x.x - r >= 0 && x.x + r <= s.box && x.y - r >= 0 && x.y + r <= s.box && x.z - r >= 0 && x.z + r <= s.height)) {
+        st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                          "-particles %s: particle %zu at (%g, %g, %g) m, radius %g m, is not inside the box "
+                          "[0, %g] x [0, %g] x [0, %g] m (-box, -height)",
+                          s.particles, i + 1, x.x, x.y, x.z, r, s.box, s.box, s.height);
+        goto done;
+      }
+    }
+    s.n = (long)P->n;
+    printf("%zu particles from %s\n", added, s.particles);
+  }
   /* pour: jittered lattice of pitch d_max * 1.05 from the top down */
   const double pitch = 1.05 * s.d_max;
   const int per_side = (int)floor((s.box - pitch) / pitch);
   uint64_t rng = 12345;
   TL_CHECK_GOTO(st, tl_particles_reserve(P, (size_t)s.n), done);
-  for (long k = 0; k < s.n; ++k) {
+  for (long k = 0; k < s.n && !s.particles[0]; ++k) {
     long layer = k / ((long)per_side * per_side), in = k % ((long)per_side * per_side);
     double jx = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5), jy = 0.02 * pitch * (tl_random_uniform(&rng) - 0.5);
     TlVec3 x = {pitch * (1.0 + (double)(in % per_side)) + jx, pitch * (1.0 + (double)(in / per_side)) + jy,
@@ -309,7 +332,8 @@ static TlStatus run(int argc, char **argv)
       }
     }
     if (snapshot_step(&s, dt, steps, next_snap) == k) {
-      TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK_GOTO(st, tl_particle_writer_write(writer, k, tl_dem_time(dem), &view), done);
       TL_CHECK_GOTO(st, tl_wall_writer_write_dem(walls, k, dem), done);
       while (snapshot_step(&s, dt, steps, next_snap) == k) next_snap++; /* -snapshot_dt below dt: one per step */

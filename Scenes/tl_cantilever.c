@@ -19,6 +19,7 @@ void tl_cantilever_params_default(TlCantileverParams *p)
   p->rho = 1309.0;
   p->load = 1644.0;
   p->material = "hooke";
+  p->mesh_file = NULL;
 }
 
 static double tip_amplitude(double t, void *ctx)
@@ -40,8 +41,124 @@ static double weight_1d(double s, double s0, double d, size_t n, int quadratic)
   return adjacent * (quadratic ? d / 6.0 : d / 2.0);
 }
 
+/* Consistent weights w_a = (1/A) \int_ymax N_a dA of the nodes of face set
+ * "ymax" (any face type: the face's shape functions and a Gauss rule). */
+static TlStatus tip_weights_from_faces(TlCantilever *c, const char *path)
+{
+  const TlMesh *m = c->mesh;
+  const TlFaceSet *fs = NULL;
+  TlStatus s = tl_mesh_find_face_set(m, "ymax", &fs);
+  if (s != TL_OK || fs->n == 0)
+    TL_ERROR(TL_ERR_ARG, "mesh %s has no face set \"ymax\"%s (a physical surface on y = L carrying the tip load)",
+             path, s == TL_OK ? " with faces" : "");
+  double *w = NULL, area = 0.0;
+  char *on = NULL;
+  TL_CHECK(tl_calloc(&w, m->n_nodes, sizeof *w));
+  TL_CHECK_GOTO(s, tl_calloc(&on, m->n_nodes, 1), done);
+  for (size_t f = 0; f < fs->n; ++f) {
+    const TlElementType *ft = m->blocks[fs->faces[f].block].type->face_type;
+    size_t nodes[TL_ELEMENT_MAX_FACE_NODES];
+    double x[3 * TL_ELEMENT_MAX_FACE_NODES];
+    tl_mesh_face_nodes(m, fs->faces[f], nodes, x);
+    TlQuadrature q;
+    TL_CHECK_GOTO(s, tl_element_quadrature(ft, ft->order_mass, &q), done);
+    double N[TL_ELEMENT_MAX_FACE_NODES], dN[2 * TL_ELEMENT_MAX_FACE_NODES];
+    for (int g = 0; g < q.n; ++g) {
+      ft->eval(1, q.xi[g], N, dN);
+      double t[2][3] = {{0, 0, 0}, {0, 0, 0}};
+      for (int a = 0; a < ft->n_nodes; ++a)
+        for (int d = 0; d < 2; ++d)
+          for (int i = 0; i < 3; ++i) t[d][i] += dN[2 * a + d] * x[3 * a + i];
+      double nx = t[0][1] * t[1][2] - t[0][2] * t[1][1], ny = t[0][2] * t[1][0] - t[0][0] * t[1][2],
+             nz = t[0][0] * t[1][1] - t[0][1] * t[1][0], dA = sqrt(nx * nx + ny * ny + nz * nz) * q.w[g];
+      for (int a = 0; a < ft->n_nodes; ++a) {
+        w[nodes[a]] += N[a] * dA;
+        on[nodes[a]] = 1;
+      }
+      area += dA;
+    }
+  }
+  size_t n = 0;
+  for (size_t i = 0; i < m->n_nodes; ++i) n += on[i];
+  TL_CHECK_GOTO(s, tl_calloc(&c->tip_nodes, n ? n : 1, sizeof *c->tip_nodes), done);
+  TL_CHECK_GOTO(s, tl_calloc(&c->tip_weight, n ? n : 1, sizeof *c->tip_weight), done);
+  c->n_tip = 0;
+  for (size_t i = 0; i < m->n_nodes; ++i)
+    if (on[i]) {
+      c->tip_nodes[c->n_tip] = i;
+      c->tip_weight[c->n_tip++] = w[i] / area;
+    }
+  if (!(fabs(area - c->p.b * c->p.h) <= 1e-9 * c->p.b * c->p.h))
+    s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                     "mesh %s: the ymax faces have an area %.10g m^2, not the section b h = %g x %g m", path, area,
+                     c->p.b, c->p.h);
+done:
+  tl_free(&w);
+  tl_free(&on);
+  return s;
+}
+
+/* The beam from a Gmsh file: it must span the beam the references
+ * describe. */
+static TlStatus read_beam(TlCantilever *c, const char *path)
+{
+  const TlCantileverParams *p = &c->p;
+  TL_CHECK(tl_mesh_read_gmsh(path, &c->mesh));
+  const TlMesh *m = c->mesh;
+  if (m->dim != 3) TL_ERROR(TL_ERR_ARG, "mesh %s is %d-D: the cantilever needs a 3-D mesh", path, m->dim);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t i = 0; i < m->n_nodes; ++i)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = fmin(lo[d], m->x[3 * i + d]);
+      hi[d] = fmax(hi[d], m->x[3 * i + d]);
+    }
+  const double want_lo[3] = {-0.5 * p->b, 0.0, -0.5 * p->h}, want_hi[3] = {0.5 * p->b, p->L, 0.5 * p->h};
+  for (int d = 0; d < 3; ++d)
+    if (!(fabs(lo[d] - want_lo[d]) <= 1e-9 * p->L && fabs(hi[d] - want_hi[d]) <= 1e-9 * p->L))
+      TL_ERROR(TL_ERR_ARG, "mesh %s spans [%g, %g] m along %c, the beam (-width %g, -length %g, -height %g m) "
+               "[%g, %g] m: the references need the beam's dimensions",
+               path, lo[d], hi[d], "xyz"[d], p->b, p->L, p->h, want_lo[d], want_hi[d]);
+  return TL_OK;
+}
+
 TlStatus tl_cantilever_create(const TlCantileverParams *p, TlCantilever **out)
 {
+  if (p->mesh_file && p->mesh_file[0]) {
+    TlCantilever *c = NULL;
+    TlStatus s = TL_OK;
+    *out = NULL;
+    TL_CHECK(TL_NEW(c));
+    c->p = *p;
+    c->load_scale = 1.0;
+    TL_CHECK_GOTO(s, read_beam(c, p->mesh_file), fail_file);
+    c->p.type = c->mesh->blocks[0].type;
+    TL_CHECK_GOTO(s, tl_material_create(p->material ? p->material : "hooke", &c->material), fail_file);
+    TL_CHECK_GOTO(s, tl_material_set(c->material, "E", p->E), fail_file);
+    TL_CHECK_GOTO(s, tl_material_set(c->material, "nu", p->nu), fail_file);
+    TL_CHECK_GOTO(s, tl_material_set(c->material, "density", p->rho), fail_file);
+    TL_CHECK_GOTO(s, tl_material_setup(c->material), fail_file);
+    TL_CHECK_GOTO(s, tl_solid_create(c->mesh, &c->solid), fail_file);
+    TL_CHECK_GOTO(s, tl_solid_set_material(c->solid, NULL, c->material), fail_file);
+    const TlNodeSet *fixed = NULL;
+    if (tl_mesh_find_node_set(c->mesh, "ymin", &fixed) != TL_OK || fixed->n == 0) {
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "mesh %s has no node set \"ymin\" with nodes (a physical surface on y = 0, the clamped end)",
+                       p->mesh_file);
+      goto fail_file;
+    }
+    TL_CHECK_GOTO(s, tl_solid_fix(c->solid, "ymin", 7), fail_file);
+    TL_CHECK_GOTO(s, tip_weights_from_faces(c, p->mesh_file), fail_file);
+    for (size_t k = 0; k < c->n_tip; ++k) {
+      TlVec3 f = {0.0, 0.0, -p->load * c->tip_weight[k]};
+      TL_CHECK_GOTO(s, tl_solid_add_point_force(c->solid, c->tip_nodes[k], f, tip_amplitude, c), fail_file);
+    }
+    TL_CHECK_GOTO(s, tl_solid_setup(c->solid), fail_file);
+    *out = c;
+    return TL_OK;
+  fail_file:
+    tl_cantilever_destroy(&c);
+    return s;
+  }
   TlCantilever *c = NULL;
   TlStatus s = TL_OK;
   *out = NULL;

@@ -20,6 +20,13 @@ typedef struct {
   double E, nu, rho;         /* Pa, -, kg/m^3 */
   double load;               /* tip load P (N), in -z */
   const char *material;      /* the law's registered name, with E and nu ("hooke") */
+  /* A Gmsh mesh (any 3-D element type, msh 4.1 or 2.2) in place of the
+   * generated nx x ny x nz box, NULL or "" for the box: it must span the
+   * beam [-b/2, b/2] x [0, L] x [-h/2, h/2] (the references use b, h, L)
+   * and name the clamped face "ymin" and the loaded face "ymax" (physical
+   * surfaces); the tip load and the tip displacement use the consistent
+   * weights of the ymax faces. */
+  const char *mesh_file;
 } TlCantileverParams;
 
 typedef struct {

@@ -481,7 +481,8 @@ TlStatus tl_gouge_snapshot(TlGouge *g, const char *dir)
   TL_CHECK(tl_realloc(&g->weights, P->n + 1, sizeof *g->weights));
   for (size_t i = 0; i < P->n; ++i) g->weights[i] = P->weight ? P->weight[i] : 1.0;
   TlField fields[1] = {{"weight", 1, g->weights}};
-  TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, NULL, NULL, 1, fields};
+  TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .angular_velocity = P->w,
+                         .force = P->f, .species = (const int *)P->species, .n_fields = 1, .fields = fields, .id = P->id};
   TL_CHECK(tl_particle_writer_write(g->pw, g->step, g->st->t, &view));
   TL_CHECK(tl_solid_output_write(g->so, g->step, g->st->t, g->st->u, g->st->v));
   return TL_OK;

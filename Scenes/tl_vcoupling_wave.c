@@ -659,7 +659,7 @@ TlStatus tl_wave_write_snapshot(const TlWave *w, TlParticleWriter *pw, TlMeshWri
   const TlParticles *P = w->P;
   TlField pf[1] = {{"weight", 1, P->weight ? P->weight : w->ones}};
   TlParticleView pv = {.n = w->np, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f,
-                       .n_fields = 1, .fields = pf};
+                       .species = (const int *)P->species, .n_fields = 1, .fields = pf, .id = P->id};
   if (pw) TL_CHECK(tl_particle_writer_write(pw, w->step, w->t, &pv));
   if (!mw || !w->mesh) return TL_OK;
   const TlElementBlock *B = &w->mesh->blocks[0];

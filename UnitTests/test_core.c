@@ -134,6 +134,42 @@ int main(void)
                  "reasons '%s'", sum.undefined);
   if (devnull) fclose(devnull);
 
+  /* Exit status: 0 success, 2 a refusal, 1 a diagnosis; every failure's
+   * last summary line carries status= (and no second line when the summary
+   * itself already reported the failure). */
+  TL_TEST_ASSERT(tl_exit_code(TL_ERR_ARG) == 2 && tl_exit_code(TL_ERR_FORMAT) == 2 && tl_exit_code(TL_ERR_IO) == 2 &&
+                     tl_exit_code(TL_ERR_NOT_FOUND) == 2 && tl_exit_code(TL_ERR_UNSTABLE) == 1 &&
+                     tl_exit_code(TL_ERR_NUMERIC) == 1 && tl_exit_code(TL_ERR_CONVERGENCE) == 1 &&
+                     tl_exit_code(TL_ERR_MEM) == 1 && tl_exit_code(TL_OK) == 0 && tl_exit_code(TL_HELP) == 0,
+                 "exit codes");
+  TL_TEST_ASSERT(strcmp(tl_exit_word(TL_ERR_ARG), "refused") == 0 && strcmp(tl_exit_word(TL_ERR_UNSTABLE), "stopped") == 0 &&
+                     strcmp(tl_exit_word(TL_ERR_STATE), "failed") == 0 && strcmp(tl_exit_word(TL_OK), "ok") == 0,
+                 "exit words");
+  FILE *lines = tmpfile();
+  TL_TEST_ASSERT(lines != NULL, "tmpfile");
+  if (lines) {
+    TlSummary ok;
+    tl_summary_init(&ok);
+    tl_summary_int(&ok, "steps", 3);
+    TL_TEST_STATUS(tl_summary_print(&ok, lines), TL_OK);
+    tl_summary_end(TL_ERR_UNSTABLE, lines);  /* a failure after the summary: a final line */
+    TL_TEST_STATUS(tl_summary_print(&sum, lines), TL_ERR_NUMERIC);
+    tl_summary_end(TL_ERR_NUMERIC, lines);   /* already reported: nothing more */
+    tl_summary_end(TL_ERR_ARG, lines);
+    tl_summary_end(TL_OK, lines);
+    char text[4096];
+    rewind(lines);
+    size_t n = fread(text, 1, sizeof text - 1, lines);
+    text[n] = '\0';
+    fclose(lines);
+    TL_TEST_ASSERT(strcmp(text, "summary: steps=3 status=ok\n"
+                                "summary: status=stopped exit=1 error=unstable\n"
+                                "summary: err_avg=0.125 steps=42 case=1P period=undefined ratio=undefined "
+                                "speed=undefined status=undefined exit=1\n"
+                                "summary: status=refused exit=2 error=invalid_argument\n") == 0,
+                   "summary lines:\n%s(%zu characters)", text, strlen(text));
+  }
+
   int argc = 1;
   char *args[] = {"test_core", NULL}, **argv = args;
   TL_TEST_STATUS(tl_parallel_initialize(&argc, &argv), TL_OK);

@@ -91,7 +91,7 @@ int main(void)
   tl_dem_destroy(&d2);
 
   /* a plain snapshot has no cell: refused as not a packing */
-  TlParticleView view = {P->n, P->x, P->radius, NULL, NULL, NULL, NULL, NULL, 0, NULL};
+  TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius};
   TL_TEST_STATUS(tl_particle_writer_write(w, 8, 0.0, &view), TL_OK);
   TL_TEST_STATUS(tl_dem_packing_read(tl_particle_writer_last_path(w), &s, &o2, &h2), TL_ERR_FORMAT);
   TL_TEST_ASSERT(strstr(tl_error_message(), "not a packing") != NULL, "message: %s", tl_error_message());

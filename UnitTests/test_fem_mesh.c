@@ -246,8 +246,9 @@ static void test_gmsh_quad8(void)
   if (ns) TL_TEST_ASSERT(ns->n == 5, "bottom has %zu nodes", ns->n);
   tl_mesh_destroy(&m);
 
-  malformed("4.1 0 8", "2.2 0 8", "line 2", "version");
-  malformed("4.1 0 8", "4.1 1 8", "line 2", "binary");
+  malformed("4.1 0 8", "3.0 0 8", "line 2", "version 3 is not supported");
+  malformed("4.1 0 8", "2.2 0 8", "line 10", "$Entities section in a 2.2 file");
+  malformed("4.1 0 8", "4.1 1 8", "byte 20", "the byte-order integer reads");
   malformed("0.4999999999995353 0.1250000000000941 0", "0.49999 abc 0", "line 71", "real number");
   malformed("4 1 5 17 14 6 18 19 16 ", "4 1 5 17 14 6 18 19 99 ", "line 84", "node 99");
   malformed("2 1 16 4", "2 1 7 4", "line 83", "element type 7");

@@ -72,9 +72,14 @@ static void test_round_trip(void)
     TL_TEST_ASSERT(strcmp(t.names[1], "kinetic_energy") == 0 && strcmp(t.units[1], "J") == 0, "HDF5 names/units");
   tl_table_free(&t);
 
+  /* The provenance comment lines (tl_provenance.h), then the header. */
   char *csv = tl_test_read_file("energy.csv");
-  TL_TEST_ASSERT(csv && strncmp(csv, "time [s],kinetic_energy [J],contacts\n0,-0,0\n", 44) == 0, "CSV head: %.60s",
-                 csv ? csv : "(none)");
+  const char *head = csv ? strstr(csv, "\ntime [s]") : NULL;
+  TL_TEST_ASSERT(csv && strncmp(csv, "# talus_version: ", 17) == 0 && head &&
+                     strncmp(head + 1, "time [s],kinetic_energy [J],contacts\n0,-0,0\n", 44) == 0,
+                 "CSV head: %.300s", csv ? csv : "(none)");
+  for (const char *c = csv; c && c < head; c = strchr(c, '\n') + 1)
+    TL_TEST_ASSERT(*c == '#', "a line before the header that is not a comment: %.40s", c);
   free(csv);
 }
 

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 
 def read(path):
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     head, body = rows[0], rows[1:]
     return {h: [float(r[i]) for r in body] for i, h in enumerate(head)}
 

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def read_profile(path):
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     if len(rows) < 2:
         sys.exit(f"{path}: no data rows")
     names = [h.split(" [")[0] for h in rows[0]]

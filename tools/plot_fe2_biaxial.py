@@ -27,7 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 def read_table(path):
     """{name: [values]} of a Talus CSV ("name [unit]" header cells)."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     names = [c.split("[")[0].strip() for c in rows[0]]
     cols = {n: [] for n in names}
     for r in rows[1:]:

@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def read_csv(path):
     with open(path) as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     head = [h.split(" [")[0] for h in rows[0]]
     return head, [[float(x) for x in r] for r in rows[1:] if r]
 

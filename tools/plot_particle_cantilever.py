@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt
 
 def read(path):
     with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     head = [h.split(" [")[0] for h in rows[0]]
     body = rows[1:]
     return {h: [float(r[i]) for r in body] for i, h in enumerate(head)}

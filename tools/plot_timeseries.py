@@ -42,7 +42,7 @@ def parse_header(cells):
 
 def read_table(path):
     with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f) if not (r and r[0].startswith("#"))]
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     if not rows:
         raise SystemExit(f"error: {path} is empty (no header line)")
     header = parse_header(rows[0])

@@ -32,7 +32,7 @@ def read_csv(path):
     comments, the header reads "name [unit],..."; the units are returned
     beside the columns (cols, units)."""
     with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     if len(rows) < 2:
         sys.exit(f"{path}: no data rows")
     head, units = [], {}

@@ -62,7 +62,7 @@ TlStatus tl_bdm_options_check(const TlBdmOptions *o)
   return TL_OK;
 }
 
-TlStatus tl_bdm_options_from_db(TlOptions *db, TlBdmOptions *o)
+static TlStatus from_db(TlOptions *db, TlBdmOptions *o)
 {
   int k;
   TL_CHECK(tl_options_get_choice(db, "-bdm", constraints[o->constraint], constraints,
@@ -122,4 +122,13 @@ double tl_bdm_alpha(const TlBdmZone *zones, int n, TlBdmProfile profile, double 
     a = v > a ? v : a;
   }
   return a;
+}
+
+/* The coupling's options under their own heading in -help. */
+TlStatus tl_bdm_options_from_db(TlOptions *db, TlBdmOptions *o)
+{
+  TL_CHECK(tl_options_begin_group(db, "Bridging domain coupling"));
+  TlStatus s = from_db(db, o);
+  tl_options_end_group(db);
+  return s == TL_OK ? TL_OK : tl_error_trace(s, __FILE__, __LINE__);
 }

@@ -104,7 +104,8 @@ TlStatus tl_mesh_create_cylinder_sector(const TlElementType *type, double r_in, 
                                         double theta0, double theta1, double height,
                                         const size_t n[3], TlMesh **mesh);
 
-/* Reads a Gmsh .msh 4.1 ASCII file.  Elements of the highest dimension form
+/* Reads a Gmsh .msh file, format 4.1 or 2.2, ASCII or binary (either byte
+ * order; size_t of 4 or 8 bytes).  Elements of the highest dimension form
  * the blocks (one per physical group name and element type; "body" when no
  * physical groups exist); elements of one dimension less with a physical
  * group become face sets of that name (and node sets of their nodes);

@@ -1,6 +1,15 @@
-/* Reader of Gmsh .msh 4.1 ASCII files: sections $MeshFormat,
- * $PhysicalNames, $Entities, $Nodes and $Elements; other sections are
- * skipped.  Every error names the file, the line and what was expected. */
+/* Reader of Gmsh .msh files, formats 4.1 and 2.2, ASCII and binary:
+ * sections $MeshFormat, $PhysicalNames, $Entities (4.1), $Nodes and
+ * $Elements; other sections are skipped.  Every error names the file, the
+ * line (ASCII) or the byte offset (binary) and what was expected.
+ *
+ * One reading path per format version: the numbers of a 4.1 file are read
+ * through num_int / num_size / num_real, which take a token in an ASCII
+ * file and the next 4 (int), data-size (size_t) or 8 (double) bytes in a
+ * binary one, so the ASCII and binary layouts share their code.  In 2.2 the
+ * physical group is a tag of each element; it stands in for the entity of
+ * 4.1 (one synthetic entity per physical group and dimension), so both
+ * versions build the mesh through the same code. */
 #include <ctype.h>
 #include <errno.h>
 #include <limits.h>
@@ -20,6 +29,9 @@ typedef struct {
   int line;
   char tok[256];
   int tok_line;
+  int binary;      /* the data of the current section are binary */
+  int size_bytes;  /* size of size_t in a binary file (4 or 8) */
+  int swap;        /* binary file of the other byte order */
 } Reader;
 
 /* The next whitespace-separated token (a quoted string counts as one);
@@ -91,6 +103,80 @@ static TlStatus expect(Reader *r, const char *word)
   if (strcmp(r->tok, word))
     TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected %s, found '%s'", r->path, r->tok_line, word,
              r->tok);
+  return TL_OK;
+}
+
+/* ---- binary data */
+
+/* The newline that ends a section header or a count line before binary
+ * data. */
+static void skip_eol(Reader *r)
+{
+  if (r->pos < r->len && r->buf[r->pos] == '\r') r->pos++;
+  if (r->pos < r->len && r->buf[r->pos] == '\n') {
+    r->pos++;
+    r->line++;
+  }
+}
+
+static TlStatus raw_bytes(Reader *r, const char *what, void *out, size_t n)
+{
+  if (r->len - r->pos < n)
+    TL_ERROR(TL_ERR_FORMAT, "%s byte %zu: the file ends inside %s (%zu bytes needed, %zu left)", r->path, r->pos,
+             what, n, r->len - r->pos);
+  unsigned char *o = out;
+  memcpy(o, r->buf + r->pos, n);
+  if (r->swap)
+    for (size_t i = 0; i < n / 2; ++i) {
+      unsigned char t = o[i];
+      o[i] = o[n - 1 - i];
+      o[n - 1 - i] = t;
+    }
+  r->pos += n;
+  return TL_OK;
+}
+
+static TlStatus bin_check(Reader *r, size_t at, const char *what, long long v, long lo, long hi, long *out)
+{
+  if (v < lo || v > hi)
+    TL_ERROR(TL_ERR_FORMAT, "%s byte %zu: %s = %lld outside [%ld, %ld]", r->path, at, what, v, lo, hi);
+  *out = (long)v;
+  return TL_OK;
+}
+
+/* An int: a token in ASCII, 4 bytes in binary. */
+static TlStatus num_int(Reader *r, const char *what, long lo, long hi, long *v)
+{
+  if (!r->binary) return read_long(r, what, lo, hi, v);
+  size_t at = r->pos;
+  int32_t x = 0;
+  TL_CHECK(raw_bytes(r, what, &x, sizeof x));
+  return bin_check(r, at, what, x, lo, hi, v);
+}
+
+/* A size_t: a token in ASCII, the file's data size in binary. */
+static TlStatus num_size(Reader *r, const char *what, long lo, long hi, long *v)
+{
+  if (!r->binary) return read_long(r, what, lo, hi, v);
+  size_t at = r->pos;
+  if (r->size_bytes == 4) {
+    uint32_t x = 0;
+    TL_CHECK(raw_bytes(r, what, &x, sizeof x));
+    return bin_check(r, at, what, (long long)x, lo, hi, v);
+  }
+  uint64_t x = 0;
+  TL_CHECK(raw_bytes(r, what, &x, sizeof x));
+  if (x > (uint64_t)LLONG_MAX)
+    TL_ERROR(TL_ERR_FORMAT, "%s byte %zu: %s = %llu is beyond any count", r->path, at, what, (unsigned long long)x);
+  return bin_check(r, at, what, (long long)x, lo, hi, v);
+}
+
+static TlStatus num_real(Reader *r, const char *what, double *v)
+{
+  if (!r->binary) return read_double(r, what, v);
+  size_t at = r->pos;
+  TL_CHECK(raw_bytes(r, what, v, sizeof *v));
+  if (!isfinite(*v)) TL_ERROR(TL_ERR_FORMAT, "%s byte %zu: %s is not a finite number", r->path, at, what);
   return TL_OK;
 }
 
@@ -170,24 +256,24 @@ static void phys_name(const GmshData *g, int dim, long phys, char *out)
 static TlStatus read_entities(Reader *r, GmshData *g)
 {
   long count[4];
-  for (int d = 0; d < 4; ++d) TL_CHECK(read_long(r, "number of entities", 0, 100000000, &count[d]));
+  for (int d = 0; d < 4; ++d) TL_CHECK(num_size(r, "number of entities", 0, 100000000, &count[d]));
   for (int d = 0; d < 4; ++d)
     for (long i = 0; i < count[d]; ++i) {
       long tag, nphys;
       double v;
-      TL_CHECK(read_long(r, "entity tag", 1, LONG_MAX, &tag));
-      for (int k = 0; k < (d == 0 ? 3 : 6); ++k) TL_CHECK(read_double(r, "bounding box", &v));
-      TL_CHECK(read_long(r, "number of physical tags", 0, 1000000, &nphys));
+      TL_CHECK(num_int(r, "entity tag", 1, LONG_MAX, &tag));
+      for (int k = 0; k < (d == 0 ? 3 : 6); ++k) TL_CHECK(num_real(r, "bounding box", &v));
+      TL_CHECK(num_size(r, "number of physical tags", 0, 1000000, &nphys));
       long phys = 0;
       for (long k = 0; k < nphys; ++k) {
         long p;
-        TL_CHECK(read_long(r, "physical tag", LONG_MIN + 1, LONG_MAX, &p));
+        TL_CHECK(num_int(r, "physical tag", LONG_MIN + 1, LONG_MAX, &p));
         if (k == 0) phys = labs(p);
       }
       if (d > 0) {
         long nb, b;
-        TL_CHECK(read_long(r, "number of bounding entities", 0, 100000000, &nb));
-        for (long k = 0; k < nb; ++k) TL_CHECK(read_long(r, "bounding entity", LONG_MIN + 1, LONG_MAX, &b));
+        TL_CHECK(num_size(r, "number of bounding entities", 0, 100000000, &nb));
+        for (long k = 0; k < nb; ++k) TL_CHECK(num_int(r, "bounding entity", LONG_MIN + 1, LONG_MAX, &b));
       }
       TL_CHECK(tl_array_reserve(&g->entities, &g->cap_entities, g->n_entities + 1, sizeof(Entity)));
       g->entities[g->n_entities++] = (Entity){d, tag, phys};
@@ -204,10 +290,10 @@ static long bytes_left(const Reader *r) { return (long)(r->len - r->pos); }
 static TlStatus read_nodes(Reader *r, GmshData *g)
 {
   long nblocks, nnodes, min_tag, max_tag;
-  TL_CHECK(read_long(r, "number of node blocks", 0, 100000000, &nblocks));
-  TL_CHECK(read_long(r, "number of nodes", 0, bytes_left(r) / 2, &nnodes));
-  TL_CHECK(read_long(r, "smallest node tag", 0, LONG_MAX, &min_tag));
-  TL_CHECK(read_long(r, "largest node tag", 0, 4 * (nnodes + 1000000L), &max_tag));
+  TL_CHECK(num_size(r, "number of node blocks", 0, 100000000, &nblocks));
+  TL_CHECK(num_size(r, "number of nodes", 0, bytes_left(r) / 2, &nnodes));
+  TL_CHECK(num_size(r, "smallest node tag", 0, LONG_MAX, &min_tag));
+  TL_CHECK(num_size(r, "largest node tag", 0, 4 * (nnodes + 1000000L), &max_tag));
   TL_CHECK(tl_calloc(&g->node_tag_to_index, max_tag + 1, sizeof(long)));
   for (long t = 0; t <= max_tag; ++t) g->node_tag_to_index[t] = -1;
   g->max_node_tag = max_tag;
@@ -217,23 +303,23 @@ static TlStatus read_nodes(Reader *r, GmshData *g)
   TlStatus s = TL_OK;
   for (long b = 0; b < nblocks && s == TL_OK; ++b) {
     long edim, etag, parametric, n = 0;
-    s = read_long(r, "entity dimension", 0, 3, &edim);
-    if (s == TL_OK) s = read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag);
-    if (s == TL_OK) s = read_long(r, "parametric flag", 0, 1, &parametric);
-    if (s == TL_OK) s = read_long(r, "nodes in block", 0, nnodes - (long)done, &n);
+    s = num_int(r, "entity dimension", 0, 3, &edim);
+    if (s == TL_OK) s = num_int(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag);
+    if (s == TL_OK) s = num_int(r, "parametric flag", 0, 1, &parametric);
+    if (s == TL_OK) s = num_size(r, "nodes in block", 0, nnodes - (long)done, &n);
     if (s == TL_OK) s = tl_realloc(&tags, n ? n : 1, sizeof(long));
     for (long i = 0; i < n && s == TL_OK; ++i) {
-      s = read_long(r, "node tag", 1, max_tag, &tags[i]);
+      s = num_size(r, "node tag", 1, max_tag, &tags[i]);
       if (s == TL_OK && g->node_tag_to_index[tags[i]] >= 0)
         s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "%s line %d: node tag %ld defined twice",
                          r->path, r->tok_line, tags[i]);
       if (s == TL_OK) g->node_tag_to_index[tags[i]] = (long)(done + i);
     }
     for (long i = 0; i < n && s == TL_OK; ++i) {
-      for (int k = 0; k < 3 && s == TL_OK; ++k) s = read_double(r, "node coordinate", &g->x[3 * (done + i) + k]);
+      for (int k = 0; k < 3 && s == TL_OK; ++k) s = num_real(r, "node coordinate", &g->x[3 * (done + i) + k]);
       for (long k = 0; k < (parametric ? edim : 0) && s == TL_OK; ++k) {
         double u;
-        s = read_double(r, "parametric coordinate", &u);
+        s = num_real(r, "parametric coordinate", &u);
       }
     }
     if (s == TL_OK) done += n;
@@ -251,20 +337,20 @@ static TlStatus read_nodes(Reader *r, GmshData *g)
 static TlStatus read_elements(Reader *r, GmshData *g)
 {
   long nblocks, nel, min_tag, max_tag;
-  TL_CHECK(read_long(r, "number of element blocks", 0, 100000000, &nblocks));
-  TL_CHECK(read_long(r, "number of elements", 0, bytes_left(r) / 2, &nel));
-  TL_CHECK(read_long(r, "smallest element tag", 0, LONG_MAX, &min_tag));
-  TL_CHECK(read_long(r, "largest element tag", 0, LONG_MAX, &max_tag));
+  TL_CHECK(num_size(r, "number of element blocks", 0, 100000000, &nblocks));
+  TL_CHECK(num_size(r, "number of elements", 0, bytes_left(r) / 2, &nel));
+  TL_CHECK(num_size(r, "smallest element tag", 0, LONG_MAX, &min_tag));
+  TL_CHECK(num_size(r, "largest element tag", 0, LONG_MAX, &max_tag));
   TL_CHECK(tl_calloc(&g->elements, nel ? nel : 1, sizeof(RawElement)));
   size_t cap_nodes = 0;
   size_t done = 0;
   for (long b = 0; b < nblocks; ++b) {
     long edim, etag, gtype, n;
-    TL_CHECK(read_long(r, "entity dimension", 0, 3, &edim));
-    TL_CHECK(read_long(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag));
-    TL_CHECK(read_long(r, "element type", 1, 1000, &gtype));
-    int type_line = r->tok_line;
-    TL_CHECK(read_long(r, "elements in block", 0, nel - (long)done, &n));
+    TL_CHECK(num_int(r, "entity dimension", 0, 3, &edim));
+    TL_CHECK(num_int(r, "entity tag", LONG_MIN + 1, LONG_MAX, &etag));
+    TL_CHECK(num_int(r, "element type", 1, 1000, &gtype));
+    int type_line = r->binary ? (int)(r->pos > INT_MAX ? INT_MAX : r->pos) : r->tok_line;
+    TL_CHECK(num_size(r, "elements in block", 0, nel - (long)done, &n));
     /* Any registered element type, built in or not, by its Gmsh code;
      * type 15 is a point (node sets only). */
     const TlElementType *type = NULL;
@@ -283,8 +369,8 @@ static TlStatus read_elements(Reader *r, GmshData *g)
     }
     for (long i = 0; i < n; ++i) {
       RawElement *e = &g->elements[done + i];
-      TL_CHECK(read_long(r, "element tag", 1, LONG_MAX, &e->tag));
-      e->line = r->tok_line;
+      TL_CHECK(num_size(r, "element tag", 1, LONG_MAX, &e->tag));
+      e->line = r->binary ? (int)(r->pos > INT_MAX ? INT_MAX : r->pos) : r->tok_line;
       e->dim = (int)edim;
       e->entity = etag;
       e->type = type;
@@ -293,13 +379,15 @@ static TlStatus read_elements(Reader *r, GmshData *g)
       TL_CHECK(tl_array_reserve(&g->element_nodes, &cap_nodes, g->n_element_nodes + nn, sizeof(long)));
       for (int k = 0; k < nn; ++k) {
         long t;
-        size_t pos = r->pos;
-        int line = r->line;
-        if (!next_token(r) || r->tok_line != e->line)
-          TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld has %d of %d nodes (%s)", r->path,
-                   e->line, e->tag, k, nn, type ? type->header.name : "point");
-        r->pos = pos, r->line = line; /* re-read the token as a number */
-        TL_CHECK(read_long(r, "node tag", LONG_MIN + 1, LONG_MAX, &t));
+        if (!r->binary) {
+          size_t pos = r->pos;
+          int line = r->line;
+          if (!next_token(r) || r->tok_line != e->line)
+            TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld has %d of %d nodes (%s)", r->path,
+                     e->line, e->tag, k, nn, type ? type->header.name : "point");
+          r->pos = pos, r->line = line; /* re-read the token as a number */
+        }
+        TL_CHECK(num_size(r, "node tag", LONG_MIN + 1, LONG_MAX, &t));
         if (t < 1 || t > g->max_node_tag || g->node_tag_to_index[t] < 0)
           TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld refers to node %ld, which is not defined",
                    r->path, e->line, e->tag, t);
@@ -316,9 +404,147 @@ static TlStatus read_elements(Reader *r, GmshData *g)
   return TL_OK;
 }
 
+/* ---- format 2.2 */
+
+/* The entity standing for a physical group of 2.2 (0: none). */
+static TlStatus entity_of_phys(GmshData *g, int dim, long phys, long *entity)
+{
+  *entity = phys;
+  if (phys == 0 || entity_phys(g, dim, phys) == phys) return TL_OK;
+  TL_CHECK(tl_array_reserve(&g->entities, &g->cap_entities, g->n_entities + 1, sizeof(Entity)));
+  g->entities[g->n_entities++] = (Entity){dim, phys, phys};
+  return TL_OK;
+}
+
+/* $Nodes of 2.2: a count (ASCII), then "tag x y z" per node (binary: int
+ * tag, three doubles). */
+static TlStatus read_nodes_22(Reader *r, GmshData *g, int binary)
+{
+  long n;
+  TL_CHECK(read_long(r, "number of nodes", 0, bytes_left(r) / (binary ? 28 : 8), &n));
+  if (binary) skip_eol(r);
+  r->binary = binary;
+  long *tags = NULL;
+  TlStatus s = tl_calloc(&tags, n ? n : 1, sizeof *tags);
+  if (s == TL_OK) s = tl_calloc(&g->x, 3 * (n ? n : 1), sizeof(double));
+  long max_tag = 0;
+  for (long i = 0; i < n && s == TL_OK; ++i) {
+    s = num_int(r, "node tag", 1, 4 * (n + 1000000L), &tags[i]);
+    for (int k = 0; k < 3 && s == TL_OK; ++k) s = num_real(r, "node coordinate", &g->x[3 * i + k]);
+    if (tags[i] > max_tag) max_tag = tags[i];
+  }
+  if (s == TL_OK) s = tl_calloc(&g->node_tag_to_index, max_tag + 1, sizeof(long));
+  if (s == TL_OK) {
+    for (long t = 0; t <= max_tag; ++t) g->node_tag_to_index[t] = -1;
+    g->max_node_tag = max_tag;
+    for (long i = 0; i < n && s == TL_OK; ++i) {
+      if (g->node_tag_to_index[tags[i]] >= 0)
+        s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "%s: node tag %ld defined twice (node %ld of $Nodes)",
+                         r->path, tags[i], i + 1);
+      else
+        g->node_tag_to_index[tags[i]] = i;
+    }
+  }
+  tl_free(&tags);
+  r->binary = 0;
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  g->n_nodes = (size_t)n;
+  TL_CHECK(expect(r, "$EndNodes"));
+  return TL_OK;
+}
+
+/* One element of 2.2 once its type and tags are known. */
+static TlStatus add_element_22(Reader *r, GmshData *g, size_t *cap_nodes, long tag, long gtype, long ntags,
+                               const long *etags, int at)
+{
+  const TlElementType *type = NULL;
+  int nn = 1, dim = 0;
+  if (gtype != 15) {
+    if (tl_element_type_find_gmsh((int)gtype, &type) != TL_OK) {
+      char why[512];
+      snprintf(why, sizeof why, "%s", tl_error_message());
+      TL_ERROR(TL_ERR_FORMAT, "%s line %d: Gmsh element type %ld is not supported: %s", r->path, at, gtype, why);
+    }
+    nn = type->n_nodes;
+    dim = type->dim;
+  }
+  RawElement *e = &g->elements[g->n_elements];
+  e->tag = tag;
+  e->line = at;
+  e->dim = dim;
+  e->type = type;
+  e->n_nodes = nn;
+  e->first = g->n_element_nodes;
+  TL_CHECK(entity_of_phys(g, dim, ntags > 0 ? labs(etags[0]) : 0, &e->entity));
+  TL_CHECK(tl_array_reserve(&g->element_nodes, cap_nodes, g->n_element_nodes + nn, sizeof(long)));
+  for (int k = 0; k < nn; ++k) {
+    long t;
+    if (!r->binary) {
+      size_t pos = r->pos;
+      int line = r->line;
+      if (!next_token(r) || r->tok_line != at)
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld has %d of %d nodes (%s)", r->path, at, tag, k, nn,
+                 type ? type->header.name : "point");
+      r->pos = pos, r->line = line;
+    }
+    TL_CHECK(num_int(r, "node tag", LONG_MIN + 1, LONG_MAX, &t));
+    if (t < 1 || t > g->max_node_tag || g->node_tag_to_index[t] < 0)
+      TL_ERROR(TL_ERR_FORMAT, "%s line %d: element %ld refers to node %ld, which is not defined", r->path, at, tag, t);
+    g->element_nodes[g->n_element_nodes++] = t;
+  }
+  g->n_elements++;
+  return TL_OK;
+}
+
+/* $Elements of 2.2: a count (ASCII), then "tag type ntags tags... nodes..."
+ * per element; binary: blocks of a header (int type, count, ntags) and
+ * `count` elements of int tag, ntags ints, the nodes as ints. */
+static TlStatus read_elements_22(Reader *r, GmshData *g, int binary)
+{
+  long nel;
+  TL_CHECK(read_long(r, "number of elements", 0, bytes_left(r) / 2, &nel));
+  TL_CHECK(tl_calloc(&g->elements, nel ? nel : 1, sizeof(RawElement)));
+  size_t cap_nodes = 0;
+  long etags[64];
+  TlStatus s = TL_OK;
+  if (!binary) {
+    for (long i = 0; i < nel && s == TL_OK; ++i) {
+      long tag, gtype, ntags;
+      s = read_long(r, "element tag", 1, LONG_MAX, &tag);
+      int at = r->tok_line;
+      if (s == TL_OK) s = read_long(r, "element type", 1, 1000, &gtype);
+      if (s == TL_OK) s = read_long(r, "number of tags", 0, 64, &ntags);
+      for (long k = 0; k < ntags && s == TL_OK; ++k) s = read_long(r, "element tag", LONG_MIN + 1, LONG_MAX, &etags[k]);
+      if (s == TL_OK) s = add_element_22(r, g, &cap_nodes, tag, gtype, ntags, etags, at);
+    }
+  } else {
+    skip_eol(r);
+    r->binary = 1;
+    long done = 0;
+    while (done < nel && s == TL_OK) {
+      long gtype, count, ntags;
+      int at = (int)(r->pos > INT_MAX ? INT_MAX : r->pos);
+      s = num_int(r, "element type", 1, 1000, &gtype);
+      if (s == TL_OK) s = num_int(r, "elements in block", 1, nel - done, &count);
+      if (s == TL_OK) s = num_int(r, "number of tags", 0, 64, &ntags);
+      for (long i = 0; i < count && s == TL_OK; ++i) {
+        long tag;
+        s = num_int(r, "element tag", 1, LONG_MAX, &tag);
+        for (long k = 0; k < ntags && s == TL_OK; ++k) s = num_int(r, "element tag", LONG_MIN + 1, LONG_MAX, &etags[k]);
+        if (s == TL_OK) s = add_element_22(r, g, &cap_nodes, tag, gtype, ntags, etags, at);
+      }
+      done += count;
+    }
+    r->binary = 0;
+  }
+  if (s != TL_OK) return tl_error_trace(s, __FILE__, __LINE__);
+  TL_CHECK(expect(r, "$EndElements"));
+  return TL_OK;
+}
+
 static TlStatus parse(Reader *r, GmshData *g)
 {
-  int have_format = 0, have_nodes = 0, have_elements = 0;
+  int have_format = 0, have_nodes = 0, have_elements = 0, v2 = 0, binary = 0;
   while (next_token(r)) {
     if (r->tok[0] != '$')
       TL_ERROR(TL_ERR_FORMAT, "%s line %d: expected a section header ($Name), found '%s'", r->path,
@@ -330,12 +556,26 @@ static TlStatus parse(Reader *r, GmshData *g)
       int vline = r->tok_line;
       TL_CHECK(read_long(r, "file type", 0, 1, &ftype));
       TL_CHECK(read_long(r, "data size", 1, 16, &dsize));
-      if (version < 4.05 || version > 4.15)
-        TL_ERROR(TL_ERR_FORMAT, "%s line %d: mesh format version %g is not supported, expected 4.1",
+      v2 = version >= 1.95 && version < 2.25;
+      if (!v2 && (version < 4.05 || version > 4.15))
+        TL_ERROR(TL_ERR_FORMAT, "%s line %d: mesh format version %g is not supported, expected 4.1 or 2.2",
                  r->path, vline, version);
-      if (ftype != 0)
-        TL_ERROR(TL_ERR_FORMAT, "%s line %d: binary .msh files are not supported, save as ASCII",
-                 r->path, vline);
+      binary = ftype == 1;
+      if (binary) {
+        if (dsize != 4 && dsize != 8)
+          TL_ERROR(TL_ERR_FORMAT, "%s line %d: binary data size %ld (the size of size_t) is not 4 or 8",
+                   r->path, vline, dsize);
+        r->size_bytes = (int)dsize;
+        /* the integer 1, which tells the byte order */
+        skip_eol(r);
+        size_t at = r->pos;
+        int32_t one = 0;
+        TL_CHECK(raw_bytes(r, "the byte-order integer", &one, sizeof one));
+        if (one == 0x01000000)
+          r->swap = 1;
+        else if (one != 1)
+          TL_ERROR(TL_ERR_FORMAT, "%s byte %zu: the byte-order integer reads %d, expected 1", r->path, at, (int)one);
+      }
       TL_CHECK(expect(r, "$EndMeshFormat"));
       have_format = 1;
     } else if (!have_format) {
@@ -360,18 +600,39 @@ static TlStatus parse(Reader *r, GmshData *g)
       TL_CHECK(expect(r, "$EndPhysicalNames"));
     } else if (!strcmp(r->tok, "$Entities")) {
       if (g->n_entities) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Entities section", r->path, r->tok_line);
-      TL_CHECK(read_entities(r, g));
+      if (v2) TL_ERROR(TL_ERR_FORMAT, "%s line %d: an $Entities section in a 2.2 file", r->path, r->tok_line);
+      if (binary) skip_eol(r);
+      r->binary = binary;
+      TlStatus se = read_entities(r, g);
+      r->binary = 0;
+      TL_CHECK(se);
     } else if (!strcmp(r->tok, "$Nodes")) {
       /* One node and one element section: a second would replace the node
        * numbering the elements already read refer to. */
       if (have_nodes) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Nodes section", r->path, r->tok_line);
-      TL_CHECK(read_nodes(r, g));
+      if (v2) {
+        TL_CHECK(read_nodes_22(r, g, binary));
+      } else {
+        if (binary) skip_eol(r);
+        r->binary = binary;
+        TlStatus sn = read_nodes(r, g);
+        r->binary = 0;
+        TL_CHECK(sn);
+      }
       have_nodes = 1;
     } else if (!strcmp(r->tok, "$Elements")) {
       if (!have_nodes)
         TL_ERROR(TL_ERR_FORMAT, "%s line %d: $Elements before $Nodes", r->path, r->tok_line);
       if (have_elements) TL_ERROR(TL_ERR_FORMAT, "%s line %d: a second $Elements section", r->path, r->tok_line);
-      TL_CHECK(read_elements(r, g));
+      if (v2) {
+        TL_CHECK(read_elements_22(r, g, binary));
+      } else {
+        if (binary) skip_eol(r);
+        r->binary = binary;
+        TlStatus sl = read_elements(r, g);
+        r->binary = 0;
+        TL_CHECK(sl);
+      }
       have_elements = 1;
     } else {
       /* Skip an unknown section up to its $End line. */

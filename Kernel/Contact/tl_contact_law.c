@@ -384,7 +384,7 @@ static TlStatus choose(TlOptions *o, int kind, const char *option, const char *d
   return TL_OK;
 }
 
-TlStatus tl_contact_law_from_options(TlOptions *o, const TlContactSpec *d, TlContactLaw **out)
+static TlStatus from_options(TlOptions *o, const TlContactSpec *d, TlContactLaw **out)
 {
   static const TlContactSpec none = {NULL, NULL, NULL, NULL, NULL, 0};
   if (!d) d = &none;
@@ -420,6 +420,15 @@ TlStatus tl_contact_law_from_options(TlOptions *o, const TlContactSpec *d, TlCon
   }
   *out = law;
   return TL_OK;
+}
+
+/* The law's options under their own heading in -help. */
+TlStatus tl_contact_law_from_options(TlOptions *o, const TlContactSpec *d, TlContactLaw **out)
+{
+  TL_CHECK(tl_options_begin_group(o, "Contact law"));
+  TlStatus s = from_options(o, d, out);
+  tl_options_end_group(o);
+  return s == TL_OK ? TL_OK : tl_error_trace(s, __FILE__, __LINE__);
 }
 
 TlStatus tl_contact_register_linear(void);

@@ -1,6 +1,8 @@
 #include "tl_options.h"
 
 #include <ctype.h>
+#include <limits.h>
+#include <strings.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -8,20 +10,26 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "tl_init.h"
 #include "tl_log.h"
 #include "tl_memory.h"
 
 typedef struct {
   char *name;   /* with the leading '-' */
   char *value;  /* NULL for a bare flag */
-  char *source; /* "command line" or "file:line" */
+  char *source; /* "command line (argument 3)" or "file:line" */
+  int from_command_line;
   int used;
 } TlOptionEntry;
 
 typedef struct {
   char *name, *kind, *def, *unit, *help;
-  char *value; /* the value in force, in canonical text (reals to 17 digits) */
+  char *range; /* "" or ">= 0", "[0, 10]" */
+  size_t group; /* index into TlOptions.group */
+  char *value;  /* the value in force, in canonical text (reals to 17 digits) */
 } TlOptionDoc;
+
+enum { TL_OPTIONS_GROUP_DEPTH = 8 };
 
 struct TlOptions {
   TlOptionEntry *entry;
@@ -31,7 +39,11 @@ struct TlOptions {
   char *program;
   char *description;
   char *command_line;
-  int help;
+  int help, version, options_left;
+  char **group; /* titles, in order of first use; 0 is the driver's own */
+  size_t n_group, cap_group;
+  size_t group_stack[TL_OPTIONS_GROUP_DEPTH];
+  int group_depth;
   char **restart_safe; /* names a restart may change, beside the built-in ones */
   size_t n_restart_safe, cap_restart_safe;
 };
@@ -63,18 +75,31 @@ static TlOptionEntry *tl_find(TlOptions *o, const char *name)
   return NULL;
 }
 
+/* Stores an option.  The last value of a repeated option wins (PETSc's
+ * rule), so a wrapper may pass its defaults before the user's "$@"; a value
+ * from a file never replaces one from the command line. */
 static TlStatus tl_add_entry(TlOptions *o, const char *name, const char *value, const char *source,
-                             int override)
+                             int from_command_line)
 {
   TlOptionEntry *e = tl_find(o, name);
   if (e) {
-    if (!override)
-      TL_ERROR(TL_ERR_ARG, "option %s given twice (%s and %s)", name, e->source, source);
-    tl_debug("option %s from %s overrides %s", name, source, e->source);
+    if (e->from_command_line && !from_command_line) {
+      tl_debug("option %s: the command-line value overrides %s", name, source);
+      return TL_OK;
+    }
+    tl_debug("option %s %s (%s) replaces %s (%s)", name, value ? value : "", source, e->value ? e->value : "",
+             e->source);
+    char *v = tl_options_strdup(value), *src = tl_options_strdup(source);
+    if ((value && !v) || !src) {
+      free(v);
+      free(src);
+      TL_ERROR(TL_ERR_MEM, "out of memory storing option %s", name);
+    }
     free(e->value);
     free(e->source);
-    e->value = tl_options_strdup(value);
-    e->source = tl_options_strdup(source);
+    e->value = v;
+    e->source = src;
+    e->from_command_line = from_command_line;
     return TL_OK;
   }
   TL_CHECK(tl_array_reserve(&o->entry, &o->cap_entry, o->n_entry + 1, sizeof *o->entry));
@@ -82,7 +107,51 @@ static TlStatus tl_add_entry(TlOptions *o, const char *name, const char *value, 
   e->name = tl_options_strdup(name);
   e->value = tl_options_strdup(value);
   e->source = tl_options_strdup(source);
+  e->from_command_line = from_command_line;
+  e->used = 0;
   if (!e->name || (value && !e->value) || !e->source) TL_ERROR(TL_ERR_MEM, "out of memory storing option %s", name);
+  return TL_OK;
+}
+
+static int tl_is_help(const char *s)
+{
+  return strcmp(s, "-help") == 0 || strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0;
+}
+
+static int tl_is_version(const char *s) { return strcmp(s, "-version") == 0 || strcmp(s, "--version") == 0; }
+
+static TlStatus tl_parse_bool_text(const char *name, const char *text, int *value)
+{
+  static const char *const yes[] = {"1", "true", "yes", "on"}, *const no[] = {"0", "false", "no", "off"};
+  for (int i = 0; i < 4; ++i) {
+    if (strcasecmp(text, yes[i]) == 0) return (*value = 1), TL_OK;
+    if (strcasecmp(text, no[i]) == 0) return (*value = 0), TL_OK;
+  }
+  TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not a boolean (true/false, yes/no, on/off, 1/0)", name, text);
+}
+
+/* The options every program has, handled here rather than by a getter:
+ * they are not part of a run's physics (not stored in checkpoints). */
+static TlStatus tl_builtin(TlOptions *o, const char *name, const char *value, int *consumed, int *handled)
+{
+  *handled = 1;
+  *consumed = 0;
+  if (strcmp(name, "-options_left") == 0) {
+    int v = 1, b = 1;
+    if (value && tl_parse_bool_text(name, value, &b) == TL_OK) v = b, *consumed = 1;
+    tl_error_clear();
+    o->options_left = v;
+    return TL_OK;
+  }
+  if (strcmp(name, "-log_level") == 0) {
+    int level = value ? tl_log_level_from_name(value) : -1;
+    if (level < 0)
+      TL_ERROR(TL_ERR_ARG, "option -log_level: '%s' is not one of error|warn|info|debug", value ? value : "");
+    tl_log_set_level((TlLogLevel)level);
+    *consumed = 1;
+    return TL_OK;
+  }
+  *handled = 0;
   return TL_OK;
 }
 
@@ -96,49 +165,68 @@ TlStatus tl_options_create(int argc, char **argv, const char *description, TlOpt
   o->program = tl_options_strdup(slash ? slash + 1 : prog);
   o->description = tl_options_strdup(description ? description : "");
   size_t len = 1;
-  for (int i = 0; i < argc; ++i) len += strlen(argv[i]) + 1;
+  for (int i = 0; i < argc; ++i) len += strlen(argv[i]) + 3;
   TL_CHECK(tl_calloc(&o->command_line, len, 1));
   for (int i = 0; i < argc; ++i) {
+    /* Empty words and words with blanks quoted, so the line can be rerun. */
+    int quote = argv[i][0] == '\0' || strpbrk(argv[i], " \t\"") != NULL;
+    if (i) strcat(o->command_line, " ");
+    if (quote) strcat(o->command_line, "'");
     strcat(o->command_line, argv[i]);
-    if (i + 1 < argc) strcat(o->command_line, " ");
+    if (quote) strcat(o->command_line, "'");
   }
+  char group0[300];
+  snprintf(group0, sizeof group0, "%s options", o->program ? o->program : "program");
+  TlStatus s = tl_options_begin_group(o, group0);
 
-  const char *options_file = NULL;
-  for (int i = 1; i < argc; ++i) {
+  const char **files = NULL;
+  size_t n_files = 0, cap_files = 0;
+  for (int i = 1; s == TL_OK && i < argc; ++i) {
     const char *name = argv[i];
+    if (tl_is_help(name)) {
+      o->help = 1;
+      continue;
+    }
+    if (tl_is_version(name)) {
+      o->version = 1;
+      continue;
+    }
     if (!tl_is_option_name(name)) {
-      TlStatus s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
-                                "argument '%s' is not an option (options start with '-', e.g. -t_end 40)", name);
-      tl_options_destroy(options);
-      return s;
+      s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__,
+                       "argument '%s' is not an option (options start with '-', e.g. -t_end 40)", name);
+      break;
     }
     const char *value = NULL;
-    if (i + 1 < argc && !tl_is_option_name(argv[i + 1])) value = argv[++i];
-    if (strcmp(name, "-help") == 0 || strcmp(name, "-h") == 0 || strcmp(name, "--help") == 0) {
-      o->help = 1;
-      if (value) --i; /* -help takes no value */
-      continue;
-    }
+    if (i + 1 < argc && !tl_is_option_name(argv[i + 1]) && !tl_is_help(argv[i + 1]) && !tl_is_version(argv[i + 1]))
+      value = argv[i + 1];
     if (strcmp(name, "-options_file") == 0) {
       if (!value) {
-        tl_options_destroy(options);
-        TL_ERROR(TL_ERR_ARG, "option -options_file needs a file name");
+        s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "option -options_file needs a file name");
+        break;
       }
-      options_file = value;
+      if ((s = tl_array_reserve(&files, &cap_files, n_files + 1, sizeof *files))) break;
+      files[n_files++] = value;
+      ++i;
       continue;
     }
-    TlStatus s = tl_add_entry(o, name, value, "command line", 0);
-    if (s) {
-      tl_options_destroy(options);
-      return tl_error_trace(s, __FILE__, __LINE__);
+    int consumed, handled;
+    if ((s = tl_builtin(o, name, value, &consumed, &handled))) break;
+    if (handled) {
+      i += consumed;
+      continue;
     }
+    char source[64];
+    snprintf(source, sizeof source, "command line, argument %d", i);
+    s = tl_add_entry(o, name, value, source, 1);
+    if (value) ++i;
   }
-  if (options_file) {
-    TlStatus s = tl_options_insert_file(o, options_file);
-    if (s) {
-      tl_options_destroy(options);
-      return tl_error_trace(s, __FILE__, __LINE__);
-    }
+  /* Files in the order given: a later file overrides an earlier one, the
+   * command line overrides both. */
+  for (size_t k = 0; s == TL_OK && k < n_files; ++k) s = tl_options_insert_file(o, files[k]);
+  free(files);
+  if (s) {
+    tl_options_destroy(options);
+    return tl_error_trace(s, __FILE__, __LINE__);
   }
   return TL_OK;
 }
@@ -147,6 +235,7 @@ void tl_options_destroy(TlOptions **options)
 {
   TlOptions *o = *options;
   if (!o) return;
+  if (tl_options_current() == o) tl_options_set_current(NULL);
   for (size_t i = 0; i < o->n_entry; ++i) {
     free(o->entry[i].name);
     free(o->entry[i].value);
@@ -158,8 +247,11 @@ void tl_options_destroy(TlOptions **options)
     free(o->doc[i].def);
     free(o->doc[i].unit);
     free(o->doc[i].help);
+    free(o->doc[i].range);
     free(o->doc[i].value);
   }
+  for (size_t i = 0; i < o->n_group; ++i) free(o->group[i]);
+  free(o->group);
   for (size_t i = 0; i < o->n_restart_safe; ++i) free(o->restart_safe[i]);
   free(o->restart_safe);
   free(o->entry);
@@ -179,12 +271,9 @@ TlStatus tl_options_insert_file(TlOptions *o, const char *path)
   if (S_ISDIR(st.st_mode)) TL_ERROR(TL_ERR_IO, "options file '%s' is a directory, not a file", path);
   FILE *f = fopen(path, "r");
   if (!f) TL_ERROR(TL_ERR_IO, "cannot open options file '%s': %s", path, strerror(errno));
-  /* File entries go in first-come; command-line entries already present win. */
   char line[4096];
   int lineno = 0;
   TlStatus s = TL_OK;
-  char **seen = NULL;
-  size_t n_seen = 0, cap_seen = 0;
   while (fgets(line, sizeof line, f)) {
     ++lineno;
     char *hash = strchr(line, '#');
@@ -201,42 +290,81 @@ TlStatus tl_options_insert_file(TlOptions *o, const char *path)
                        value ? value : "");
       break;
     }
-    for (size_t k = 0; k < n_seen; ++k)
-      if (strcmp(seen[k], name) == 0) {
-        s = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "option %s given twice in %s", name, path);
-        goto done;
-      }
-    if ((s = tl_array_reserve(&seen, &cap_seen, n_seen + 1, sizeof *seen))) break;
-    seen[n_seen++] = tl_options_strdup(name);
-    TlOptionEntry *e = tl_find(o, name);
-    if (e && strcmp(e->source, "command line") == 0) {
-      tl_info("option %s: command-line value overrides %s", name, source);
-      continue;
+    if (strcmp(name, "-options_file") == 0) {
+      s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__,
+                       "%s: -options_file inside an options file (give every file on the command line)", source);
+      break;
     }
+    int consumed, handled;
+    if ((s = tl_builtin(o, name, value, &consumed, &handled))) break;
+    if (handled) continue;
+    /* Within a file, as on the command line, the last value wins. */
     if ((s = tl_add_entry(o, name, value, source, 0))) break;
   }
   if (s == TL_OK && ferror(f))
     s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "cannot read options file '%s' (after line %d)", path, lineno);
-done:
-  for (size_t k = 0; k < n_seen; ++k) free(seen[k]);
-  free(seen);
   fclose(f);
   return s;
 }
 
-static TlStatus tl_document(TlOptions *o, const char *name, const char *kind, const char *def,
-                            const char *unit, const char *help)
+TlStatus tl_options_begin_group(TlOptions *o, const char *title)
+{
+  if (o->group_depth >= TL_OPTIONS_GROUP_DEPTH)
+    TL_ERROR(TL_ERR_STATE, "option groups nested deeper than %d (at '%s'): a begin without its end?",
+             TL_OPTIONS_GROUP_DEPTH, title);
+  size_t k = 0;
+  while (k < o->n_group && strcmp(o->group[k], title) != 0) ++k;
+  if (k == o->n_group) {
+    TL_CHECK(tl_array_reserve(&o->group, &o->cap_group, o->n_group + 1, sizeof *o->group));
+    o->group[k] = tl_options_strdup(title);
+    if (!o->group[k]) TL_ERROR(TL_ERR_MEM, "no memory for option group '%s'", title);
+    o->n_group++;
+  }
+  o->group_stack[o->group_depth++] = k;
+  return TL_OK;
+}
+
+void tl_options_end_group(TlOptions *o)
+{
+  if (o->group_depth > 1) o->group_depth--;
+}
+
+static char *tl_format_range(double lo, double hi)
+{
+  char buf[128] = "";
+  if (lo > -INFINITY && hi < INFINITY)
+    snprintf(buf, sizeof buf, "[%.10g, %.10g]", lo, hi);
+  else if (lo > -INFINITY)
+    snprintf(buf, sizeof buf, ">= %.10g", lo);
+  else if (hi < INFINITY)
+    snprintf(buf, sizeof buf, "<= %.10g", hi);
+  return tl_options_strdup(buf);
+}
+
+static TlStatus tl_document_range(TlOptions *o, const char *name, const char *kind, const char *def,
+                                  const char *unit, const char *help, double lo, double hi)
 {
   for (size_t i = 0; i < o->n_doc; ++i)
     if (strcmp(o->doc[i].name, name) == 0) return TL_OK;
   TL_CHECK(tl_array_reserve(&o->doc, &o->cap_doc, o->n_doc + 1, sizeof *o->doc));
   TlOptionDoc *d = &o->doc[o->n_doc++];
+  memset(d, 0, sizeof *d);
   d->name = tl_options_strdup(name);
   d->kind = tl_options_strdup(kind);
   d->def = tl_options_strdup(def ? def : "");
   d->unit = tl_options_strdup(unit ? unit : "");
   d->help = tl_options_strdup(help ? help : "");
+  d->range = tl_format_range(lo, hi);
+  d->group = o->group_depth ? o->group_stack[o->group_depth - 1] : 0;
+  if (!d->name || !d->kind || !d->def || !d->unit || !d->help || !d->range)
+    TL_ERROR(TL_ERR_MEM, "no memory to document option %s", name);
   return TL_OK;
+}
+
+static TlStatus tl_document(TlOptions *o, const char *name, const char *kind, const char *def,
+                            const char *unit, const char *help)
+{
+  return tl_document_range(o, name, kind, def, unit, help, -INFINITY, INFINITY);
 }
 
 /* Records the value in force of a documented option, in canonical text. */
@@ -300,7 +428,7 @@ TlStatus tl_options_get_real(TlOptions *o, const char *name, double def, double 
 {
   char buf[64];
   snprintf(buf, sizeof buf, "%g", def);
-  TL_CHECK(tl_document(o, name, "<real>", buf, unit, help));
+  TL_CHECK(tl_document_range(o, name, "<real>", buf, unit, help, lo, hi));
   const char *text;
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
@@ -315,7 +443,8 @@ TlStatus tl_options_get_int(TlOptions *o, const char *name, long def, long lo, l
 {
   char buf[64];
   snprintf(buf, sizeof buf, "%ld", def);
-  TL_CHECK(tl_document(o, name, "<int>", buf, NULL, help));
+  TL_CHECK(tl_document_range(o, name, "<int>", buf, NULL, help, lo == LONG_MIN ? -INFINITY : (double)lo,
+                             hi == LONG_MAX ? INFINITY : (double)hi));
   const char *text;
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
@@ -345,12 +474,8 @@ TlStatus tl_options_get_bool(TlOptions *o, const char *name, int def, const char
     *value = 1;
     return tl_resolve(o, name, "true");
   }
-  static const char *const yes[] = {"1", "true", "yes", "on"}, *const no[] = {"0", "false", "no", "off"};
-  for (int i = 0; i < 4; ++i) {
-    if (strcmp(text, yes[i]) == 0) return (*value = 1), tl_resolve(o, name, "true");
-    if (strcmp(text, no[i]) == 0) return (*value = 0), tl_resolve(o, name, "false");
-  }
-  TL_ERROR(TL_ERR_ARG, "option %s: '%s' is not a boolean (true/false, yes/no, 1/0)", name, text);
+  TL_CHECK(tl_parse_bool_text(name, text, value));
+  return tl_resolve(o, name, "%s", *value ? "true" : "false");
 }
 
 TlStatus tl_options_get_string(TlOptions *o, const char *name, const char *def, const char *help,
@@ -411,7 +536,7 @@ TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, 
   for (int i = 0; i < n && len < (int)sizeof doc_unit; ++i)
     len += snprintf(doc_unit + len, sizeof doc_unit - (size_t)len, ", or suffix %s = %s", scales[i].suffix,
                     scales[i].meaning);
-  TL_CHECK(tl_document(o, name, "<real[suffix]>", def, doc_unit, help));
+  TL_CHECK(tl_document_range(o, name, "<real[suffix]>", def, doc_unit, help, lo, hi));
   const char *text;
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
@@ -423,7 +548,7 @@ TlStatus tl_options_get_scaled(TlOptions *o, const char *name, const char *def, 
 TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const char *def, double lo, double hi,
                                         const char *unit, const char *help, double *values, int max, int *count)
 {
-  TL_CHECK(tl_document(o, name, "<real,real,...>", def, unit, help));
+  TL_CHECK(tl_document_range(o, name, "<real,real,...>", def, unit, help, lo, hi));
   const char *text;
   int given;
   TL_CHECK(tl_lookup(o, name, 1, &text, &given));
@@ -471,7 +596,8 @@ int tl_options_has(TlOptions *o, const char *name)
   return e != NULL;
 }
 
-/* Levenshtein distance, to suggest the intended name of a mistyped option. */
+/* Edit distance with adjacent transpositions counted as one edit (optimal
+ * string alignment), to suggest the intended name of a mistyped option. */
 static size_t tl_edit_distance(const char *a, const char *b)
 {
   size_t na = strlen(a), nb = strlen(b);
@@ -483,40 +609,167 @@ static size_t tl_edit_distance(const char *a, const char *b)
     for (size_t j = 1; j <= nb; ++j) {
       size_t sub = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
       size_t del = d[i - 1][j] + 1, ins = d[i][j - 1] + 1;
-      d[i][j] = sub < del ? (sub < ins ? sub : ins) : (del < ins ? del : ins);
+      size_t best = sub < del ? (sub < ins ? sub : ins) : (del < ins ? del : ins);
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < best)
+        best = d[i - 2][j - 2] + 1;
+      d[i][j] = best;
     }
   return d[na][nb];
 }
 
+/* A suggestion only when the names are close for their length: one edit in
+ * a name of up to 4 letters, two up to 8, three beyond; so -t_ned finds
+ * -t_end but -foo does not find -rho. */
+static size_t tl_edits_allowed(const char *name)
+{
+  size_t n = strlen(name) > 0 ? strlen(name) - 1 : 0; /* without the '-' */
+  return n <= 4 ? 1 : n <= 8 ? 2 : 3;
+}
+
+const char *tl_options_suggest(const TlOptions *o, const char *name)
+{
+  static const char *const builtin[] = {"-help", "-version", "-options_file", "-options_left", "-log_level", NULL};
+  const char *best = NULL;
+  size_t best_d = tl_edits_allowed(name) + 1;
+  for (size_t k = 0; k < o->n_doc; ++k) {
+    size_t d = tl_edit_distance(name, o->doc[k].name);
+    if (d < best_d) best_d = d, best = o->doc[k].name;
+  }
+  for (int k = 0; builtin[k]; ++k) {
+    size_t d = tl_edit_distance(name, builtin[k]);
+    if (d < best_d) best_d = d, best = builtin[k];
+  }
+  return best;
+}
+
+/* Writes `text` from column `col` (the cursor's), wrapping words at
+ * TL_OPTIONS_HELP_WIDTH with continuation lines indented to `indent`. */
+static void tl_wrap(FILE *out, int col, int indent, const char *text)
+{
+  const char *p = text;
+  int first = 1;
+  while (*p) {
+    while (*p == ' ') ++p;
+    if (!*p) break;
+    size_t w = strcspn(p, " ");
+    if (!first && col + 1 + (int)w > TL_OPTIONS_HELP_WIDTH && col > indent) {
+      fprintf(out, "\n%*s", indent, "");
+      col = indent;
+      first = 1;
+    }
+    if (!first) {
+      fputc(' ', out);
+      ++col;
+    }
+    fwrite(p, 1, w, out);
+    col += (int)w;
+    p += w;
+    first = 0;
+  }
+  fputc('\n', out);
+}
+
+/* One option of -help: the name column, then the description wrapped. */
+static void tl_help_line(FILE *out, const char *head, const char *text)
+{
+  enum { COLUMN = 30 };
+  int col = fprintf(out, "  %s", head);
+  if (col + 2 > COLUMN) {
+    fprintf(out, "\n%*s", COLUMN, "");
+  } else {
+    fprintf(out, "%*s", COLUMN - col, "");
+  }
+  tl_wrap(out, COLUMN, COLUMN, text);
+}
+
+static void tl_print_help(const TlOptions *o, FILE *out)
+{
+  fprintf(out, "usage: %s [options]\n\n", o->program);
+  /* The description keeps its own line breaks; long lines are wrapped. */
+  const char *p = o->description;
+  while (*p) {
+    size_t n = strcspn(p, "\n");
+    char line[4096];
+    size_t m = n < sizeof line - 1 ? n : sizeof line - 1;
+    memcpy(line, p, m);
+    line[m] = '\0';
+    if (m == 0)
+      fputc('\n', out);
+    else
+      tl_wrap(out, 0, 0, line);
+    p += n;
+    if (*p == '\n') ++p;
+  }
+  fprintf(out, "\nGeneral options:\n");
+  tl_help_line(out, "-help, --help", "print this help and exit");
+  tl_help_line(out, "-version, --version", "print the program, the Talus version and the git revision it was built from, and exit");
+  tl_help_line(out, "-options_file <path>", "read options from a file, one '-name value' a line, '#' a comment (repeatable; "
+                                            "a later file overrides an earlier one, the command line overrides both)");
+  tl_help_line(out, "-options_left [<bool>]", "list the options given but never read, as warnings, instead of refusing "
+                                              "them (default: false)");
+  tl_help_line(out, "-log_level <error|warn|info|debug>",
+               "the messages printed on stderr (default: info, or the environment variable TALUS_LOG_LEVEL)");
+  fprintf(out, "A repeated option takes its last value.\n");
+  for (size_t g = 0; g < o->n_group; ++g) {
+    int any = 0;
+    for (size_t i = 0; i < o->n_doc; ++i) {
+      const TlOptionDoc *d = &o->doc[i];
+      if (d->group != g) continue;
+      if (!any) fprintf(out, "\n%s:\n", o->group[g]);
+      any = 1;
+      char head[600], text[4096];
+      snprintf(head, sizeof head, "%s %s", d->name, d->kind);
+      int n = snprintf(text, sizeof text, "%s", d->help);
+      if (d->unit[0] && n < (int)sizeof text) n += snprintf(text + n, sizeof text - (size_t)n, " [%s]", d->unit);
+      if (n < (int)sizeof text)
+        n += snprintf(text + n, sizeof text - (size_t)n, " (default: %s%s%s)", d->def[0] ? d->def : "none",
+                      d->range[0] ? "; range " : "", d->range);
+      tl_help_line(out, head, text);
+    }
+  }
+}
+
+static const TlOptions *tl_options_current_db;
+
+void tl_options_set_current(const TlOptions *o) { tl_options_current_db = o; }
+const TlOptions *tl_options_current(void) { return tl_options_current_db; }
+
 TlStatus tl_options_finish(TlOptions *o, FILE *out)
 {
   if (o->help) {
-    fprintf(out, "usage: %s [options]\n\n%s\n\nOptions:\n", o->program, o->description);
-    fprintf(out, "  %-24s %s\n", "-help", "print this help and exit");
-    fprintf(out, "  %-24s %s\n", "-options_file <path>", "read further options, one '-name value' a line");
-    for (size_t i = 0; i < o->n_doc; ++i) {
-      char head[160];
-      snprintf(head, sizeof head, "%s %s", o->doc[i].name, o->doc[i].kind);
-      fprintf(out, "  %-24s %s", head, o->doc[i].help);
-      if (o->doc[i].unit[0]) fprintf(out, " [%s]", o->doc[i].unit);
-      fprintf(out, " (default: %s)\n", o->doc[i].def[0] ? o->doc[i].def : "none");
-    }
+    tl_print_help(o, out);
     return TL_HELP;
   }
-  for (size_t i = 0; i < o->n_entry; ++i) {
-    if (o->entry[i].used) continue;
-    const char *best = NULL;
-    size_t best_d = 4;
-    for (size_t k = 0; k < o->n_doc; ++k) {
-      size_t d = tl_edit_distance(o->entry[i].name, o->doc[k].name);
-      if (d < best_d) best_d = d, best = o->doc[k].name;
-    }
-    if (best)
-      TL_ERROR(TL_ERR_ARG, "unknown option %s (%s); did you mean %s? (-help lists all)", o->entry[i].name,
-               o->entry[i].source, best);
-    TL_ERROR(TL_ERR_ARG, "unknown option %s (%s); -help lists the options of %s", o->entry[i].name,
-             o->entry[i].source, o->program);
+  if (o->version) {
+    fprintf(out, "%s (Talus %s, revision %s)\n", o->program, tl_version(), tl_revision());
+    return TL_HELP;
   }
+  size_t n_unused = 0;
+  for (size_t i = 0; i < o->n_entry; ++i) n_unused += !o->entry[i].used;
+  if (o->options_left) {
+    if (n_unused == 0) tl_info("-options_left: every option given was read");
+    for (size_t i = 0; i < o->n_entry; ++i)
+      if (!o->entry[i].used) {
+        const char *best = tl_options_suggest(o, o->entry[i].name);
+        tl_warn("option %s%s%s (%s) was given but never read%s%s", o->entry[i].name, o->entry[i].value ? " " : "",
+                o->entry[i].value ? o->entry[i].value : "", o->entry[i].source, best ? "; did you mean " : "",
+                best ? best : "");
+      }
+  } else if (n_unused) {
+    /* Every unknown option in one message, each with its suggestion. */
+    char msg[4096];
+    size_t len = 0;
+    msg[0] = '\0';
+    for (size_t i = 0; i < o->n_entry && len < sizeof msg; ++i) {
+      if (o->entry[i].used) continue;
+      const char *best = tl_options_suggest(o, o->entry[i].name);
+      len += (size_t)snprintf(msg + len, sizeof msg - len, "%s%s (%s)%s%s%s", len ? "; " : "", o->entry[i].name,
+                              o->entry[i].source, best ? ", did you mean " : "", best ? best : "", best ? "?" : "");
+    }
+    TL_ERROR(TL_ERR_ARG, "unknown option%s %s; -help lists the options of %s (-options_left lists unknown options "
+             "without refusing them)", n_unused > 1 ? "s" : "", msg, o->program);
+  }
+  tl_options_set_current(o);
   return TL_OK;
 }
 
@@ -525,7 +778,7 @@ TlStatus tl_options_finish(TlOptions *o, FILE *out)
 static int tl_builtin_restart_safe(const char *name)
 {
   static const char *const exact[] = {"-t_end", "-restart", "-output_dir", "-checkpoint_every", "-stop_step",
-                                      "-threads", "-check", "-tolerance", NULL};
+                                      "-threads", "-check", "-tolerance", "-log_level", "-options_left", NULL};
   static const char *const prefix[] = {"-snapshot", "-table_", "-output_", "-progress", NULL};
   for (int i = 0; exact[i]; ++i)
     if (strcmp(name, exact[i]) == 0) return 1;

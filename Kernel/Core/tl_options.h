@@ -2,10 +2,27 @@
  *
  * A driver creates it from argv (which may name -options_file FILE), then asks
  * for each option it uses through a typed getter that states the default, the
- * unit and a one-line description.  tl_options_finish() then either prints the
- * -help page built from those getters (and returns TL_HELP), or refuses any
- * option that was given but never asked for, so a typo is never silently
- * ignored.  Every value error names the option, the value and the limit. */
+ * range, the unit and a one-line description.  tl_options_finish() then either
+ * prints the -help page built from those getters (and returns TL_HELP), or
+ * refuses any option that was given but never asked for, so a typo is never
+ * silently ignored.  Every value error names the option, the value and the
+ * limit.
+ *
+ * Rules a user relies on:
+ *  - the last value of a repeated option wins, so a wrapper may run
+ *    `driver $DEFAULTS "$@"`; options files are read in order, a later one
+ *    overriding an earlier one, and the command line overrides every file;
+ *  - every program accepts -help (also --help, -h), -version (--version),
+ *    -options_file FILE (repeatable), -options_left (list the options given
+ *    but never read as warnings instead of refusing them) and -log_level
+ *    error|warn|info|debug (over the environment's TALUS_LOG_LEVEL);
+ *  - -help groups the options by module (tl_options_begin_group), shows each
+ *    one's unit, default and range, wrapped at TL_OPTIONS_HELP_WIDTH columns;
+ *  - an unknown option is refused with a suggestion only when a known name is
+ *    close to it (edit distance 1 for names up to 4 letters, 2 up to 8, 3
+ *    beyond; a transposition counts as one edit);
+ *  - booleans accept true/false, yes/no, on/off, 1/0 (any case), and a bare
+ *    -flag means true. */
 #ifndef TL_OPTIONS_H
 #define TL_OPTIONS_H
 
@@ -13,6 +30,8 @@
 #include "tl_error.h"
 
 typedef struct TlOptions TlOptions;
+
+#define TL_OPTIONS_HELP_WIDTH 100
 
 /* A unit suffix accepted by tl_options_get_scaled: "10d" means 10 * factor
  * of the suffix "d" (for instance the particle diameter). */
@@ -29,6 +48,12 @@ void tl_options_destroy(TlOptions **options);
  * A command-line value overrides a file value; a duplicate within one source
  * is an error. */
 TlStatus tl_options_insert_file(TlOptions *options, const char *path);
+
+/* Options asked for between begin and end are listed under `title` in -help
+ * ("contact law", "output"); groups nest, and a title used again continues
+ * its group.  Options asked for outside any group are the program's own. */
+TlStatus tl_options_begin_group(TlOptions *o, const char *title);
+void tl_options_end_group(TlOptions *o);
 
 /* Typed getters: *value is the given value or the default. */
 TlStatus tl_options_get_real(TlOptions *o, const char *name, double def, double lo, double hi,
@@ -59,9 +84,18 @@ TlStatus tl_options_get_real_list_range(TlOptions *o, const char *name, const ch
 /* Whether the option was given (and marks it used). */
 int tl_options_has(TlOptions *o, const char *name);
 
-/* After every getter: TL_HELP (help printed to `out`) if -help was given;
- * an error for any option given and never asked for; TL_OK otherwise. */
+/* After every getter: TL_HELP (help, or with -version the version line,
+ * printed to `out`) if asked for; an error naming every option given and
+ * never asked for (warnings instead with -options_left); TL_OK otherwise,
+ * and the database becomes the current one (tl_options_current). */
 TlStatus tl_options_finish(TlOptions *o, FILE *out);
+/* The known option closest to `name` (NULL when none is close enough). */
+const char *tl_options_suggest(const TlOptions *o, const char *name);
+/* The database of the running program: the last one finished and not yet
+ * destroyed, NULL when none.  The output writers record its command line and
+ * values in every file (Kernel/IO/tl_provenance.h). */
+const TlOptions *tl_options_current(void);
+void tl_options_set_current(const TlOptions *o);
 /* The program name (argv[0] without its folder). */
 /* The values in force of the options asked for so far (given or default),
  * in canonical text (reals with 17 digits, booleans true/false): what a

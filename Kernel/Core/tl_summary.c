@@ -1,8 +1,11 @@
 #include "tl_summary.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <string.h>
+
+#include "tl_init.h"
 
 void tl_summary_init(TlSummary *s)
 {
@@ -57,11 +60,34 @@ void tl_summary_string(TlSummary *s, const char *key, const char *value)
   tl_summary_append(s, " %s=%s", key, value);
 }
 
+/* The status the last printed summary line reported (TL_OK, or
+ * TL_ERR_NUMERIC for undefined figures), -1 before any: tl_summary_end()
+ * adds a line only when that one does not already tell how the run ended. */
+static int tl_summary_last = -1;
+
 TlStatus tl_summary_print(const TlSummary *s, FILE *out)
 {
-  fprintf(out, "summary:%s\n", s->text);
+  TlStatus status = s->n_undefined ? TL_ERR_NUMERIC : TL_OK;
+  fprintf(out, "summary:%s status=%s", s->text, status == TL_OK ? "ok" : "undefined");
+  if (status != TL_OK) fprintf(out, " exit=%d", tl_exit_code(status));
+  fputc('\n', out);
   fflush(out);
+  tl_summary_last = (int)status;
   if (s->n_undefined == 0) return TL_OK;
   return tl_error_set(TL_ERR_NUMERIC, __FILE__, __LINE__, "%d summary figure%s undefined (%s)",
                       s->n_undefined, s->n_undefined > 1 ? "s" : "", s->undefined);
+}
+
+void tl_summary_end(TlStatus status, FILE *out)
+{
+  if (status == TL_OK || status == TL_HELP) return;
+  if (tl_summary_last == (int)status) return;
+  /* The status name as one word: "invalid argument" -> invalid_argument. */
+  char word[64];
+  snprintf(word, sizeof word, "%s", tl_status_name(status));
+  for (char *c = word; *c; ++c)
+    if (!isalnum((unsigned char)*c)) *c = '_';
+  fprintf(out, "summary: status=%s exit=%d error=%s\n", tl_exit_word(status), tl_exit_code(status), word);
+  fflush(out);
+  tl_summary_last = (int)status;
 }

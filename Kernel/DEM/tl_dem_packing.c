@@ -26,7 +26,8 @@ TlStatus tl_dem_packing_write(TlDem *dem, TlParticleWriter *writer, int64_t step
   const TlDomain *D = tl_dem_domain(dem);
   TL_CHECK(fully_periodic(D, "tl_dem_packing_write"));
   TlParticles *P = tl_dem_particles(dem);
-  TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, (const int *)P->species, 0, NULL};
+  TlParticleView view;
+  tl_particle_view_of(P, &view);
   TL_CHECK(tl_particle_writer_write(writer, step, tl_dem_time(dem), &view));
   const char *file = tl_particle_writer_last_path(writer);
   /* the cell joins the committed snapshot: the reader of snapshots ignores it */

@@ -7,6 +7,7 @@
 
 #include "tl_atomic_file.h"
 #include "tl_memory.h"
+#include "tl_provenance.h"
 
 /* ------------------------------------------------------------ errors */
 static herr_t tl_h5_walk(unsigned n, const H5E_error2_t *err, void *data)
@@ -63,6 +64,12 @@ static TlStatus tl_h5_create_impl(const char *path, TlH5File *file, int sealed)
     s = tl_error_set(TL_ERR_IO, __FILE__, __LINE__, "HDF5: cannot create '%s' (temporary for '%s'): %s",
                      file->temp, path, tl_h5_reason());
     goto fail;
+  }
+  /* Every file says what made it (tl_provenance.h). */
+  s = tl_provenance_write_h5(file);
+  if (s != TL_OK) {
+    tl_h5_abort(file);
+    return tl_error_trace(s, __FILE__, __LINE__);
   }
   return TL_OK;
 fail:

@@ -43,6 +43,9 @@ TlStatus tl_h5_open(const char *path, TlH5File *file);
 TlStatus tl_h5_create_sealed(const char *path, TlH5File *file);
 TlStatus tl_h5_open_sealed(const char *path, TlH5File *file);
 TlStatus tl_h5_seal(const char *path);
+/* Writes the group /provenance (tl_provenance.h) into a file being
+ * created; tl_h5_create and tl_h5_create_sealed call it. */
+TlStatus tl_provenance_write_h5(TlH5File *file);
 /* Closes a file opened for reading (harmless on a closed one). */
 void tl_h5_close(TlH5File *file);
 

@@ -31,7 +31,10 @@ TlStatus tl_output_dir(TlOptions *options, char **dir)
   const char *program = tl_options_program(options);
   snprintf(def, sizeof def, "results/%s", program && program[0] ? program : "talus");
   const char *value;
-  TL_CHECK(tl_options_get_string(options, "-output_dir", def, "folder for every output file", &value));
+  TL_CHECK(tl_options_begin_group(options, "Output"));
+  TlStatus sg = tl_options_get_string(options, "-output_dir", def, "folder for every output file", &value);
+  tl_options_end_group(options);
+  TL_CHECK(sg);
   TL_CHECK(tl_output_dir_check(value));
   size_t n = strlen(value);
   TL_CHECK(tl_calloc(dir, n + 1, 1));

@@ -6,11 +6,13 @@
 #include "tl_atomic_file.h"
 #include "tl_hdf5_util.h"
 #include "tl_memory.h"
+#include "tl_provenance.h"
 
 _Static_assert(sizeof(TlVec3) == 3 * sizeof(double), "TlVec3 must be three packed doubles");
 
 struct TlParticleWriter {
   TlSeriesOutput out; /* folder, name, .xmf series, step count, last file, XML buffer */
+  int csv;            /* also <name>_<k>.csv, one row per particle */
   int *vertices; /* 0..n-1, the vertex cells; grown, never shrunk */
   size_t vertices_capacity;
 };
@@ -39,6 +41,36 @@ fail:
 }
 
 size_t tl_particle_writer_count(const TlParticleWriter *writer) { return writer->out.count; }
+void tl_particle_writer_set_csv(TlParticleWriter *writer, int on) { writer->csv = on != 0; }
+
+typedef struct {
+  const TlParticleView *v;
+  double time;
+  int64_t step;
+} TlPwCsv;
+
+/* One row per particle: id, species, position, radius, velocity (the
+ * columns the view has), after the provenance lines. */
+static TlStatus tl_pw_write_csv(FILE *f, void *context)
+{
+  const TlPwCsv *c = context;
+  const TlParticleView *v = c->v;
+  TL_CHECK(tl_provenance_write_text(f, "# "));
+  fprintf(f, "# time: %.17g s, step %lld\n", c->time, (long long)c->step);
+  if (v->id) fputs("id,", f);
+  if (v->species) fputs("species,", f);
+  fputs("x [m],y [m],z [m],radius [m]", f);
+  if (v->velocity) fputs(",vx [m/s],vy [m/s],vz [m/s]", f);
+  fputc('\n', f);
+  for (size_t i = 0; i < v->n; ++i) {
+    if (v->id) fprintf(f, "%lld,", (long long)v->id[i]);
+    if (v->species) fprintf(f, "%d,", v->species[i]);
+    fprintf(f, "%.17g,%.17g,%.17g,%.17g", v->position[i].x, v->position[i].y, v->position[i].z, v->radius[i]);
+    if (v->velocity) fprintf(f, ",%.17g,%.17g,%.17g", v->velocity[i].x, v->velocity[i].y, v->velocity[i].z);
+    if (fputc('\n', f) == EOF) TL_ERROR(TL_ERR_IO, "write error at particle %zu", i);
+  }
+  return TL_OK;
+}
 const char *tl_particle_writer_last_path(const TlParticleWriter *writer) { return writer->out.last_path; }
 
 static TlStatus tl_pw_vec3(TlH5File *f, const char *path, size_t n, const TlVec3 *v)
@@ -67,6 +99,7 @@ static TlStatus tl_pw_write_h5(const char *path, int64_t step, double time, cons
   if (v->force) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/force", v->n, v->force), fail);
   if (v->torque) TL_CHECK_GOTO(s, tl_pw_vec3(&f, "/particles/torque", v->n, v->torque), fail);
   if (v->species) TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/species", H5T_NATIVE_INT, 1, &n, v->species), fail);
+  if (v->id) TL_CHECK_GOTO(s, tl_h5_write(&f, "/particles/id", H5T_NATIVE_INT64, 1, &n, v->id), fail);
   if (v->n_fields > 0) {
     TL_CHECK_GOTO(s, tl_calloc(&names, v->n_fields, sizeof *names), fail);
     for (size_t i = 0; i < v->n_fields; ++i) {
@@ -112,6 +145,11 @@ static TlStatus tl_pw_grid(TlText *x, const char *file, size_t count, double tim
     TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 0, "Int", (int)sizeof(int), file, "/particles/species"));
     TL_CHECK(tl_text_printf(x, "        </Attribute>\n"));
   }
+  if (v->id) {
+    TL_CHECK(tl_text_printf(x, "        <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n"));
+    TL_CHECK(tl_xdmf_data_item(x, "          ", v->n, 0, "Int", 8, file, "/particles/id"));
+    TL_CHECK(tl_text_printf(x, "        </Attribute>\n"));
+  }
   for (size_t i = 0; i < v->n_fields; ++i) {
     char dset[512];
     snprintf(dset, sizeof dset, "/particles/fields/%s", v->fields[i].name);
@@ -131,7 +169,7 @@ static TlStatus tl_pw_check(const TlParticleWriter *w, const TlParticleView *v)
              v->position ? "position" : "no position", v->radius ? "radius" : "no radius");
   if (v->n_fields > 0 && !v->fields)
     TL_ERROR(TL_ERR_ARG, "particle output '%s': %zu fields announced, none given", w->out.name, v->n_fields);
-  static const char *const reserved[] = {"radius", "velocity", "angular_velocity", "force", "torque", "species"};
+  static const char *const reserved[] = {"radius", "velocity", "angular_velocity", "force", "torque", "species", "id"};
   for (size_t i = 0; i < v->n_fields; ++i) {
     TL_CHECK(tl_field_check(&v->fields[i], w->out.name));
     if (v->n > 0 && !v->fields[i].data)
@@ -162,10 +200,34 @@ TlStatus tl_particle_writer_write(TlParticleWriter *writer, int64_t step, double
   if (s == TL_OK) snprintf(writer->out.last_path, sizeof writer->out.last_path, "%s", path);
   tl_free(&path);
   TL_CHECK(s);
+  if (writer->csv) {
+    char csv[1100];
+    snprintf(csv, sizeof csv, "%s_%06zu.csv", writer->out.name, writer->out.count);
+    TL_CHECK(tl_path_join(writer->out.dir, csv, &path));
+    TlPwCsv ctx = {view, time, step};
+    s = tl_atomic_write(path, tl_pw_write_csv, &ctx);
+    tl_free(&path);
+    TL_CHECK(s);
+  }
   TL_CHECK(tl_pw_grid(&writer->out.grid, file, writer->out.count, time, view));
   TL_CHECK(tl_xdmf_series_add(writer->out.series, writer->out.grid.text));
   writer->out.count++;
   return TL_OK;
+}
+
+void tl_particle_view_of(const TlParticles *P, TlParticleView *v)
+{
+  _Static_assert(sizeof(int) == sizeof(int32_t), "species are int32 in the store, int in the view");
+  memset(v, 0, sizeof *v);
+  v->n = P->n;
+  v->position = P->x;
+  v->radius = P->radius;
+  v->velocity = P->v;
+  v->angular_velocity = P->w;
+  v->force = P->f;
+  v->torque = P->torque;
+  v->species = (const int *)P->species;
+  v->id = P->id;
 }
 
 /* ---------------------------------------------------------------- checkpoint */
@@ -205,6 +267,7 @@ void tl_particle_snapshot_free(TlParticleSnapshot *p)
   tl_free(&p->force);
   tl_free(&p->torque);
   tl_free(&p->species);
+  tl_free(&p->id);
   for (size_t i = 0; i < p->n_fields; ++i) {
     if (p->field_names) tl_free(&p->field_names[i]);
     if (p->field_data) tl_free(&p->field_data[i]);
@@ -254,6 +317,10 @@ static TlStatus tl_pr_read(const TlH5File *f, TlParticleSnapshot *p)
   if (tl_h5_exists(f, "/particles/species")) {
     TL_CHECK(tl_calloc(&p->species, n ? n : 1, sizeof *p->species));
     TL_CHECK(tl_h5_read(f, "/particles/species", H5T_NATIVE_INT, 1, &hn, p->species));
+  }
+  if (tl_h5_exists(f, "/particles/id")) {
+    TL_CHECK(tl_calloc(&p->id, n ? n : 1, sizeof *p->id));
+    TL_CHECK(tl_h5_read(f, "/particles/id", H5T_NATIVE_INT64, 1, &hn, p->id));
   }
   if (tl_h5_exists(f, "/particles/fields")) {
     size_t k;

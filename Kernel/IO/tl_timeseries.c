@@ -12,6 +12,7 @@
 #include "tl_atomic_file.h"
 #include "tl_hdf5_util.h"
 #include "tl_memory.h"
+#include "tl_provenance.h"
 
 struct TlTimeSeries {
   char *csv_path, *h5_path; /* NULL when that format is off */
@@ -152,6 +153,7 @@ TlStatus tl_timeseries_append(TlTimeSeries *ts, const double *row)
 static TlStatus tl_ts_write_csv(FILE *f, void *context)
 {
   const TlTimeSeries *t = context;
+  TL_CHECK(tl_provenance_write_text(f, "# "));
   for (size_t j = 0; j < t->cols; ++j) {
     fputs(j ? "," : "", f);
     if (t->units[j][0])
@@ -320,7 +322,13 @@ static TlStatus tl_table_read_csv_stream(FILE *f, const char *path, TlTable *t)
 {
   char *line = NULL;
   size_t cap = 0;
+  size_t lineno = 1;
   ssize_t len = getline(&line, &cap, f);
+  /* Comment lines before the header (the provenance) are skipped. */
+  while (len > 0 && line[0] == '#') {
+    len = getline(&line, &cap, f);
+    ++lineno;
+  }
   TlStatus s = TL_OK;
   if (len <= 0) {
     s = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "'%s' is empty: no header line", path);
@@ -341,7 +349,6 @@ static TlStatus tl_table_read_csv_stream(FILE *f, const char *path, TlTable *t)
     }
   }
   size_t capacity = 0;
-  size_t lineno = 1;
   while ((len = getline(&line, &cap, f)) > 0) {
     ++lineno;
     if (len == 1 && line[0] == '\n') continue;

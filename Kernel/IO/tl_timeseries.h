@@ -8,9 +8,12 @@
  * tl_timeseries_flush() and on tl_timeseries_close().  An interrupted run
  * therefore leaves complete files holding the rows up to the last flush.
  *
- * CSV: one header line "name [unit],name [unit],..." (a dimensionless column
- * is just "name"), then one line per row, values printed with 17 significant
- * digits so they read back exactly.
+ * CSV: the provenance as comment lines "# key: value" (tl_provenance.h:
+ * version, git revision, command line, every option), one header line
+ * "name [unit],name [unit],..." (a dimensionless column is just "name"),
+ * then one line per row, values printed with 17 significant digits so they
+ * read back exactly.  Readers skip the leading '#' lines (numpy.loadtxt and
+ * genfromtxt do by default; pandas with comment='#').
  * HDF5: dataset /table (rows x columns, double) with string-array attributes
  * "columns" and "units".
  *
@@ -73,7 +76,7 @@ typedef struct {
 } TlTable;
 
 /* Reads a CSV or HDF5 table written by a TlTimeSeries (or any CSV whose
- * first line is the header described above). */
+ * first line not starting with '#' is the header described above). */
 TlStatus tl_table_read_csv(const char *path, TlTable *table);
 TlStatus tl_table_read_hdf5(const char *path, TlTable *table);
 void tl_table_free(TlTable *table);

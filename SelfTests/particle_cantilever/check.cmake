@@ -86,7 +86,8 @@ foreach(line IN LISTS lines)
   endif()
   talus_check_value(${k} "${val_${k}}" ${ref} ${rt} ${at} ${AWK})
 endforeach()
-# The whole trajectory (every row and column of trajectory.csv) against
+# The whole trajectory (every row and column of trajectory.csv, its
+# leading '#' provenance lines left out) against
 # TRAJ_BASELINE: the same number of rows, every field a number, and each
 # within TRAJ_TOL (absolute; positions in m, counts exactly equal at any
 # tolerance below 1).
@@ -95,14 +96,16 @@ if(DEFINED TRAJ_BASELINE)
     message(FATAL_ERROR "trajectory baseline ${TRAJ_BASELINE} is missing")
   endif()
   execute_process(COMMAND ${AWK} -F, -v tol=${TRAJ_TOL} "
-      FNR == 1 { next }
-      NR == FNR { for (i = 1; i <= NF; ++i) b[FNR, i] = $i; nb = FNR; nf = NF; next }
-      { n = FNR
-        if (NF != nf) { print \"row \" FNR \": \" NF \" fields, baseline \" nf; bad = 1; next }
+      /^#/ { next }
+      { r = ++rows[FILENAME] }
+      r == 1 { next }
+      NR == FNR { for (i = 1; i <= NF; ++i) b[r, i] = $i; nb = r; nf = NF; next }
+      { n = r
+        if (NF != nf) { print \"row \" r \": \" NF \" fields, baseline \" nf; bad = 1; next }
         for (i = 1; i <= NF; ++i) {
-          if ($i !~ /^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$/) { print \"row \" FNR \" field \" i \": '\" $i \"' is not a number\"; bad = 1; continue }
-          d = $i - b[FNR, i]; if (d < 0) d = -d
-          if (!(d <= tol)) { if (++shown <= 5) print \"row \" FNR \" field \" i \": \" $i \" against \" b[FNR, i]; bad = 1 }
+          if ($i !~ /^[-+]?([0-9]+[.]?[0-9]*|[.][0-9]+)([eE][-+]?[0-9]+)?$/) { print \"row \" r \" field \" i \": '\" $i \"' is not a number\"; bad = 1; continue }
+          d = $i - b[r, i]; if (d < 0) d = -d
+          if (!(d <= tol)) { if (++shown <= 5) print \"row \" r \" field \" i \": \" $i \" against \" b[r, i]; bad = 1 }
         } }
       END { if (n != nb) { print n \" rows, baseline \" nb; bad = 1 }; exit bad }"
     ${TRAJ_BASELINE} ${OUT}/trajectory.csv RESULT_VARIABLE bad OUTPUT_VARIABLE why)

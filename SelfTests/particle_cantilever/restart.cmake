@@ -12,7 +12,7 @@ foreach(run IN ITEMS "whole;" "split;-checkpoint_every;${STOP};-stop_step;${STOP
   endif()
 endforeach()
 foreach(table IN ITEMS trajectory.csv energy.csv)
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUT}/whole/${table} ${OUT}/split/${table} RESULT_VARIABLE same)
+  execute_process(COMMAND ${CMAKE_COMMAND} -DA=${OUT}/whole/${table} -DB=${OUT}/split/${table} -P ${CMAKE_CURRENT_LIST_DIR}/../compare_data.cmake RESULT_VARIABLE same)
   if(NOT same EQUAL 0)
     message(FATAL_ERROR "${table} of the restarted run differs from the run in one go")
   endif()

@@ -1,0 +1,71 @@
+# settle -particles FILE: a LAMMPS data file written here (100 spheres of
+# diameter 3 mm on a lattice in the 40 mm box) settles with exactly those
+# particles; its last snapshot then starts a second run (a Talus snapshot
+# as the scene); a file whose particles lie outside the box is refused
+# (exit 2) naming the particle.  The outputs record what made them: the
+# CSV comment lines and the snapshots' /provenance attributes.
+if(NOT DEFINED DRIVER OR NOT DEFINED OUT)
+  message(FATAL_ERROR "settle_files.cmake: DRIVER and OUT are required")
+endif()
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+set(atoms "")
+set(id 0)
+foreach(k RANGE 3)
+  foreach(j RANGE 4)
+    foreach(i RANGE 4)
+      math(EXPR id "${id} + 1")
+      math(EXPR x "50 + 65 * ${i}")
+      math(EXPR y "50 + 65 * ${j}")
+      math(EXPR z "40 + 65 * ${k}")
+      string(APPEND atoms "${id} 1 0.003 2500 ${x}e-4 ${y}e-4 ${z}e-4\n") # metres
+    endforeach()
+  endforeach()
+endforeach()
+file(WRITE ${OUT}/grains.data "grains for settle -particles\n\n${id} atoms\n1 atom types\n\n0 0.04 xlo xhi\n0 0.04 ylo yhi\n0 0.12 zlo zhi\n\nAtoms # sphere\n\n${atoms}")
+function(run_settle name expect_rc)
+  execute_process(COMMAND ${DRIVER} ${ARGN} -output_dir ${OUT}/${name} RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                  ERROR_VARIABLE err TIMEOUT 120)
+  message("${name}:\n${out}${err}")
+  if(NOT rc EQUAL expect_rc)
+    message(FATAL_ERROR "settle ${ARGN}: exit ${rc}, expected ${expect_rc}")
+  endif()
+  set(out "${out}${err}" PARENT_SCOPE)
+endfunction()
+run_settle(from_data 0 -particles ${OUT}/grains.data -t_end 0.02)
+if(NOT out MATCHES "100 particles from .*grains.data" OR NOT out MATCHES "summary: n=100 .*status=ok")
+  message(FATAL_ERROR "the run from the data file did not settle its 100 particles")
+endif()
+# The run's outputs say what made them: the CSV's comment lines and the
+# snapshots' /provenance group (read with h5dump when installed).
+file(STRINGS ${OUT}/from_data/energies.csv head REGEX "^# ")
+if(NOT head MATCHES "# command_line: [^;]*settle -particles [^;]*grains.data -t_end 0.02" OR
+   NOT head MATCHES "# option: -particles [^;]*grains.data" OR NOT head MATCHES "# option: -density 2500" OR
+   NOT head MATCHES "# talus_revision: [0-9a-z-]+")
+  message(FATAL_ERROR "energies.csv lacks its provenance lines:\n${head}")
+endif()
+file(GLOB snaps ${OUT}/from_data/particles_*.h5)
+list(SORT snaps)
+list(GET snaps -1 last)
+find_program(H5DUMP h5dump)
+if(H5DUMP)
+  execute_process(COMMAND ${H5DUMP} -a /provenance/command_line -a /provenance/options ${last}
+                  OUTPUT_VARIABLE dump RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0 OR NOT dump MATCHES "settle -particles [^\"]*grains.data -t_end 0.02" OR NOT dump MATCHES "-density 2500")
+    message(FATAL_ERROR "${last} lacks its /provenance attributes:\n${dump}")
+  endif()
+  message("${last}: /provenance holds the command line and the options")
+else()
+  message("h5dump not found (Debian's hdf5-tools): the snapshot's /provenance not read here (test_provenance reads it)")
+endif()
+run_settle(from_snapshot 0 -particles ${last} -t_end 0.01)
+if(NOT out MATCHES "100 particles from .*particles_0+[0-9]+[.]h5" OR NOT out MATCHES "summary: n=100 .*status=ok")
+  message(FATAL_ERROR "the run from the snapshot ${last} did not settle its 100 particles")
+endif()
+run_settle(outside 2 -particles ${OUT}/grains.data -box 0.02)
+if(NOT out MATCHES "-particles .*grains.data: particle [0-9]+ at .* is not inside the box .0, 0.02. x .0, 0.02. x .0, 0.12. m")
+  message(FATAL_ERROR "particles outside the box not refused by name")
+endif()
+if(NOT out MATCHES "summary: status=refused exit=2")
+  message(FATAL_ERROR "the refusal's summary line lacks status=refused exit=2")
+endif()
