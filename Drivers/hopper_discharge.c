@@ -295,7 +295,8 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
       }
     }
     if (snap_every && k % snap_every == 0) {
-      TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK_GOTO(st, tl_particle_writer_write(writer, k, tl_dem_time(dem), &view), done);
     }
     if (k >= steps) break;

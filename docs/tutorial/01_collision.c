@@ -45,7 +45,8 @@ static TlStatus run(const char *dir, double *e_measured, double *momentum_defect
     double row[6] = {tl_dem_time(dem), P->x[a].x, P->x[b].x, P->v[a].x, P->v[b].x, p};
     TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 200 == 0) {
-      TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
     }
   }

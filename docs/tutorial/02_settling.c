@@ -61,7 +61,8 @@ static TlStatus run(const char *dir, double *ke_ratio, double *load_ratio)
   const double e0 = en.gravitational;
   for (long step = 0; step <= 20000; ++step) {
     if (step % 500 == 0) {
-      TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
       TL_CHECK(tl_wall_writer_write_dem(ww, step, dem)); /* the floor and the four sides */
     }

@@ -80,7 +80,8 @@ static TlStatus run(const char *dir, double *balance, double *drift, double *tip
     double row[4] = {tl_coupled_loop_time(loop), P->x[0].y, tip, e.total};
     if (step % 20 == 0) TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 500 == 0) {
-      TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v, .force = P->f};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
       TL_CHECK(tl_solid_output_write(bw, step, tl_dem_time(dem), st->u, st->v));
       TL_CHECK(tl_wall_writer_write_dem(ww, step, dem));

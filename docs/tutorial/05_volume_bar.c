@@ -106,7 +106,8 @@ static TlStatus run(const char *dir, double *t_ratio, double *v_ratio, double *e
     if (v > v_peak) v_peak = v, t_peak = tl_dem_time(c.dem);
     TL_CHECK(tl_timeseries_append(ts, row));
     if (step % 20 == 0) {
-      TlParticleView view = {.n = P->n, .position = P->x, .radius = P->radius, .velocity = P->v};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(c.dem), &view));
       TL_CHECK(tl_solid_output_write(bw, step, tl_dem_time(c.dem), c.st->u, c.st->v));
     }
