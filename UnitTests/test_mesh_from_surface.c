@@ -303,7 +303,7 @@ int main(void)
   TlSurfaceArrays sphere, cone, box;
   TL_TEST_STATUS(tl_surface_sphere(c, r, 4, &sphere), TL_OK);
   const double apex[3] = {0, 0, -1}, lo[3] = {-0.5, -0.4, -0.3}, hi[3] = {0.5, 0.4, 0.3};
-  TL_TEST_STATUS(tl_surface_cone(apex, 0.6, 1.2, 48, &cone), TL_OK);
+  TL_TEST_STATUS(tl_surface_cone(apex, 0.6, 1.2, 0.0, 48, &cone), TL_OK);
   TL_TEST_STATUS(tl_surface_box(lo, hi, 3, &box), TL_OK);
   /* The sphere against 4/3 pi r^3.  Two discretisations, each bounded: the
    * input polyhedron (5120 flat triangles, vertices on the sphere) encloses
@@ -325,6 +325,12 @@ int main(void)
   /* The cone and the box are polyhedral with sharp edges (protected): their
    * volumes are the exact ones of the polyhedra. */
   check_mesh("cone", &cone, &tl_element_tet4, 0.15, 0.0, 0.0);
+  {
+    TlSurfaceArrays blunt;
+    TL_TEST_STATUS(tl_surface_cone(apex, 0.6, 1.2, 0.15, 48, &blunt), TL_OK);
+    check_mesh("truncated cone", &blunt, &tl_element_tet10, 0.15, 0.0, 0.0);
+    tl_surface_arrays_free(&blunt);
+  }
   check_mesh("box", &box, &tl_element_tet10, 0.2, 0.8 * 0.6, 1e-12);
   patch_test(&sphere, &tl_element_tet4, 0.35);
   patch_test(&sphere, &tl_element_tet10, 0.5);

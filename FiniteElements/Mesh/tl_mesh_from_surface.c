@@ -533,38 +533,56 @@ TlStatus tl_surface_sphere(const double c[3], double r, int level, TlSurfaceArra
   return TL_OK;
 }
 
-TlStatus tl_surface_cone(const double apex[3], double r, double h, int n, TlSurfaceArrays *s)
+TlStatus tl_surface_cone(const double apex[3], double r, double h, double r_tip, int n, TlSurfaceArrays *s)
 {
   if (!(r > 0.0) || !isfinite(r) || !(h > 0.0) || !isfinite(h))
     TL_ERROR(TL_ERR_ARG, "cone surface: radius %g m and height %g m must be > 0", r, h);
+  if (!(r_tip >= 0.0 && r_tip < r))
+    TL_ERROR(TL_ERR_ARG, "cone surface: tip radius %g m outside [0, %g) (the base radius)", r_tip, r);
   if (n < 3 || n > 100000) TL_ERROR(TL_ERR_ARG, "cone surface: %d rim segments outside [3, 100000]", n);
-  /* Vertices: apex, base centre, n on the rim; the flank fan about the apex
-   * and the base fan about its centre. */
-  size_t nv = (size_t)n + 2, nt = 2 * (size_t)n;
+  /* Vertices: the tip (the apex, or the centre of the flat tip and its
+   * ring), the base centre and the base ring; the flank between the rings
+   * (a fan about the apex when sharp), the base a fan about its centre. */
+  const int flat = r_tip > 0.0;
+  size_t nv = (size_t)n + 2 + (flat ? (size_t)n : 0), nt = 2 * (size_t)n + (flat ? 2 * (size_t)n : 0);
   double *x = NULL;
   size_t *t = NULL;
   TL_CHECK(surface_alloc(nv, nt, &x, &t));
   for (int d = 0; d < 3; ++d) {
-    x[d] = apex[d];
-    x[3 + d] = apex[d];
+    x[d] = apex[d];     /* 0: apex or tip centre */
+    x[3 + d] = apex[d]; /* 1: base centre */
   }
   x[5] += h;
+  const size_t base0 = 2, tip0 = 2 + (size_t)n;
   for (int i = 0; i < n; ++i) {
     double a = 2.0 * M_PI * i / n;
-    x[3 * (2 + i) + 0] = apex[0] + r * cos(a);
-    x[3 * (2 + i) + 1] = apex[1] + r * sin(a);
-    x[3 * (2 + i) + 2] = apex[2] + h;
+    x[3 * (base0 + i) + 0] = apex[0] + r * cos(a);
+    x[3 * (base0 + i) + 1] = apex[1] + r * sin(a);
+    x[3 * (base0 + i) + 2] = apex[2] + h;
+    if (flat) {
+      x[3 * (tip0 + i) + 0] = apex[0] + r_tip * cos(a);
+      x[3 * (tip0 + i) + 1] = apex[1] + r_tip * sin(a);
+      x[3 * (tip0 + i) + 2] = apex[2];
+    }
   }
+  size_t k = 0;
   for (int i = 0; i < n; ++i) {
-    size_t a = 2 + (size_t)i, b = 2 + (size_t)((i + 1) % n);
-    /* Flank: seen from outside (below and beside), apex, next, this. */
-    t[3 * i + 0] = 0;
-    t[3 * i + 1] = b;
-    t[3 * i + 2] = a;
+    size_t a = base0 + (size_t)i, b = base0 + (size_t)((i + 1) % n);
     /* Base (normal +z): centre, this, next. */
-    t[3 * (n + i) + 0] = 1;
-    t[3 * (n + i) + 1] = a;
-    t[3 * (n + i) + 2] = b;
+    size_t base_tri[3] = {1, a, b};
+    memcpy(t + 3 * k++, base_tri, sizeof base_tri);
+    if (!flat) {
+      /* Flank seen from outside (below and beside): apex, next, this. */
+      size_t fl[3] = {0, b, a};
+      memcpy(t + 3 * k++, fl, sizeof fl);
+      continue;
+    }
+    size_t ta = tip0 + (size_t)i, tb = tip0 + (size_t)((i + 1) % n);
+    size_t tip_tri[3] = {0, tb, ta}; /* normal -z */
+    size_t q1[3] = {ta, tb, b}, q2[3] = {ta, b, a};
+    memcpy(t + 3 * k++, tip_tri, sizeof tip_tri);
+    memcpy(t + 3 * k++, q1, sizeof q1);
+    memcpy(t + 3 * k++, q2, sizeof q2);
   }
   *s = (TlSurfaceArrays){nv, x, nt, t};
   return TL_OK;

@@ -88,10 +88,12 @@ TlStatus tl_mesh_add_face_set_on_plane(TlMesh *mesh, const char *name, const dou
  * freed with tl_surface_arrays_free: a sphere of radius r about c, an
  * icosahedron subdivided `level` times (20 * 4^level triangles, vertices
  * on the sphere); a cone with its apex at `apex`, axis +z, base of radius r
- * at height h above the apex, n segments round the rim (2 n triangles); a
- * box [lo, hi] with n divisions per edge (12 n^2 triangles). */
+ * at height h above the apex, n segments round the rim (2 n triangles), or
+ * with r_tip > 0 a truncated cone whose flat tip of radius r_tip lies at
+ * the apex height (4 n triangles); a box [lo, hi] with n divisions per edge
+ * (12 n^2 triangles). */
 TlStatus tl_surface_sphere(const double c[3], double r, int level, TlSurfaceArrays *s);
-TlStatus tl_surface_cone(const double apex[3], double r, double h, int n, TlSurfaceArrays *s);
+TlStatus tl_surface_cone(const double apex[3], double r, double h, double r_tip, int n, TlSurfaceArrays *s);
 TlStatus tl_surface_box(const double lo[3], const double hi[3], int n, TlSurfaceArrays *s);
 void tl_surface_arrays_free(TlSurfaceArrays *s);
 
