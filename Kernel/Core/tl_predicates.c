@@ -8,6 +8,9 @@
 
 #if TALUS_WITH_CGAL
 int tl_cgal_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
+int tl_cgal_orient2d(const double a[2], const double b[2], const double c[2]);
+int tl_cgal_collinear3d(const double a[3], const double b[3], const double c[3]);
+
 #endif
 
 /* Error bound of the double evaluation below, relative to its permanent
@@ -160,6 +163,61 @@ int tl_orient3d(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d)
   return tl_cgal_orient3d(pa, pb, pc, pd);
 #else
   return tl_orient3d_filtered(a, b, c, d, NULL);
+#endif
+}
+
+/* det[b - a, c - a] exactly: two products of two-component differences. */
+static int tl_orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy)
+{
+  TlExpansion ux, uy, vx, vy, p, q;
+  tl_expansion_diff(bx, ax, &ux);
+  tl_expansion_diff(by, ay, &uy);
+  tl_expansion_diff(cx, ax, &vx);
+  tl_expansion_diff(cy, ay, &vy);
+  tl_expansion_mul(&ux, &vy, &p);
+  tl_expansion_mul(&uy, &vx, &q);
+  tl_expansion_negate(&q);
+  tl_expansion_add(&p, &q);
+  return tl_expansion_sign(&p);
+}
+
+/* The same filter as orient3d: the 2 x 2 determinant carries 3u from its
+ * differences and products and 1u from its difference; 4 DBL_EPSILON (8u)
+ * bounds it with the rounding of the permanent. */
+int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy)
+{
+  double m1 = (bx - ax) * (cy - ay), m2 = (by - ay) * (cx - ax);
+  double det = m1 - m2, bound = 4.0 * DBL_EPSILON * (fabs(m1) + fabs(m2));
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  if (m1 == 0.0 && m2 == 0.0) return 0;
+  return tl_orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
+int tl_orient2d(double ax, double ay, double bx, double by, double cx, double cy)
+{
+#if TALUS_WITH_CGAL
+  double pa[2] = {ax, ay}, pb[2] = {bx, by}, pc[2] = {cx, cy};
+  return tl_cgal_orient2d(pa, pb, pc);
+#else
+  return tl_orient2d_filtered(ax, ay, bx, by, cx, cy);
+#endif
+}
+
+int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c)
+{
+  /* collinear in space iff collinear in the three coordinate planes */
+  return tl_orient2d_filtered(a.x, a.y, b.x, b.y, c.x, c.y) == 0 && tl_orient2d_filtered(a.y, a.z, b.y, b.z, c.y, c.z) == 0 &&
+         tl_orient2d_filtered(a.z, a.x, b.z, b.x, c.z, c.x) == 0;
+}
+
+int tl_collinear3d(TlVec3 a, TlVec3 b, TlVec3 c)
+{
+#if TALUS_WITH_CGAL
+  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+  return tl_cgal_collinear3d(pa, pb, pc);
+#else
+  return tl_collinear3d_filtered(a, b, c);
 #endif
 }
 

@@ -25,6 +25,14 @@ int tl_orient3d(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d);
  * available: *exact_stage (may be NULL) is set to 1 when the filter could not
  * decide and the exact expansion stage ran. */
 int tl_orient3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, int *exact_stage);
+/* Sign of det[b - a, c - a] in the plane: +1 when (a, b, c) turn
+ * counter-clockwise. */
+int tl_orient2d(double ax, double ay, double bx, double by, double cx, double cy);
+/* 1 when the three points lie exactly on one line (a zero-area triangle). */
+int tl_collinear3d(TlVec3 a, TlVec3 b, TlVec3 c);
+/* The library's own exact paths of the two (used without CGAL). */
+int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy);
+int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
 /* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
 /* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */

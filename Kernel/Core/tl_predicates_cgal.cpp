@@ -11,3 +11,17 @@ extern "C" int tl_cgal_orient3d(const double a[3], const double b[3], const doub
   CGAL::Orientation o = CGAL::orientation(pa, pb, pc, pd);
   return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
 }
+
+extern "C" int tl_cgal_orient2d(const double a[2], const double b[2], const double c[2])
+{
+  CGAL::Orientation o = CGAL::orientation(Kernel::Point_2(a[0], a[1]), Kernel::Point_2(b[0], b[1]), Kernel::Point_2(c[0], c[1]));
+  return o == CGAL::POSITIVE ? 1 : (o == CGAL::NEGATIVE ? -1 : 0);
+}
+
+extern "C" int tl_cgal_collinear3d(const double a[3], const double b[3], const double c[3])
+{
+  return CGAL::collinear(Kernel::Point_3(a[0], a[1], a[2]), Kernel::Point_3(b[0], b[1], b[2]),
+                         Kernel::Point_3(c[0], c[1], c[2]))
+             ? 1
+             : 0;
+}
