@@ -49,7 +49,8 @@ typedef struct {
   double radius, tip_radius, half_angle, mesh_h, E_c, nu_c, rho_c, speed, gap, depth;
   double widths[MAX_WIDTHS];
   int n_widths, tet10, threads, explicit_fe;
-  const char *out, *material;
+  const char *out, *material, *surface;
+  double surface_scale, body_h; /* body_h: the body's height (m), set once it is built */
 } Settings;
 
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
@@ -72,6 +73,13 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                "height of the pour lattice's top layer (0: just high enough for -n grains)", &s->pour_height));
   TL_CHECK(tl_options_get_real(*o, "-t_settle", 0.25, 0.0, 1e6, "s", "settling time of the bed", &s->t_settle));
   TL_CHECK(tl_options_get_real(*o, "-dt_fraction", 0.2, 1e-6, 1.0, "", "DEM time step over the critical one", &s->dt_fraction));
+  TL_CHECK(tl_options_get_string(*o, "-surface", "",
+                                 "closed surface file of the body (STL or Gmsh; repaired, then meshed) instead of the "
+                                 "generated cone: its top must be a flat face normal to +z, where the drive holds it; "
+                                 "it is centred on the box's axis with its lowest point -gap above the bed; -radius is "
+                                 "then its half-width", &s->surface));
+  TL_CHECK(tl_options_get_real(*o, "-surface_scale", 1.0, 1e-12, 1e12, "", "scale of the -surface file's coordinates to "
+                               "metres (1e-3 for a file in mm)", &s->surface_scale));
   TL_CHECK(tl_options_get_real(*o, "-radius", 6e-3, 1e-9, 1e3, "m", "cone base radius R", &s->radius));
   TL_CHECK(tl_options_get_real(*o, "-tip_radius", 1.5e-3, 0.0, 1e3, "m",
                                "radius of the cone's flat tip (0: sharp; a sharp tip's nodes are so light that the "
@@ -323,7 +331,7 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   TL_CHECK_GOTO(st, tl_dem_create(&dem), done);
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
-  TL_CHECK_GOTO(st, tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(s->box, s->box, apex_z + 2.0 * s->radius / tan(s->half_angle * M_PI / 180.0) + s->depth + s->d_max)), done);
+  TL_CHECK_GOTO(st, tl_domain_init_open(&dom, tl_v3(0, 0, 0), tl_v3(s->box, s->box, apex_z + s->body_h + s->depth + s->d_max)), done);
   TL_CHECK_GOTO(st, tl_dem_set_domain(dem, &dom), done);
   int sp;
   TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s->rho_g, 0.5 * s->d_min, 0.5 * s->d_max, &sp), done);
@@ -530,24 +538,66 @@ static TlStatus run(int argc, char **argv)
   Settings s;
   memset(&s, 0, sizeof s);
   TlStatus st = options(argc, argv, &o, &s);
+  TlSurfaceArrays surf;
+  memset(&surf, 0, sizeof surf);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  if (st == TL_OK && s.surface[0]) {
+    /* A body from a file: read, repaired, refused unless closed; its
+     * half-width plays the cone radius's part in the checks. */
+    TlSurfaceMesh *sm = NULL;
+    TlSurfaceReport rep;
+    st = tl_surface_mesh_read(s.surface, &sm);
+    if (!st) st = tl_surface_mesh_repair(sm, NULL, &rep);
+    if (!st) st = tl_surface_mesh_check(sm, TL_SURFACE_CLOSED);
+    if (!st) st = tl_surface_mesh_transform(sm, s.surface_scale, tl_m3_identity(), tl_v3(0, 0, 0));
+    if (!st) {
+      printf("surface %s: %zu vertices, %zu triangles (repair: %zu vertices merged, %zu triangles removed, %zu flipped)\n",
+             s.surface, sm->n_vertices, sm->n_triangles, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped);
+      double *x = NULL;
+      size_t *tri = NULL;
+      st = tl_calloc(&x, 3 * sm->n_vertices, sizeof *x);
+      if (!st) st = tl_calloc(&tri, 3 * sm->n_triangles, sizeof *tri);
+      for (size_t i = 0; !st && i < sm->n_vertices; ++i) {
+        const double v[3] = {sm->x[i].x, sm->x[i].y, sm->x[i].z};
+        for (int d = 0; d < 3; ++d) {
+          x[3 * i + d] = v[d];
+          lo[d] = fmin(lo[d], v[d]);
+          hi[d] = fmax(hi[d], v[d]);
+        }
+      }
+      for (size_t t = 0; !st && t < 3 * sm->n_triangles; ++t) tri[t] = (size_t)sm->tri[t / 3][t % 3];
+      surf = (TlSurfaceArrays){sm->n_vertices, x, sm->n_triangles, tri};
+      s.radius = 0.5 * fmax(hi[0] - lo[0], hi[1] - lo[1]);
+      s.tip_radius = 0.0;
+      s.body_h = hi[2] - lo[2];
+    }
+    tl_surface_mesh_destroy(&sm);
+  }
   if (st == TL_OK) st = check_settings(&s);
   if (st != TL_OK) {
+    tl_surface_arrays_free(&surf);
     tl_options_destroy(&o);
     return st;
   }
   Bed bed;
   memset(&bed, 0, sizeof bed);
-  TlSurfaceArrays surf;
-  memset(&surf, 0, sizeof surf);
   TlMesh *mesh = NULL;
   RunResult res[MAX_WIDTHS];
   memset(res, 0, sizeof res);
   TL_CHECK_GOTO(st, tl_output_dir_prepare(s.out), done);
   TL_CHECK_GOTO(st, settle(&s, &bed), done);
-  /* The cone: apex -gap above the bed surface on the box's axis. */
-  const double h = (s.radius - s.tip_radius) / tan(s.half_angle * M_PI / 180.0);
+  /* The body: its lowest point -gap above the bed surface on the box's axis. */
   const double apex[3] = {0.5 * s.box, 0.5 * s.box, bed.surface + s.gap};
-  TL_CHECK_GOTO(st, tl_surface_cone(apex, s.radius, h, s.tip_radius, (int)s.rim, &surf), done);
+  if (s.surface[0]) {
+    double *x = (double *)surf.x;
+    const double shift[3] = {apex[0] - 0.5 * (lo[0] + hi[0]), apex[1] - 0.5 * (lo[1] + hi[1]), apex[2] - lo[2]};
+    for (size_t i = 0; i < surf.n_vertices; ++i)
+      for (int d = 0; d < 3; ++d) x[3 * i + d] += shift[d];
+  } else {
+    s.body_h = (s.radius - s.tip_radius) / tan(s.half_angle * M_PI / 180.0);
+    TL_CHECK_GOTO(st, tl_surface_cone(apex, s.radius, s.body_h, s.tip_radius, (int)s.rim, &surf), done);
+  }
+  const double h = s.body_h;
   TlMeshFromSurfaceOptions mo;
   tl_mesh_from_surface_options_default(&mo);
   mo.type = s.tet10 ? &tl_element_tet10 : &tl_element_tet4;
@@ -560,7 +610,7 @@ static TlStatus run(int argc, char **argv)
   const double t_mesh = tl_wtime() - tm0;
   const double base_pt[3] = {apex[0], apex[1], apex[2] + h}, up[3] = {0, 0, 1};
   TL_CHECK_GOTO(st, tl_mesh_add_face_set_on_plane(mesh, "base", base_pt, up, 1e-9 * h), done);
-  printf("cone: R = %g m, h = %g m, %zu surface triangles -> %zu %s elements, %zu nodes in %.3f s; volume %.6g m^3 "
+  printf("body: half-width %g m, height %g m, %zu surface triangles -> %zu %s elements, %zu nodes in %.3f s; volume %.6g m^3 "
          "(surface encloses %.6g); dihedral angles %.1f to %.1f degrees\n",
          s.radius, h, surf.n_triangles, info.n_tetrahedra, mo.type->header.name, mesh->n_nodes, t_mesh,
          info.mesh_volume, info.surface_volume, info.min_dihedral, info.max_dihedral);

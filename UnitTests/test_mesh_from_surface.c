@@ -13,6 +13,7 @@
 #include "tl_config.h"
 #include "tl_mesh_from_surface.h"
 #include "tl_solid.h"
+#include "tl_stl.h"
 #include "tl_stepper.h"
 #include "tl_test.h"
 
@@ -204,6 +205,43 @@ static void rotation_test(const TlSurfaceArrays *s, const TlElementType *type, d
   tl_mesh_destroy(&m);
 }
 
+/* A surface through a file: the sphere written as binary STL, read back
+ * (corners joined), meshed; the same mesh as from the arrays, up to the
+ * single-precision coordinates (volume within 1e-6). */
+static void through_stl(const TlSurfaceArrays *s)
+{
+  int *tri = malloc(3 * s->n_triangles * sizeof *tri);
+  for (size_t i = 0; i < 3 * s->n_triangles; ++i) tri[i] = (int)s->tri[i];
+  TlSurfaceMesh *sm = NULL, *back = NULL;
+  TL_TEST_STATUS(tl_surface_mesh_create(s->n_vertices, s->x, s->n_triangles, tri, &sm), TL_OK);
+  const char *path = "test_mesh_from_surface_sphere.stl";
+  TL_TEST_STATUS(tl_stl_write(path, sm, 1), TL_OK);
+  TL_TEST_STATUS(tl_surface_mesh_read(path, &back), TL_OK);
+  if (back) {
+    TL_TEST_ASSERT(back->n_vertices == s->n_vertices && back->n_triangles == s->n_triangles,
+                   "STL read back: %zu vertices, %zu triangles", back->n_vertices, back->n_triangles);
+    TlMeshFromSurfaceOptions o;
+    tl_mesh_from_surface_options_default(&o);
+    o.cell_size = o.facet_size = 0.3;
+    o.facet_distance = 0.006;
+    TlMesh *a = NULL, *b = NULL;
+    TlMeshFromSurfaceInfo ia, ib;
+    TL_TEST_STATUS(tl_mesh_from_surface(s, &o, &a, &ia), TL_OK);
+    TL_TEST_STATUS(tl_mesh_from_surface_mesh(back, &o, &b, &ib), TL_OK);
+    if (a && b) {
+      printf("through STL: %zu tetrahedra (arrays: %zu), volume %.9g (arrays: %.9g)\n", ib.n_tetrahedra,
+             ia.n_tetrahedra, ib.mesh_volume, ia.mesh_volume);
+      TL_TEST_REL(ib.mesh_volume, ia.mesh_volume, 1e-5);
+    }
+    tl_mesh_destroy(&a);
+    tl_mesh_destroy(&b);
+  }
+  remove(path);
+  tl_surface_mesh_destroy(&sm);
+  tl_surface_mesh_destroy(&back);
+  free(tri);
+}
+
 /* The same surface and seed give the same mesh (exudation included: it
  * runs to completion, not to a wall-clock limit). */
 static void reproducible(const TlSurfaceArrays *s)
@@ -337,6 +375,7 @@ int main(void)
   rotation_test(&cone, &tl_element_tet4, 0.15);
   rotation_test(&sphere, &tl_element_tet10, 0.4);
   reproducible(&sphere);
+  through_stl(&sphere);
   tl_surface_arrays_free(&sphere);
   tl_surface_arrays_free(&cone);
   tl_surface_arrays_free(&box);

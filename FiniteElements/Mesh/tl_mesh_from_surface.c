@@ -26,6 +26,14 @@ void tl_mesh_from_surface_options_default(TlMeshFromSurfaceOptions *o)
   o->exude = 1;
 }
 
+static TlStatus surface_alloc(size_t nv, size_t nt, double **x, size_t **t)
+{
+  TL_CHECK(tl_calloc(x, 3 * nv, sizeof(double)));
+  TlStatus st = tl_calloc(t, 3 * nt, sizeof(size_t));
+  if (st) tl_free(x);
+  return st;
+}
+
 static const double *vtx(const TlSurfaceArrays *s, size_t i) { return s->x + 3 * i; }
 
 static void sub3(const double *a, const double *b, double *out)
@@ -394,6 +402,34 @@ done:
 #endif
 }
 
+TlStatus tl_mesh_from_surface_mesh(const TlSurfaceMesh *sm, const TlMeshFromSurfaceOptions *o, TlMesh **mesh,
+                                   TlMeshFromSurfaceInfo *info)
+{
+  if (!sm) TL_ERROR(TL_ERR_ARG, "tl_mesh_from_surface_mesh: NULL surface");
+  double *x = NULL;
+  size_t *tri = NULL;
+  TL_CHECK(surface_alloc(sm->n_vertices ? sm->n_vertices : 1, sm->n_triangles ? sm->n_triangles : 1, &x, &tri));
+  for (size_t i = 0; i < sm->n_vertices; ++i) {
+    x[3 * i] = sm->x[i].x;
+    x[3 * i + 1] = sm->x[i].y;
+    x[3 * i + 2] = sm->x[i].z;
+  }
+  TlStatus st = TL_OK;
+  for (size_t t = 0; t < sm->n_triangles && !st; ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (sm->tri[t][k] < 0) {
+        st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "surface triangle %zu refers to vertex %d", t, sm->tri[t][k]);
+        break;
+      }
+      tri[3 * t + k] = (size_t)sm->tri[t][k];
+    }
+  TlSurfaceArrays s = {sm->n_vertices, x, sm->n_triangles, tri};
+  if (!st) st = tl_mesh_from_surface(&s, o, mesh, info);
+  tl_free(&x);
+  tl_free(&tri);
+  return st;
+}
+
 TlStatus tl_mesh_add_face_set_on_plane(TlMesh *mesh, const char *name, const double point[3],
                                        const double normal_in[3], double tol)
 {
@@ -445,14 +481,6 @@ void tl_surface_arrays_free(TlSurfaceArrays *s)
   tl_free(&x);
   tl_free(&t);
   memset(s, 0, sizeof *s);
-}
-
-static TlStatus surface_alloc(size_t nv, size_t nt, double **x, size_t **t)
-{
-  TL_CHECK(tl_calloc(x, 3 * nv, sizeof(double)));
-  TlStatus st = tl_calloc(t, 3 * nt, sizeof(size_t));
-  if (st) tl_free(x);
-  return st;
 }
 
 TlStatus tl_surface_sphere(const double c[3], double r, int level, TlSurfaceArrays *s)

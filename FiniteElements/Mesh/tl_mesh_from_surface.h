@@ -34,6 +34,7 @@
 #include <stddef.h>
 #include "tl_error.h"
 #include "tl_mesh.h"
+#include "tl_stl.h"
 
 typedef struct {
   size_t n_vertices;
@@ -75,6 +76,11 @@ TlStatus tl_surface_check(const TlSurfaceArrays *s, double *volume, double *area
 /* Meshes the volume enclosed by s.  info may be NULL. */
 TlStatus tl_mesh_from_surface(const TlSurfaceArrays *s, const TlMeshFromSurfaceOptions *o,
                               TlMesh **mesh, TlMeshFromSurfaceInfo *info);
+
+/* The same from a surface read from a file (tl_stl.h: STL or Gmsh; repair
+ * it first when the file may have defects: tl_surface_mesh_repair). */
+TlStatus tl_mesh_from_surface_mesh(const TlSurfaceMesh *surface, const TlMeshFromSurfaceOptions *o,
+                                   TlMesh **mesh, TlMeshFromSurfaceInfo *info);
 
 /* Adds the face set `name` (and a node set of the same name) of the
  * boundary faces lying in the plane through `point` with normal `normal`:
