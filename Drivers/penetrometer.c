@@ -506,8 +506,8 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   res->depth_reached = bed->surface - (apex_z - V * tl_coupled_loop_time(loop));
   res->force_end = mean_force(depth, force, n_rows, 0.8 * s->depth, s->depth + 1e-12);
   double f_start = mean_force(depth, force, n_rows, 0.2 * s->depth, 0.4 * s->depth);
-  res->force_growth = res->force_end / f_start;
-  res->energy_error = worst;
+  res->force_growth = f_start > 0.0 ? res->force_end / f_start : NAN;
+  res->energy_error = W_drive > 0.0 ? worst : NAN; /* no drive work: nothing to measure the balance against */
   res->sigma_vm_max = vm;
   res->wall = tl_wtime() - wall0;
   printf("run %d (c = %g d): resistance %.4g N at depth 0.8-1.0 x %g m, %.4g N at 0.2-0.4 x; energy balance error %.3e of "
@@ -627,15 +627,21 @@ static TlStatus run(int argc, char **argv)
     snprintf(key, sizeof key, "force_c%d", k);
     tl_summary_real(&sum, key, res[k].force_end);
     snprintf(key, sizeof key, "energy_error_c%d", k);
-    tl_summary_real(&sum, key, res[k].energy_error);
+    if (isfinite(res[k].energy_error)) tl_summary_real(&sum, key, res[k].energy_error);
+    else tl_summary_undefined(&sum, key, "the drive did no work (the body met no grain)");
     snprintf(key, sizeof key, "wall_c%d", k);
     tl_summary_real(&sum, key, res[k].wall);
-    worst_energy = fmax(worst_energy, res[k].energy_error);
-    worst_growth = fmin(worst_growth, res[k].force_growth);
+    worst_energy = isfinite(res[k].energy_error) ? fmax(worst_energy, res[k].energy_error) : NAN;
+    worst_growth = isnan(worst_growth) || isnan(res[k].force_growth) ? NAN : fmin(worst_growth, res[k].force_growth);
   }
-  tl_summary_real(&sum, "energy_error", worst_energy);
-  tl_summary_real(&sum, "force_growth", worst_growth);
-  if (s.n_widths > 1) tl_summary_real(&sum, "force_ratio", res[s.n_widths - 1].force_end / res[0].force_end);
+  if (isfinite(worst_energy)) tl_summary_real(&sum, "energy_error", worst_energy);
+  else tl_summary_undefined(&sum, "energy_error", "a run whose drive did no work");
+  if (isfinite(worst_growth)) tl_summary_real(&sum, "force_growth", worst_growth);
+  else tl_summary_undefined(&sum, "force_growth", "no resistance at 0.2-0.4 of the depth to compare with (the body met no grain there)");
+  if (s.n_widths > 1) {
+    if (res[0].force_end > 0.0) tl_summary_real(&sum, "force_ratio", res[s.n_widths - 1].force_end / res[0].force_end);
+    else tl_summary_undefined(&sum, "force_ratio", "no resistance at c = %g d to compare with", s.widths[0]);
+  }
   tl_summary_real(&sum, "sigma_vm_max", res[0].sigma_vm_max);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   st = tl_summary_print(&sum, stdout);
