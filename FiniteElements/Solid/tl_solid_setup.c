@@ -10,43 +10,49 @@
 #include "tl_memory.h"
 
 /* Greedy colouring of a block's elements so that no two elements of one
- * colour share a node: assembly of one colour is race-free. */
+ * colour share a node: assembly of one colour is race-free.  Up to
+ * TL_SOLID_MAX_COLOURS colours: an unstructured tetrahedral mesh has nodes
+ * in 20 to 60 elements, so an element meets a hundred others and greedy
+ * colouring in mesh order can pass 64. */
+#define TL_SOLID_MAX_COLOURS 256
+#define COLOUR_WORDS (TL_SOLID_MAX_COLOURS / 64)
 static TlStatus colour_block(const TlSolid *s, const TlElementBlock *blk, SolidBlock *B)
 {
   uint64_t *used = NULL;
   int *colour = NULL;
+  size_t *fill = NULL;
   TlStatus st = TL_OK;
-  TL_CHECK_GOTO(st, tl_calloc(&used, s->n_nodes, sizeof *used), done);
+  TL_CHECK_GOTO(st, tl_calloc(&used, COLOUR_WORDS * s->n_nodes, sizeof *used), done);
   TL_CHECK_GOTO(st, tl_calloc(&colour, blk->n_elements ? blk->n_elements : 1, sizeof *colour), done);
   int nn = blk->type->n_nodes, nc = 0;
   for (size_t e = 0; e < blk->n_elements; ++e) {
-    uint64_t forbidden = 0;
-    for (int a = 0; a < nn; ++a) forbidden |= used[blk->conn[e * nn + a]];
+    uint64_t forbidden[COLOUR_WORDS] = {0};
+    for (int a = 0; a < nn; ++a)
+      for (int w = 0; w < COLOUR_WORDS; ++w) forbidden[w] |= used[COLOUR_WORDS * blk->conn[e * nn + a] + w];
     int c = 0;
-    while (c < 64 && (forbidden >> c & 1u)) ++c;
-    if (c == 64) {
+    while (c < TL_SOLID_MAX_COLOURS && (forbidden[c / 64] >> (c % 64) & 1u)) ++c;
+    if (c == TL_SOLID_MAX_COLOURS) {
       st = tl_error_set(TL_ERR_UNSUPPORTED, __FILE__, __LINE__,
-                        "block %s: element %zu needs more than 64 colours (too many elements per node)",
-                        blk->name, e);
+                        "block %s: element %zu needs more than %d colours (too many elements per node)",
+                        blk->name, e, TL_SOLID_MAX_COLOURS);
       goto done;
     }
     colour[e] = c;
     if (c + 1 > nc) nc = c + 1;
-    for (int a = 0; a < nn; ++a) used[blk->conn[e * nn + a]] |= (uint64_t)1 << c;
+    for (int a = 0; a < nn; ++a) used[COLOUR_WORDS * blk->conn[e * nn + a] + c / 64] |= (uint64_t)1 << (c % 64);
   }
   B->n_colours = nc;
   TL_CHECK_GOTO(st, tl_calloc(&B->colour_ptr, nc + 1, sizeof(size_t)), done);
   TL_CHECK_GOTO(st, tl_calloc(&B->colour_elements, blk->n_elements ? blk->n_elements : 1, sizeof(size_t)), done);
   for (size_t e = 0; e < blk->n_elements; ++e) B->colour_ptr[colour[e] + 1]++;
   for (int c = 0; c < nc; ++c) B->colour_ptr[c + 1] += B->colour_ptr[c];
-  {
-    size_t fill[64] = {0};
-    for (size_t e = 0; e < blk->n_elements; ++e)
-      B->colour_elements[B->colour_ptr[colour[e]] + fill[colour[e]]++] = e;
-  }
+  TL_CHECK_GOTO(st, tl_calloc(&fill, nc, sizeof *fill), done);
+  for (size_t e = 0; e < blk->n_elements; ++e)
+    B->colour_elements[B->colour_ptr[colour[e]] + fill[colour[e]]++] = e;
 done:
   tl_free(&used);
   tl_free(&colour);
+  tl_free(&fill);
   return st;
 }
 
