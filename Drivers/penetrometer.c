@@ -478,7 +478,8 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
     }
     if (snap_every && (step % snap_every == 0 || step == n_macro)) {
       TL_CHECK_GOTO(st, tl_solid_output_write(cone_out, step, t, stp->u, stp->v), done);
-      TlParticleView view = {P->n, P->x, P->radius, P->v, P->w, P->f, P->torque, NULL, 0, NULL};
+      TlParticleView view;
+      tl_particle_view_of(P, &view); /* with ids and species */
       TL_CHECK_GOTO(st, tl_particle_writer_write(pw, step, t, &view), done);
     }
     if (step == n_macro) break;
