@@ -32,7 +32,7 @@ static const TlParam params[] = {
      offsetof(Coulomb, gamma_t)},
     {"c_t", 0.0, 0.0, 1e300, "N s/m/scale", "tangential damping, c_T += c_t scale", offsetof(Coulomb, c_t)},
     {"transport", 0.0, 0.0, 2.0, "",
-     "time integration of the tangential force (Desrues et al. 2019, doi:10.1002/nag.2914): 0 project (Eq. 11), 1 rotate (Eq. 24, keeps |f_T| "
+     "time integration of the tangential force (Desrues et al. 2019): 0 project (Eq. 11), 1 rotate (Eq. 24, keeps |f_T| "
      "to second order in the tilt), 2 implicit (Eq. 12)", offsetof(Coulomb, transport_given)},
 };
 
