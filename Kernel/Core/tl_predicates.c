@@ -60,21 +60,28 @@ static inline void tl_two_product(double a, double b, double *p, double *e)
   *e = fma(a, b, -x);
 }
 
-/* h += b: one pass of two-sums through the components (nonoverlapping in,
- * nonoverlapping out), zeros dropped. */
+/* c[0..n) += b in place: one pass of two-sums through the components
+ * (nonoverlapping in, nonoverlapping out), zeros dropped; room for n + 1
+ * components is the caller's.  Returns the new count. */
+static int tl_components_grow(double *c, int n, double b)
+{
+  double q = b;
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    double s, e;
+    tl_two_sum(q, c[i], &s, &e);
+    q = s;
+    if (e != 0.0) c[m++] = e;
+  }
+  if (q != 0.0) c[m++] = q;
+  return m;
+}
+
+/* h += b. */
 static void tl_expansion_grow(TlExpansion *h, double b)
 {
   if (b == 0.0) return;
-  double q = b;
-  int m = 0;
-  for (int i = 0; i < h->n; ++i) {
-    double s, e;
-    tl_two_sum(q, h->c[i], &s, &e);
-    q = s;
-    if (e != 0.0) h->c[m++] = e;
-  }
-  if (q != 0.0) h->c[m++] = q;
-  h->n = m;
+  h->n = tl_components_grow(h->c, h->n, b);
 }
 
 static void tl_expansion_add(TlExpansion *h, const TlExpansion *f)
@@ -250,16 +257,7 @@ static int big_grow(TlBigExpansion *h, double b)
 {
   if (b == 0.0) return 1;
   if (!big_reserve(h, h->n + 1)) return 0;
-  double q = b;
-  int m = 0;
-  for (int i = 0; i < h->n; ++i) {
-    double s, e;
-    tl_two_sum(q, h->c[i], &s, &e);
-    q = s;
-    if (e != 0.0) h->c[m++] = e;
-  }
-  if (q != 0.0) h->c[m++] = q;
-  h->n = m;
+  h->n = tl_components_grow(h->c, h->n, b);
   return 1;
 }
 
