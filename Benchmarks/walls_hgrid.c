@@ -210,32 +210,66 @@ done:
   return status;
 }
 
+/* The peer scene's world without its floor: the settled spheres of the
+ * LAMMPS data file in the periodic box, with the benchmark's law. */
+static TlStatus peer_world_create(const Setup *s, const char *data_path, TlLammpsData **data, TlDem **dem,
+                                  TlDomain *dom)
+{
+  TlContactLaw *law = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_lammps_data_read(data_path, data), done);
+  TL_CHECK_GOTO(status, tl_dem_create(dem), done);
+  const TlLammpsData *d = *data;
+  int per[3] = {1, 1, 0};
+  TL_CHECK_GOTO(status, tl_domain_init_periodic_box(dom, tl_v3(d->lo[0], d->lo[1], d->lo[2]),
+                                                    tl_v3(d->hi[0], d->hi[1], d->hi[2]), per), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(*dem, dom), done);
+  TlParticles *P = tl_dem_particles(*dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  TL_CHECK_GOTO(status, tl_particles_reserve(P, d->n), done);
+  for (size_t i = 0; i < d->n; ++i)
+    TL_CHECK_GOTO(status, tl_dem_add_particle(*dem, d->x[i], d->v[i], 0.5 * d->diameter[i], sp, NULL), done);
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  TL_CHECK_GOTO(status, tl_dem_add_law(*dem, law, NULL), done);
+  law = NULL;
+done:
+  tl_contact_law_destroy(&law);
+  return status;
+}
+
+/* Sets the peer scene's world up (its floor added), warms it up and times
+ * `steps` steps: µs per particle-step and the CPU share. */
+static TlStatus peer_world_time(const Setup *s, const TlLammpsData *data, TlDem *dem, long steps, const char *label,
+                                double *us, double *cpu_share, size_t *particles)
+{
+  TlParticles *P = tl_dem_particles(dem);
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK(tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)));
+  TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  if (P->w)
+    for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
+  TL_CHECK(tl_dem_step(dem, s->peer_warmup));
+  double sec = 0.0, cpu = 0.0;
+  TL_CHECK(timed_steps(dem, steps, label, &sec, &cpu));
+  *particles = P->n;
+  *us = 1e6 * sec / ((double)steps * (double)P->n);
+  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
+  return TL_OK;
+}
+
 /* Talus on the peer scene: the settled spheres of `data` on an n x n floor. */
 static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, double *us, double *cpu_share,
                                  size_t *particles)
 {
   TlLammpsData *data = NULL;
   TlDem *dem = NULL;
-  TlContactLaw *law = NULL;
   TlWall *wall = NULL;
   TlTriSurface *surface = NULL;
-  TlStatus status = TL_OK;
-  TL_CHECK_GOTO(status, tl_lammps_data_read(data_path, &data), done);
-  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
   TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK_GOTO(status, tl_domain_init_periodic_box(&dom, tl_v3(data->lo[0], data->lo[1], data->lo[2]),
-                                                    tl_v3(data->hi[0], data->hi[1], data->hi[2]), per), done);
-  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
-  TL_CHECK_GOTO(status, tl_particles_reserve(P, data->n), done);
-  for (size_t i = 0; i < data->n; ++i)
-    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL), done);
-  TL_CHECK_GOTO(status, make_law(s, &law), done);
-  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
-  law = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, peer_world_create(s, data_path, &data, &dem, &dom), done);
   double lx = data->hi[0] - data->lo[0], ly = data->hi[1] - data->lo[1];
   TL_CHECK_GOTO(status, tl_trisurface_create_rectangle(data->lo[0], data->lo[1], lx, ly, 0.0, n, n, 0, &surface), done);
   /* the floor crosses the periodic faces: join its edges there */
@@ -244,22 +278,10 @@ static TlStatus peer_scene_talus(const Setup *s, const char *data_path, int n, d
   surface = NULL;
   TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
   wall = NULL;
-  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
-  TL_CHECK_GOTO(status, tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)), done);
-  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
-  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
-  if (P->w)
-    for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
-  TL_CHECK_GOTO(status, tl_dem_step(dem, s->peer_warmup), done);
-  double sec = 0.0, cpu = 0.0;
   char label[64];
   snprintf(label, sizeof label, "talus %d triangles", 2 * n * n);
-  TL_CHECK_GOTO(status, timed_steps(dem, s->peer_steps, label, &sec, &cpu), done);
-  *particles = P->n;
-  *us = 1e6 * sec / ((double)s->peer_steps * (double)P->n);
-  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
+  TL_CHECK_GOTO(status, peer_world_time(s, data, dem, s->peer_steps, label, us, cpu_share, particles), done);
 done:
-  tl_contact_law_destroy(&law);
   tl_trisurface_destroy(&surface);
   tl_wall_destroy(&wall);
   tl_dem_destroy(&dem);
@@ -273,25 +295,10 @@ static TlStatus stl_scene_talus(const Setup *s, const char *data_path, const cha
 {
   TlLammpsData *data = NULL;
   TlDem *dem = NULL;
-  TlContactLaw *law = NULL;
   TlWall *wall = NULL;
-  TlStatus status = TL_OK;
-  TL_CHECK_GOTO(status, tl_lammps_data_read(data_path, &data), done);
-  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
   TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK_GOTO(status, tl_domain_init_periodic_box(&dom, tl_v3(data->lo[0], data->lo[1], data->lo[2]),
-                                                    tl_v3(data->hi[0], data->hi[1], data->hi[2]), per), done);
-  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
-  TL_CHECK_GOTO(status, tl_particles_reserve(P, data->n), done);
-  for (size_t i = 0; i < data->n; ++i)
-    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, data->x[i], data->v[i], 0.5 * data->diameter[i], sp, NULL), done);
-  TL_CHECK_GOTO(status, make_law(s, &law), done);
-  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
-  law = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, peer_world_create(s, data_path, &data, &dem, &dom), done);
   /* the wall from the file: read, checked (a clean floor: no repair), and
    * joined across the periodic faces */
   double t0 = tl_wtime();
@@ -304,22 +311,10 @@ static TlStatus stl_scene_talus(const Setup *s, const char *data_path, const cha
   *triangles = tl_wall_trisurface_surface(wall)->n_triangles;
   TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
   wall = NULL;
-  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
-  TL_CHECK_GOTO(status, tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)), done);
-  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
-  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
-  if (P->w)
-    for (size_t i = 0; i < data->n; ++i) P->w[i] = data->omega[i];
-  TL_CHECK_GOTO(status, tl_dem_step(dem, s->peer_warmup), done);
-  double sec = 0.0, cpu = 0.0;
   char label[64];
   snprintf(label, sizeof label, "talus STL %zu triangles", *triangles);
-  TL_CHECK_GOTO(status, timed_steps(dem, s->stl_steps, label, &sec, &cpu), done);
-  *particles = P->n;
-  *us = 1e6 * sec / ((double)s->stl_steps * (double)P->n);
-  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
+  TL_CHECK_GOTO(status, peer_world_time(s, data, dem, s->stl_steps, label, us, cpu_share, particles), done);
 done:
-  tl_contact_law_destroy(&law);
   tl_wall_destroy(&wall);
   tl_dem_destroy(&dem);
   tl_lammps_data_destroy(&data);
