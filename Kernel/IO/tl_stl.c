@@ -437,44 +437,44 @@ TlStatus tl_stl_read_memory(const void *data, size_t size, const char *label, Tl
   return TL_OK;
 }
 
-TlStatus tl_stl_read(const char *path, TlSurfaceMesh **m)
+typedef TlStatus (*SurfaceReader)(const void *data, size_t size, const char *label, TlSurfaceMesh **m);
+
+/* A Gmsh file or an STL one, told apart by content. */
+static TlStatus surface_read_memory(const void *data, size_t size, const char *label, TlSurfaceMesh **m)
 {
-  if (!path || !m) TL_ERROR(TL_ERR_ARG, "tl_stl_read: NULL path or output");
+  const char *c = data;
+  size_t i = 0;
+  while (i < size && (c[i] == ' ' || c[i] == '\n' || c[i] == '\r' || c[i] == '\t')) ++i;
+  if (size - i >= 11 && memcmp(c + i, "$MeshFormat", 11) == 0) return tl_gmsh_surface_read_memory(data, size, label, m);
+  return tl_stl_read_memory(data, size, label, m);
+}
+
+/* The whole file into memory, then read by `reader` under its path. */
+static TlStatus read_path(const char *path, TlSurfaceMesh **m, const char *caller, SurfaceReader reader)
+{
+  if (!path || !m) TL_ERROR(TL_ERR_ARG, "%s: NULL path or output", caller);
   char *data = NULL;
   size_t size = 0;
   TL_CHECK(read_file(path, &data, &size));
-  TlStatus status = tl_stl_read_memory(data, size, path, m);
+  TlStatus status = reader(data, size, path, m);
   tl_free(&data);
   if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
   return TL_OK;
+}
+
+TlStatus tl_stl_read(const char *path, TlSurfaceMesh **m)
+{
+  return read_path(path, m, "tl_stl_read", tl_stl_read_memory);
 }
 
 TlStatus tl_surface_mesh_read(const char *path, TlSurfaceMesh **m)
 {
-  if (!path || !m) TL_ERROR(TL_ERR_ARG, "tl_surface_mesh_read: NULL path or output");
-  char *data = NULL;
-  size_t size = 0;
-  TL_CHECK(read_file(path, &data, &size));
-  size_t i = 0;
-  while (i < size && (data[i] == ' ' || data[i] == '\n' || data[i] == '\r' || data[i] == '\t')) ++i;
-  TlStatus status;
-  if (size - i >= 11 && memcmp(data + i, "$MeshFormat", 11) == 0) status = tl_gmsh_surface_read_memory(data, size, path, m);
-  else status = tl_stl_read_memory(data, size, path, m);
-  tl_free(&data);
-  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
-  return TL_OK;
+  return read_path(path, m, "tl_surface_mesh_read", surface_read_memory);
 }
 
 TlStatus tl_gmsh_surface_read(const char *path, TlSurfaceMesh **m)
 {
-  if (!path || !m) TL_ERROR(TL_ERR_ARG, "tl_gmsh_surface_read: NULL path or output");
-  char *data = NULL;
-  size_t size = 0;
-  TL_CHECK(read_file(path, &data, &size));
-  TlStatus status = tl_gmsh_surface_read_memory(data, size, path, m);
-  tl_free(&data);
-  if (status != TL_OK) return tl_error_trace(status, __FILE__, __LINE__);
-  return TL_OK;
+  return read_path(path, m, "tl_gmsh_surface_read", tl_gmsh_surface_read_memory);
 }
 
 /* ------------------------------------------------------------ writing */
