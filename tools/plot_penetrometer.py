@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt
 
 def read_table(path):
     with open(path) as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))  # past the provenance lines
     head = [h.split(" ")[0].split("[")[0] for h in rows[0]]
     cols = {h: [] for h in head}
     for r in rows[1:]:
