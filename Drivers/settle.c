@@ -41,10 +41,10 @@
 
 typedef struct {
   long n;
-  double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance, snapshot_dt;
+  double d_min, d_max, density, E, box, height, t_end, dt_fraction, energy_tolerance, snapshot_dt, walls_stl_scale;
   long samples, floor_cells, checkpoint_every, stop_step;
   int threads, plane_floor;
-  const char *out, *restart, *particles;
+  const char *out, *restart, *particles, *walls_stl;
   TlContactLaw *law;
 } Settings;
 
@@ -100,6 +100,14 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                  "(atom_style sphere) or a Talus particle snapshot (.h5), each particle of species "
                                  "grains (-n is then the file's count)",
                                  &s->particles));
+  TL_CHECK(tl_options_get_string(*o, "-walls_stl", "",
+                                 "add the triangulated wall of this STL or Gmsh surface file (repaired: duplicate "
+                                 "points merged, degenerate facets removed, orientation made consistent) beside the "
+                                 "floor and the side planes",
+                                 &s->walls_stl));
+  TL_CHECK(tl_options_get_real(*o, "-walls_stl_scale", 1.0, 1e-12, 1e12, "",
+                               "scale of the -walls_stl file's coordinates to metres (1e-3: a file in mm)",
+                               &s->walls_stl_scale));
   TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000, "stop after this step (0: run to -t_end)",
                               &s->stop_step));
   return tl_options_finish(*o, stdout);
@@ -254,6 +262,17 @@ static TlStatus run(int argc, char **argv)
   for (int k = 0; k < 4; ++k) {
     TL_CHECK_GOTO(st, tl_wall_plane_create(pts[k], nrm[k], &w), done);
     TL_CHECK_GOTO(st, tl_dem_add_wall(dem, w, 0), done);
+  }
+  if (s.walls_stl[0]) {
+    TlWallPlacement place;
+    tl_wall_placement_default(&place);
+    place.scale = s.walls_stl_scale;
+    TlSurfaceReport report;
+    TL_CHECK_GOTO(st, tl_wall_trisurface_from_file(s.walls_stl, &place, &w, &report), done);
+    TL_CHECK_GOTO(st, tl_dem_add_wall(dem, w, 0), done);
+    printf("wall from %s: %zu triangles (repair: %zu points merged, %zu triangles removed, %zu flipped)\n",
+           s.walls_stl, tl_wall_trisurface_surface(w)->n_triangles, report.vertices_merged, report.triangles_removed,
+           report.triangles_flipped);
   }
   const double g = 9.81;
   tl_dem_set_gravity(dem, tl_v3(0, 0, -g));
