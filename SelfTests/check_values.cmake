@@ -23,18 +23,48 @@ function(talus_check_value key x ref rt at awk)
 endfunction()
 
 # Reads the key=value pairs of the "summary:" line of a driver's output out
-# into ${prefix}<key> in the caller's scope; a missing summary line is fatal
-# (what names the run in the message).
+# into ${prefix}<key> in the caller's scope, and the list of keys into
+# ${prefix}__keys; a missing summary line is fatal (what names the run in
+# the message).
 function(talus_read_summary out prefix what)
   string(REGEX MATCH "summary:[^\n]*" summary "${out}")
   if(summary STREQUAL "")
     message(FATAL_ERROR "${what}: no summary line in the driver's output")
   endif()
   string(REGEX MATCHALL "[A-Za-z_][A-Za-z0-9_]*=[^ \n]+" pairs "${summary}")
+  set(keys "")
   foreach(p IN LISTS pairs)
     string(REGEX REPLACE "=.*" "" k "${p}")
     string(REGEX REPLACE "^[^=]*=" "" v "${p}")
     set(${prefix}${k} "${v}" PARENT_SCOPE)
+    list(APPEND keys ${k})
+  endforeach()
+  set(${prefix}__keys "${keys}" PARENT_SCOPE)
+endfunction()
+
+# Checks the awk conditions of the list conditions ("n_small + n_large == n")
+# on the summaries read by talus_read_summary under each prefix of the list
+# prefixes; in awk a value ${prefix}<key> is named so without a leading
+# "val_" (val_A_E is A_E).  A condition that does not hold sets `failed` in
+# the caller's scope.
+function(talus_check_invariants prefixes conditions awk)
+  set(vars "")
+  foreach(p IN LISTS prefixes)
+    foreach(k IN LISTS ${p}__keys)
+      if("${${p}${k}}" MATCHES "${number_re}")
+        string(REGEX REPLACE "^val_" "" name "${p}${k}")
+        list(APPEND vars -v "${name}=${${p}${k}}")
+      endif()
+    endforeach()
+  endforeach()
+  foreach(cond IN LISTS conditions)
+    execute_process(COMMAND ${awk} ${vars} "BEGIN { exit !(${cond}) }" RESULT_VARIABLE bad)
+    if(bad EQUAL 0)
+      message("  invariant ${cond}: holds")
+    else()
+      message(SEND_ERROR "  invariant ${cond}: violated")
+      set(failed 1 PARENT_SCOPE)
+    endif()
   endforeach()
 endfunction()
 
