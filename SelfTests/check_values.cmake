@@ -45,7 +45,7 @@ endfunction()
 # Checks the awk conditions of the list conditions ("n_small + n_large == n")
 # on the summaries read by talus_read_summary under each prefix of the list
 # prefixes; in awk a value ${prefix}<key> is named so without a leading
-# "val_" (val_A_E is A_E).  A condition that does not hold sets `failed` in
+# "val_" and with its dots made underscores (val_A_E and val_A.E are A_E).  A condition that does not hold sets `failed` in
 # the caller's scope.
 function(talus_check_invariants prefixes conditions awk)
   set(vars "")
@@ -53,6 +53,7 @@ function(talus_check_invariants prefixes conditions awk)
     foreach(k IN LISTS ${p}__keys)
       if("${${p}${k}}" MATCHES "${number_re}")
         string(REGEX REPLACE "^val_" "" name "${p}${k}")
+        string(REPLACE "." "_" name "${name}")
         list(APPEND vars -v "${name}=${${p}${k}}")
       endif()
     endforeach()
