@@ -21,27 +21,16 @@
 #include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_test.h"
+#include "tl_test_dem.h"
 #include "tl_test_h5.h"
 
 static TlStatus build(TlDem **out)
 {
   TlDem *dem = NULL;
   TL_CHECK(tl_dem_create(&dem));
-  const double L = 0.02;
-  TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -0.002), tl_v3(L, L, 0.03), per));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK(tl_particles_add_species(P, "glass", 2500, 0.0014, 0.0016, &sp));
-  uint64_t seed = 77;
-  for (int k = 0; k < 50; ++k) {
-    double r = 0.0014 + 0.0002 * tl_random_uniform(&seed);
-    int i = k % 25, layer = k / 25;
-    TlVec3 x = tl_v3((i % 5 + 0.5) * L / 5, (i / 5 + 0.5) * L / 5, 0.0017 + 0.0033 * layer);
-    TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, -0.1), r, sp, NULL));
-  }
+  const TlTestColumn column = {.L = 0.02, .n = 50, .r_min = 0.0014, .r_max = 0.0016, .z0 = 0.0017, .dz = 0.0033,
+                               .v_z = -0.1, .seed = 77};
+  TL_CHECK(tl_test_dem_column(dem, &column, NULL));
   TlContactLaw *law = NULL;
   TL_CHECK(tl_test_law(&law, "linear", "k_n", 200.0, "restitution", 0.3, "mu", 0.4, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));

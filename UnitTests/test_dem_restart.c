@@ -20,6 +20,7 @@
 #include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_test.h"
+#include "tl_test_dem.h"
 #include "tl_wall_trisurface.h"
 
 enum { SCENE_HERTZ_PLANE, SCENE_TRISURFACE, SCENE_CELL, N_SCENES };
@@ -41,21 +42,9 @@ static TlStatus plough(void *ctx, double t, size_t n, const int64_t *id, const T
 
 static TlStatus build_column(TlDem *dem, double L, int hertz)
 {
-  TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -0.002), tl_v3(L, L, 0.03), per));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK(tl_particles_add_species(P, "glass", 2500, 0.0014, 0.0016, &sp));
-  uint64_t seed = 77;
-  for (int k = 0; k < 125; ++k) {
-    double r = 0.0014 + 0.0002 * urand(&seed);
-    int i = k % 25, layer = k / 25;
-    TlVec3 x = tl_v3((i % 5 + 0.5) * L / 5, (i / 5 + 0.5) * L / 5, 0.0017 + 0.0033 * layer);
-    TlVec3 v = tl_v3(0.2 * (urand(&seed) - 0.5), 0.2 * (urand(&seed) - 0.5), -0.1);
-    TL_CHECK(tl_dem_add_particle(dem, x, v, r, sp, NULL));
-  }
+  const TlTestColumn column = {.L = L, .n = 125, .r_min = 0.0014, .r_max = 0.0016, .z0 = 0.0017, .dz = 0.0033,
+                               .v_jitter = 0.2, .v_z = -0.1, .seed = 77};
+  TL_CHECK(tl_test_dem_column(dem, &column, NULL));
   TlContactLaw *law = NULL;
   if (hertz) {
     TL_CHECK(tl_test_law(&law, "hertz", "E", 5e6, "nu", 0.3, "gamma_n", 5e3, "mu", 0.5, "mu_roll", 0.05, NULL));

@@ -11,6 +11,7 @@
 #include "talus.h"
 #include "tl_dem.h"
 #include "tl_test.h"
+#include "tl_test_dem.h"
 #include "tl_wall_trisurface.h"
 
 static double urand(uint64_t *s)
@@ -32,20 +33,10 @@ static TlStatus pour(int triangles, PourResult *out)
   TlDem *dem = NULL;
   TL_CHECK(tl_dem_create(&dem));
   TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -0.002), tl_v3(L, L, 0.03), per));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK(tl_particles_add_species(P, "glass", 2500, 0.0008, 0.0016, &sp));
-  uint64_t seed = 2024;
-  for (int k = 0; k < 150; ++k) {
-    double r = 0.0008 + 0.0008 * urand(&seed);
-    /* a loose column of non-overlapping spheres on a 5 x 5 lattice per layer */
-    int i = k % 25, layer = k / 25;
-    TlVec3 x = tl_v3((i % 5 + 0.5) * L / 5, (i / 5 + 0.5) * L / 5, 0.003 + 0.0036 * layer);
-    TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0.05 * (urand(&seed) - 0.5), 0.05 * (urand(&seed) - 0.5), 0), r, sp, NULL));
-  }
+  const TlTestColumn column = {.L = L, .n = 150, .r_min = 0.0008, .r_max = 0.0016, .z0 = 0.003, .dz = 0.0036,
+                               .v_jitter = 0.05, .seed = 2024, .uniform = urand};
+  TL_CHECK(tl_test_dem_column(dem, &column, &dom));
+  const TlParticles *P = tl_dem_particles(dem);
   TlContactLaw *law = NULL;
   TL_CHECK(tl_test_law(&law, "linear", "k_n", 200.0, "restitution", 0.3, "mu", 0.4, NULL));
   TL_CHECK(tl_dem_add_law(dem, law, NULL));
