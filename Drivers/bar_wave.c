@@ -242,7 +242,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_path_join(output_dir, "checkpoint.h5", &cp_path), out);
   if (restart[0]) {
     TL_CHECK_GOTO(s, tl_checkpoint_load(cp, restart, NULL, NULL), out);
-    printf("restarted from %s at step %lld, t = %.9g s\n", restart, (long long)pr.next_step, st->t);
+    tl_printf("restarted from %s at step %lld, t = %.9g s\n", restart, (long long)pr.next_step, st->t);
   }
   TlProgress bar;
   tl_progress_init(&bar, "steps", (double)steps);
@@ -262,7 +262,7 @@ static TlStatus run(int argc, char **argv)
     if (checkpoint_every > 0 && k % checkpoint_every == 0) TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, st->t, k), out);
     if (stop_step > 0 && k >= stop_step && k < steps) {
       tl_progress_finish(&bar);
-      printf("stopped after step %ld of %ld (t = %.9g s)\n", k, steps, st->t);
+      tl_printf("stopped after step %ld of %ld (t = %.9g s)\n", k, steps, st->t);
       TlSummary part; /* the speed needs the whole run: only what was done */
       tl_summary_init(&part);
       tl_summary_int(&part, "stopped_at_step", k);
@@ -278,12 +278,12 @@ static TlStatus run(int argc, char **argv)
   double ta = m1[0] / m0[0], tb = m1[1] / m0[1];
   double speed = (s2.y - s1.y) / (tb - ta), err = (speed - c) / c;
   size_t n_elem = mesh->blocks[0].n_elements;
-  printf("bar %g m, %s %ldx%ldx%ld, %s dt = %.4g s (%ld steps): arrival %.6f s at y = %g m, %.6f s "
-         "at y = %g m; speed %.4f m/s, sqrt(E/rho) = %.4f m/s (%+.3f %%); peak |v| %.4f, %.4f m/s "
-         "(the pulse's peak 2 v0 = %g m/s); %.1f ns per element-step\n",
-         L, elem ? "hex27" : "hex8", nx, ny, nz, steppers[stepper], dt, steps, ta, s1.y, tb, s2.y,
-         speed, c, 100.0 * err, peak[0], peak[1], 2.0 * pulse.v0,
-         1e9 * t_loop / ((double)steps * (double)n_elem));
+  tl_printf("bar %g m, %s %ldx%ldx%ld, %s dt = %.4g s (%ld steps): arrival %.6f s at y = %g m, %.6f s "
+            "at y = %g m; speed %.4f m/s, sqrt(E/rho) = %.4f m/s (%+.3f %%); peak |v| %.4f, %.4f m/s "
+            "(the pulse's peak 2 v0 = %g m/s); %.1f ns per element-step\n",
+            L, elem ? "hex27" : "hex8", nx, ny, nz, steppers[stepper], dt, steps, ta, s1.y, tb, s2.y,
+            speed, c, 100.0 * err, peak[0], peak[1], 2.0 * pulse.v0,
+            1e9 * t_loop / ((double)steps * (double)n_elem));
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_real(&sum, "speed", speed);

@@ -212,7 +212,7 @@ static TlStatus open_table(const Config *c, const char *name, size_t n, const Tl
 static void check_within(const Config *c, const char *what, double value, int *failed)
 {
   if (!c->check || fabs(value) <= c->tolerance) return;
-  fprintf(stderr, "check failed: %s %.4g exceeds %.4g\n", what, value, c->tolerance);
+  tl_log(TL_LOG_ERROR, "check failed: %s %.4g exceeds %.4g", what, value, c->tolerance);
   *failed = 1;
 }
 
@@ -232,10 +232,10 @@ static TlStatus run_small(const Config *c, TlSummary *sum, int *failed)
   double wall = tl_wtime() - t0, tip[3];
   tl_cantilever_tip(beam, st->u, tip);
   double ref = tl_cantilever_timoshenko(&c->beam), err = (-tip[2] - ref) / ref;
-  printf("small load P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.6e m, "
-         "Timoshenko %.6e m, error %+.3f %% (%.3f s)\n",
-         c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz,
-         (long long)st->n, -tip[2], ref, 100.0 * err, wall);
+  tl_printf("small load P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.6e m, "
+            "Timoshenko %.6e m, error %+.3f %% (%.3f s)\n",
+            c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz,
+            (long long)st->n, -tip[2], ref, 100.0 * err, wall);
   tl_summary_real(sum, "small_tip", -tip[2]);
   tl_summary_real(sum, "small_timoshenko", ref);
   tl_summary_real(sum, "small_error", err);
@@ -314,7 +314,7 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
       if (lp.step > c->load_steps)
         TL_CHECK_GOTO(s, tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "checkpoint '%s' is at load step %lld, beyond -load_steps %ld",
                                       c->restart, (long long)lp.step, c->load_steps), done);
-      printf("restarted from %s at load step %lld\n", c->restart, (long long)lp.step);
+      tl_printf("restarted from %s at load step %lld\n", c->restart, (long long)lp.step);
     }
   }
   const long newton0 = (long)lp.newton; /* the iterations before a restart */
@@ -339,7 +339,7 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
       TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, st->t, k), done);
     if (own && c->stop_step > 0 && k >= c->stop_step && k < c->load_steps) {
       tl_progress_finish(&bar);
-      printf("stopped after load step %ld of %ld\n", k, c->load_steps);
+      tl_printf("stopped after load step %ld of %ld\n", k, c->load_steps);
       tl_summary_int(sum, "stopped_at_load_step", k);
       goto done;
     }
@@ -354,20 +354,20 @@ static TlStatus run_large(const Config *c, int nlgeom, TlSummary *sum, int *fail
   tl_stepper_get_stats(st, &ss);
   ss.newton_iterations += newton0;
   if (nlgeom) {
-    printf("nlgeom, %s, dead tip load P = %.10g N (P L^2/(E I) = %g) in %ld steps (%ld Newton iterations, "
-           "%.3f s): tip w = %.10e m, shortening v = %.10e m, lateral u = %.3e m; elastica w %.6f m, "
-           "difference %+.3f %%\n",
-           c->material, p.load, c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1],
-           tip[0], we * p.L, 100.0 * ew);
+    tl_printf("nlgeom, %s, dead tip load P = %.10g N (P L^2/(E I) = %g) in %ld steps (%ld Newton iterations, "
+              "%.3f s): tip w = %.10e m, shortening v = %.10e m, lateral u = %.3e m; elastica w %.6f m, "
+              "difference %+.3f %%\n",
+              c->material, p.load, c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1],
+              tip[0], we * p.L, 100.0 * ew);
     tl_summary_real(sum, "nlgeom_tip_w", -tip[2]);
     tl_summary_real(sum, "nlgeom_tip_v", -tip[1]);
     tl_summary_real(sum, "nlgeom_elastica_w", we * p.L);
     tl_summary_int(sum, "nlgeom_newton", ss.newton_iterations);
   } else {
-    printf("large load P L^2/(E I) = %g in %ld steps (%ld Newton iterations, %.3f s): tip w = %.6f m, "
-           "shortening = %.6f m; elastica %.6f m, %.6f m; differences %+.3f %%, %+.3f %%\n",
-           c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1], we * p.L,
-           ve * p.L, 100.0 * ew, 100.0 * ev);
+    tl_printf("large load P L^2/(E I) = %g in %ld steps (%ld Newton iterations, %.3f s): tip w = %.6f m, "
+              "shortening = %.6f m; elastica %.6f m, %.6f m; differences %+.3f %%, %+.3f %%\n",
+              c->load_parameter, c->load_steps, ss.newton_iterations, wall, -tip[2], -tip[1], we * p.L,
+              ve * p.L, 100.0 * ew, 100.0 * ev);
     tl_summary_real(sum, "large_tip_w", -tip[2]);
     tl_summary_real(sum, "large_elastica_w", we * p.L);
     tl_summary_real(sum, "large_error_w", ew);
@@ -399,10 +399,10 @@ static TlStatus run_linear(const Config *c, TlSummary *sum, int *failed)
   TL_CHECK_GOTO(s, tl_linear_static_solve(sys, c->solver, 0.0, u, &ls), done);
   tl_cantilever_tip(beam, u, tip);
   double ref = tl_cantilever_timoshenko(&c->beam), err = (-tip[2] - ref) / ref;
-  printf("linear static, P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.10e m, Timoshenko %.6e m, "
-         "error %+.3f %% (assembly %.4f s, factorisation %.4f s, solve %.4f s, residual %.1e)\n",
-         c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
-         -tip[2], ref, 100.0 * err, ls.t_assemble, ls.t_factor, ls.t_solve, ls.residual);
+  tl_printf("linear static, P = %g N on %s %zux%zux%zu (%lld dofs): tip deflection %.10e m, Timoshenko %.6e m, "
+            "error %+.3f %% (assembly %.4f s, factorisation %.4f s, solve %.4f s, residual %.1e)\n",
+            c->beam.load, c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
+            -tip[2], ref, 100.0 * err, ls.t_assemble, ls.t_factor, ls.t_solve, ls.residual);
   tl_summary_real(sum, "linear_tip", -tip[2]);
   tl_summary_real(sum, "linear_timoshenko", ref);
   tl_summary_real(sum, "linear_error", err);
@@ -432,14 +432,14 @@ static TlStatus run_modal(const Config *c, TlSummary *sum, int *failed)
   const TlColumn cols[] = {{"mode", ""}, {"omega", "rad/s"}, {"frequency", "Hz"}};
   TL_CHECK_GOTO(s, open_table(c, "modal", 3, cols, &ts), done);
   double w1 = tl_cantilever_omega1(&c->beam);
-  printf("modal analysis on %s %zux%zux%zu (%lld dofs), %s mass: %d modes (ARPACK, %ld restarts, %ld "
-         "operator applications; assembly %.4f s, factorisation %.4f s, Lanczos %.4f s; residual %.1e)\n",
-         c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
-         ms.consistent ? "consistent" : "lumped", mo.n_modes, ms.restarts, ms.operator_applications,
-         ms.t_assemble, ms.t_factor, ms.t_lanczos, ms.residual);
+  tl_printf("modal analysis on %s %zux%zux%zu (%lld dofs), %s mass: %d modes (ARPACK, %ld restarts, %ld "
+            "operator applications; assembly %.4f s, factorisation %.4f s, Lanczos %.4f s; residual %.1e)\n",
+            c->beam.type->header.name, c->beam.nx, c->beam.ny, c->beam.nz, (long long)sys->ndof,
+            ms.consistent ? "consistent" : "lumped", mo.n_modes, ms.restarts, ms.operator_applications,
+            ms.t_assemble, ms.t_factor, ms.t_lanczos, ms.residual);
   for (int k = 0; k < mo.n_modes; ++k) {
     double w = sqrt(omega2[k]);
-    printf("  mode %d: omega = %.10e rad/s, f = %.8g Hz\n", k + 1, w, w / (2.0 * M_PI));
+    tl_printf("  mode %d: omega = %.10e rad/s, f = %.8g Hz\n", k + 1, w, w / (2.0 * M_PI));
     double row[3] = {(double)(k + 1), w, w / (2.0 * M_PI)};
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     char key[32];
@@ -447,7 +447,7 @@ static TlStatus run_modal(const Config *c, TlSummary *sum, int *failed)
     if (k < 6) tl_summary_real(sum, key, w);
   }
   double err = (sqrt(omega2[0]) - w1) / w1;
-  printf("  first bending frequency against Euler-Bernoulli %.6e rad/s: %+.3f %%\n", w1, 100.0 * err);
+  tl_printf("  first bending frequency against Euler-Bernoulli %.6e rad/s: %+.3f %%\n", w1, 100.0 * err);
   tl_summary_real(sum, "modal_omega1_eb", w1);
   tl_summary_real(sum, "modal_residual", ms.residual);
   check_within(c, "first frequency error", err, failed);
@@ -568,7 +568,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   double tip[3];
   if (restart) {
     TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c->restart, NULL, NULL), done);
-    printf("restarted from %s at step %lld, t = %.9g s\n", c->restart, (long long)vs.step, nm->t);
+    tl_printf("restarted from %s at step %lld, t = %.9g s\n", c->restart, (long long)vs.step, nm->t);
   } else {
     /* The static deflection under the tip load is the initial shape. */
     beam->load_scale = 1.0;
@@ -621,16 +621,16 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   double drift_per_period = drift / fmax(periods_run, 1.0);
   TlStepperStats ss;
   tl_stepper_get_stats(nm, &ss);
-  printf("free vibration: %ld Newmark steps of %g s (%.2f s wall, %ld Newton iterations, %ld "
-         "factorisations); ",
-         (long)vs.step, c->dt, wall, ss.newton_iterations, ss.factorisations);
+  tl_printf("free vibration: %ld Newmark steps of %g s (%.2f s wall, %ld Newton iterations, %ld "
+            "factorisations); ",
+            (long)vs.step, c->dt, wall, ss.newton_iterations, ss.factorisations);
   if (have_period)
-    printf("period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%)", period, T1, 100.0 * (period - T1) / T1);
+    tl_printf("period %.5f s, Euler-Bernoulli %.5f s (%+.2f %%)", period, T1, 100.0 * (period - T1) / T1);
   else
-    printf("period undefined (the tip crossed zero %ld time%s in %.3g s; two crossings are needed: "
-           "-periods 1 or more), Euler-Bernoulli %.5f s",
-           n_cross, n_cross == 1 ? "" : "s", (double)vs.step * c->dt, T1);
-  printf("; largest energy deviation %.2e (%.2e per period)\n", drift, drift_per_period);
+    tl_printf("period undefined (the tip crossed zero %ld time%s in %.3g s; two crossings are needed: "
+              "-periods 1 or more), Euler-Bernoulli %.5f s",
+              n_cross, n_cross == 1 ? "" : "s", (double)vs.step * c->dt, T1);
+  tl_printf("; largest energy deviation %.2e (%.2e per period)\n", drift, drift_per_period);
   int stopped = vs.step < steps; /* -stop_step: a part of a run, to be continued by -restart */
   if (stopped)
     tl_summary_int(sum, "stopped_at", vs.step);
@@ -643,7 +643,7 @@ static TlStatus run_vibration(const Config *c, TlSummary *sum, int *failed)
   tl_summary_real(sum, "energy_error_max", drift);
   tl_summary_real(sum, "energy_error_per_period", drift_per_period);
   if (c->check && !(drift_per_period <= 1e-8)) {
-    fprintf(stderr, "check failed: energy drift per period %.3g exceeds 1e-8\n", drift_per_period);
+    tl_log(TL_LOG_ERROR, "check failed: energy drift per period %.3g exceeds 1e-8", drift_per_period);
     *failed = 1;
   }
 done:
@@ -680,8 +680,8 @@ static TlStatus run(int argc, char **argv)
   if (c.mode == MODE_NLGEOM) TL_CHECK_GOTO(s, run_large(&c, 1, &sum, &failed), done);
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cantilever_fem.py", plot_cmd, sizeof plot_cmd),
-           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cantilever_fem.py", plot_cmd, sizeof plot_cmd),
+              tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
   }
   tl_summary_real(&sum, "wall", tl_wtime() - t0);
   s = tl_summary_print(&sum, stdout);

@@ -417,7 +417,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
                                       "checkpoint '%s' is at settling step %lld: not a multiple of %d in [0, -settle_steps %ld]",
                                       c.restart, (long long)settled, SETTLE_CHUNK, c.settle_steps), done);
       steps = (long)settled;
-      printf("restarted from %s at settling step %ld\n", c.restart, steps);
+      tl_printf("restarted from %s at settling step %ld\n", c.restart, steps);
     }
     if (c.checkpoint_every > 0) TL_CHECK_GOTO(s, tl_output_dir_prepare(c.output_dir), done);
     TlProgress prog;
@@ -436,7 +436,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
         TL_CHECK_GOTO(s, tl_checkpoint_save(cp, cp_path, tl_dem_time(dem), steps), done);
       if (c.stop_step > 0 && steps >= c.stop_step) {
         tl_progress_finish(&prog);
-        printf("stopped after settling step %ld\n", steps);
+        tl_printf("stopped after settling step %ld\n", steps);
         tl_summary_int(sum, "stopped_at_step", steps);
         tl_summary_int(sum, "particles", (long)P->n);
         goto done;
@@ -582,11 +582,11 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
     if (s != TL_OK) goto done;
   }
   tl_timers_stop(&timers, ph_out);
-  tl_timers_print(&timers, stderr);
+  if (tl_log_enabled(TL_LOG_INFO)) tl_timers_print(&timers, stderr);
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cg_profile.py", plot_cmd, sizeof plot_cmd),
-           (tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/profile.csv")));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_cg_profile.py", plot_cmd, sizeof plot_cmd),
+              (tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/profile.csv")));
   }
 
   tl_summary_int(sum, "particles", (long)P->n);

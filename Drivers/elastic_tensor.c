@@ -231,13 +231,13 @@ static TlStatus write_tensors(const char *path, const TlProbeResult *r)
 static void print_tensor(const char *title, const double C[6][6])
 {
   static const char *lab[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
-  printf("%s (GPa; rows: stress, columns: strain, Voigt xx yy zz yz xz xy)\n      ", title);
-  for (int J = 0; J < 6; ++J) printf(" %12s", lab[J]);
-  printf("\n");
+  tl_printf("%s (GPa; rows: stress, columns: strain, Voigt xx yy zz yz xz xy)\n      ", title);
+  for (int J = 0; J < 6; ++J) tl_printf(" %12s", lab[J]);
+  tl_printf("\n");
   for (int i = 0; i < 6; ++i) {
-    printf("  %s  ", lab[i]);
-    for (int J = 0; J < 6; ++J) printf(" %12.6f", C[i][J] * 1e-9);
-    printf("\n");
+    tl_printf("  %s  ", lab[i]);
+    for (int J = 0; J < 6; ++J) tl_printf(" %12.6f", C[i][J] * 1e-9);
+    tl_printf("\n");
   }
 }
 
@@ -298,11 +298,11 @@ static TlStatus run(int argc, char **argv)
   TlProbeResult r;
   memset(&r, 0, sizeof r);
   if (st == TL_OK) {
-    printf("elastic_tensor: %s, %zu grains, d in [%g, %g] m, cell volume %.6g m^3 (side %.6g m), packing fraction "
-           "%.5f, density of the packing %.2f kg/m^3\n",
-           s.input, pk.n, 2 * rmin, 2 * rmax, V, cbrt(V), vol / V, pk.density * vol / V);
-    printf("probe %s, strain %g, jiggle %g m (seed %lld)%s\n", probes[s.probe], s.ps.strain, s.ps.jiggle,
-           (long long)s.ps.jiggle_seed, s.ps.kind == TL_PROBE_RELAXED ? ", relaxed to static balance" : "");
+    tl_printf("elastic_tensor: %s, %zu grains, d in [%g, %g] m, cell volume %.6g m^3 (side %.6g m), packing fraction "
+              "%.5f, density of the packing %.2f kg/m^3\n",
+              s.input, pk.n, 2 * rmin, 2 * rmax, V, cbrt(V), vol / V, pk.density * vol / V);
+    tl_printf("probe %s, strain %g, jiggle %g m (seed %lld)%s\n", probes[s.probe], s.ps.strain, s.ps.jiggle,
+              (long long)s.ps.jiggle_seed, s.ps.kind == TL_PROBE_RELAXED ? ", relaxed to static balance" : "");
     st = tl_dem_probe_elastic(dem, &s.ps, &r);
   }
   if (st == TL_OK && s.write_data[0]) st = tl_dem_packing_write_lammps(dem, pk.density, s.write_data);
@@ -316,36 +316,36 @@ static TlStatus run(int argc, char **argv)
     print_tensor("C_iJ = (sigma_i(+eps_J) - sigma_i(-eps_J)) / (2 eps)", r.C);
     print_tensor("symmetrised (C + C^T)/2", r.C_sym);
     const TlElasticModuli *m = &r.moduli;
-    printf("reference stress (Pa): xx %.6g yy %.6g zz %.6g yz %.6g xz %.6g xy %.6g; pressure %.6g Pa; coordination %.3f\n",
-           r.stress0[0], r.stress0[1], r.stress0[2], r.stress0[3], r.stress0[4], r.stress0[5], r.pressure0, coord);
-    printf("cubic averages: C11 %.6g  C12 %.6g  C44 %.6g Pa\n", m->C11, m->C12, m->C44);
-    printf("moduli: K %.6g  G1 = C44 %.6g  G2 = (C11-C12)/2 %.6g  G %.6g  E %.6g Pa  nu %.6f  Zener %.6f\n", m->K, m->G1,
-           m->G2, m->G, m->E, m->nu, m->zener);
-    printf("Table 2 (Voisin-Leprince et al. 2023): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
+    tl_printf("reference stress (Pa): xx %.6g yy %.6g zz %.6g yz %.6g xz %.6g xy %.6g; pressure %.6g Pa; coordination %.3f\n",
+              r.stress0[0], r.stress0[1], r.stress0[2], r.stress0[3], r.stress0[4], r.stress0[5], r.pressure0, coord);
+    tl_printf("cubic averages: C11 %.6g  C12 %.6g  C44 %.6g Pa\n", m->C11, m->C12, m->C44);
+    tl_printf("moduli: K %.6g  G1 = C44 %.6g  G2 = (C11-C12)/2 %.6g  G %.6g  E %.6g Pa  nu %.6f  Zener %.6f\n", m->K, m->G1,
+              m->G2, m->G, m->E, m->nu, m->zener);
+    tl_printf("Table 2 (Voisin-Leprince et al. 2023): E 0.977e9 Pa, nu 0.255; this packing: E/E_T2 = %.4f\n", m->E / 0.977e9);
     if (s.ps.kind == TL_PROBE_RELAXED) {
       static const char *lab[6] = {"xx", "yy", "zz", "yz", "xz", "xy"};
-      printf("relaxations (steps, final imbalance): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);
+      tl_printf("relaxations (steps, final imbalance): reference %ld, %.2g", r.reference_steps, r.reference_imbalance);
       for (int J = 0; J < 6; ++J)
-        printf("; %s -eps %ld, %.2g, +eps %ld, %.2g", lab[J], r.probe_steps[J][0], r.probe_imbalance[J][0],
-               r.probe_steps[J][1], r.probe_imbalance[J][1]);
-      printf("\nrelaxations: up to %ld steps, largest final imbalance %.3g, all converged: %s\n", r.relax_steps,
-             r.relax_imbalance, r.relax_converged ? "yes" : "no");
+        tl_printf("; %s -eps %ld, %.2g, +eps %ld, %.2g", lab[J], r.probe_steps[J][0], r.probe_imbalance[J][0],
+                  r.probe_steps[J][1], r.probe_imbalance[J][1]);
+      tl_printf("\nrelaxations: up to %ld steps, largest final imbalance %.3g, all converged: %s\n", r.relax_steps,
+                r.relax_imbalance, r.relax_converged ? "yes" : "no");
     }
     if (s.compare[0]) {
       double big = 0.0, err = 0.0;
-      printf("against %s: entry, this, that, difference relative to the largest entry\n", s.compare);
+      tl_printf("against %s: entry, this, that, difference relative to the largest entry\n", s.compare);
       for (int i = 0; i < 6; ++i)
         for (int J = 0; J < 6; ++J) big = fmax(big, fabs(Cref[i][J]));
       for (int i = 0; i < 6; ++i)
         for (int J = 0; J < 6; ++J) {
           double e = fabs(r.C_sym[i][J] - Cref[i][J]) / big;
           err = fmax(err, e);
-          printf("  C%d%d %.15g %.15g %.3e\n", i + 1, J + 1, r.C_sym[i][J], Cref[i][J], e);
+          tl_printf("  C%d%d %.15g %.15g %.3e\n", i + 1, J + 1, r.C_sym[i][J], Cref[i][J], e);
         }
       TlElasticModuli mr;
       tl_elastic_moduli(Cref, &mr);
-      printf("that tensor's moduli: E %.6g Pa nu %.6f K %.6g G1 %.6g G2 %.6g Zener %.6f\n", mr.E, mr.nu, mr.K, mr.G1,
-             mr.G2, mr.zener);
+      tl_printf("that tensor's moduli: E %.6g Pa nu %.6f K %.6g G1 %.6g G2 %.6g Zener %.6f\n", mr.E, mr.nu, mr.K, mr.G1,
+                mr.G2, mr.zener);
       cmp = err;
     }
     TlSummary sum;

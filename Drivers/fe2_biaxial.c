@@ -672,12 +672,12 @@ static TlStatus run(int argc, char **argv)
   }
   if (rp.mat && rp.mat->ops->init_state) TL_CHECK_GOTO(s, rp.mat->ops->init_state(rp.mat, 1, rp.state[0]), done);
   rp.a = 1.0;
-  printf("fe2_biaxial: %s %ld x %ld (%zu nodes, %lld dofs), law %s (operator %s), pressure %g Pa, to %g %% in %ld "
-         "steps, |F|/|R| <= %g / %g, %d threads\n",
-         macros[c.macro], c.nx, c.ny, sc.mesh->n_nodes, (long long)st->n, c.material,
-         c.op[0] ? c.op : tl_nhl_material_is(mat) ? "demqo" : "consistent", c.pressure,
-         100.0 * c.axial_strain, c.steps, c.ratio_tol, so.ratio_tol_post,
-         c.threads > 0 ? (int)c.threads : omp_get_max_threads());
+  tl_printf("fe2_biaxial: %s %ld x %ld (%zu nodes, %lld dofs), law %s (operator %s), pressure %g Pa, to %g %% in %ld "
+            "steps, |F|/|R| <= %g / %g, %d threads\n",
+            macros[c.macro], c.nx, c.ny, sc.mesh->n_nodes, (long long)st->n, c.material,
+            c.op[0] ? c.op : tl_nhl_material_is(mat) ? "demqo" : "consistent", c.pressure,
+            100.0 * c.axial_strain, c.steps, c.ratio_tol, so.ratio_tol_post,
+            c.threads > 0 ? (int)c.threads : omp_get_max_threads());
   double q_max = -HUGE_VAL, strain_peak = 0.0, ref_diff = 0.0, ref_peak = 0.0, t0 = tl_wtime();
   long iterations = 0, iterations_pre = 0, steps_pre = 0, iterations_post = 0, steps_post = 0, cuts = 0, loose = 0,
        failed_it = 0;
@@ -725,9 +725,9 @@ static TlStatus run(int argc, char **argv)
     es0 = es1;
     TL_CHECK_GOTO(s, tl_timeseries_append(ts, row), done);
     TL_CHECK_GOTO(s, tl_timeseries_append(tt, trow), done);
-    printf("step %4ld  eps_a %.5f  q %.6e Pa  eps_v %+.3e  iterations %ld%s  cuts %ld  |F|/|R| %.2e%s  %.3f s\n", k,
-           m.axial_strain, m.q, m.eps_v, si->iterations, si->failed_iterations ? " (+failed)" : "", si->cuts,
-           si->ratio, si->post_peak ? " post-peak" : "", tw);
+    tl_printf("step %4ld  eps_a %.5f  q %.6e Pa  eps_v %+.3e  iterations %ld%s  cuts %ld  |F|/|R| %.2e%s  %.3f s\n", k,
+              m.axial_strain, m.q, m.eps_v, si->iterations, si->failed_iterations ? " (+failed)" : "", si->cuts,
+              si->ratio, si->post_peak ? " post-peak" : "", tw);
     if (sn.writer && (k % c.snapshot_every == 0 || k == c.steps))
       TL_CHECK_GOTO(s, snapshots_write(&sn, &sc, mat, k, st->t, st->u), done);
   }
@@ -772,15 +772,15 @@ static TlStatus run(int argc, char **argv)
     tl_summary_int(&sum, "dem_steps", dem_steps);
     tl_summary_int(&sum, "unconverged_cells", unconverged);
   }
-  printf("%ld steps, %ld Newton iterations (%.2f per step before the peak, %.2f after), %ld halvings; %ld point "
-         "evaluations at %.3g s each (%.3f s in the point loop of %.3f s)\n",
-         c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
-         steps_post ? (double)iterations_post / steps_post : 0.0, cuts, es.points,
-         es.points ? es.t_points / (double)es.points : 0.0, es.t_wall, wall);
+  tl_printf("%ld steps, %ld Newton iterations (%.2f per step before the peak, %.2f after), %ld halvings; %ld point "
+            "evaluations at %.3g s each (%.3f s in the point loop of %.3f s)\n",
+            c.steps, iterations, steps_pre ? (double)iterations_pre / steps_pre : 0.0,
+            steps_post ? (double)iterations_post / steps_post : 0.0, cuts, es.points,
+            es.points ? es.t_points / (double)es.points : 0.0, es.t_wall, wall);
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_fe2_biaxial.py", plot_cmd, sizeof plot_cmd),
-           tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_fe2_biaxial.py", plot_cmd, sizeof plot_cmd),
+              tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir));
   }
   s = tl_summary_print(&sum, stdout);
   if (c.check && rp.mat && !(ref_diff <= c.ref_tolerance * ref_peak))

@@ -167,11 +167,11 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_gouge_create(&r.p, &g), done);
   TlGougeInfo in;
   tl_gouge_info(g, &in);
-  printf("gouge_bridging: %zu grains (cell %.5g m = %.3f d0, %d x %d x %d cells), %zu coupled; FE %d x %d x %d hex8 per bar "
-         "(h %.4g x %.4g m), %zu dofs, %s path; sigma0 %.4g Pa; c_P %.1f m/s, c_S %.1f m/s; dt %g s (DEM critical %.3g s)\n",
-         in.n_particles, in.a, in.a / D0, r.p.cells_section, r.p.cells_y, r.p.cells_section, in.n_coupled, in.n_section,
-         in.n_bar, in.n_section, in.hx, in.hy, in.n_dofs, r.p.linear_fe ? "linear" : "finite-strain", in.sigma0, in.c_p,
-         in.c_s, r.p.dt, in.dem_dt_critical);
+  tl_printf("gouge_bridging: %zu grains (cell %.5g m = %.3f d0, %d x %d x %d cells), %zu coupled; FE %d x %d x %d hex8 per bar "
+            "(h %.4g x %.4g m), %zu dofs, %s path; sigma0 %.4g Pa; c_P %.1f m/s, c_S %.1f m/s; dt %g s (DEM critical %.3g s)\n",
+            in.n_particles, in.a, in.a / D0, r.p.cells_section, r.p.cells_y, r.p.cells_section, in.n_coupled, in.n_section,
+            in.n_bar, in.n_section, in.hx, in.hy, in.n_dofs, r.p.linear_fe ? "linear" : "finite-strain", in.sigma0, in.c_p,
+            in.c_s, r.p.dt, in.dem_dt_critical);
   /* Wave windows: the incident pulse passes the left monitor at t_i, the
    * transmitted one the right monitor at t_T (FE speed). */
   double y_end = in.fe_start + in.n_bar * in.hy, lam_c = r.p.wavelength / in.c;
@@ -192,7 +192,7 @@ static TlStatus run(int argc, char **argv)
   }
   if (r.restart[0]) {
     TL_CHECK_GOTO(s, tl_gouge_checkpoint_load(g, r.restart), done);
-    printf("restarted from %s at step %ld\n", r.restart, tl_gouge_steps(g));
+    tl_printf("restarted from %s at step %ld\n", r.restart, tl_gouge_steps(g));
   }
   /* Tables: history (monitored planes + report), ct diagrams, planes. */
   size_t np = in.n_planes;
@@ -347,8 +347,8 @@ static TlStatus run(int argc, char **argv)
     char plot_cmd[4200], plot_dir[4200];
     const char *mode = r.p.mode == TL_GOUGE_WAVE ? "wave" : "rest";
     tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir);
-    printf("plots: %s %s %s/%s.png %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_gouge_bridging.py", plot_cmd, sizeof plot_cmd),
-           mode, plot_dir, mode, plot_dir);
+    tl_printf("plots: %s %s %s/%s.png %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_gouge_bridging.py", plot_cmd, sizeof plot_cmd),
+              mode, plot_dir, mode, plot_dir);
   }
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   s = tl_summary_print(&sum, stdout);

@@ -377,16 +377,16 @@ static TlStatus run(int argc, char **argv)
     snprintf(stl[k], sizeof stl[k], "%s/hopper_%d.stl", s.out, k);
     TL_CHECK_GOTO(st, hopper_mesh(0.5 * s.orifice[k] * dm, s.radius, top, (int)s.segments, &hop), done);
     TL_CHECK_GOTO(st, tl_stl_write(stl[k], hop, 1), done);
-    if (k == 0) printf("hopper: radius %g m, height %g m, %zu triangles per STL, orifices", s.radius, top, hop->n_triangles);
-    printf(" %g mm%s", 1e3 * s.orifice[k] * dm, k + 1 == s.n_orifices ? "\n" : ",");
+    if (k == 0) tl_printf("hopper: radius %g m, height %g m, %zu triangles per STL, orifices", s.radius, top, hop->n_triangles);
+    tl_printf(" %g mm%s", 1e3 * s.orifice[k] * dm, k + 1 == s.n_orifices ? "\n" : ",");
     tl_surface_mesh_destroy(&hop);
   }
   /* settle on the lid */
   TlWall *lid = NULL;
   TlSurfaceReport rep;
   TL_CHECK_GOTO(st, make_world(&s, stl[0], top, &dem, &lid, &rep), done);
-  printf("hopper surface: %s, closed %d, repaired (%zu vertices merged, %zu triangles removed, %zu flipped, %zu holes)\n",
-         stl[0], rep.closed, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped, rep.holes);
+  tl_printf("hopper surface: %s, closed %d, repaired (%zu vertices merged, %zu triangles removed, %zu flipped, %zu holes)\n",
+            stl[0], rep.closed, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped, rep.holes);
   TlParticles *P = tl_dem_particles(dem);
   int sp;
   TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp), done);
@@ -402,8 +402,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, timestep(&s, dem, &dt), done);
   TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
   long settle_steps = (long)ceil(s.t_settle / dt);
-  printf("hopper_discharge: %ld grains, d in [%g, %g] m, k_n = %g N/m, dt = %g s, settling %ld steps\n", s.n, s.d_min,
-         s.d_max, s.E * dm, dt, settle_steps);
+  tl_printf("hopper_discharge: %ld grains, d in [%g, %g] m, k_n = %g N/m, dt = %g s, settling %ld steps\n", s.n, s.d_min,
+            s.d_max, s.E * dm, dt, settle_steps);
   TlProgress prog;
   tl_progress_init(&prog, "settle", (double)settle_steps);
   for (long k = 0; k < settle_steps; k += 1000) {
@@ -424,8 +424,8 @@ static TlStatus run(int argc, char **argv)
   }
   double rho_b = zc1 > zc0 ? mass_core / (TL_PI * rc * rc * (zc1 - zc0)) : NAN;
   double kinetic = en.kinetic_translational + en.kinetic_rotational;
-  printf("settled: bed height %.4g m, bulk density %.4g kg/m^3 (packing fraction %.3f), kinetic energy %.3g J\n", bed_top,
-         rho_b, rho_b / s.density, kinetic);
+  tl_printf("settled: bed height %.4g m, bulk density %.4g kg/m^3 (packing fraction %.3f), kinetic energy %.3g J\n", bed_top,
+            rho_b, rho_b / s.density, kinetic);
   size_t n = P->n;
   TL_CHECK_GOTO(st, tl_calloc(&x, n, sizeof *x), done);
   TL_CHECK_GOTO(st, tl_calloc(&v, n, sizeof *v), done);
@@ -451,8 +451,8 @@ static TlStatus run(int argc, char **argv)
     double D = s.orifice[k] * dm;
     TL_CHECK_GOTO(st, discharge(&s, k, D, stl[k], top, n, x, v, radius, &res[k]), done);
     worst_balance = fmax(worst_balance, res[k].balance_error);
-    printf("orifice D = %.4g mm (%.3g d): W = %.5g kg/s over %.3g s of steady flow, %.4g kg out, %.4g kg left%s\n", 1e3 * D,
-           s.orifice[k], res[k].W, res[k].t_flow, res[k].mass_out, res[k].mass_left, res[k].clogged ? ", CLOGGED" : "");
+    tl_printf("orifice D = %.4g mm (%.3g d): W = %.5g kg/s over %.3g s of steady flow, %.4g kg out, %.4g kg left%s\n", 1e3 * D,
+              s.orifice[k], res[k].W, res[k].t_flow, res[k].mass_out, res[k].mass_left, res[k].clogged ? ", CLOGGED" : "");
     fprintf(rates, "%.9g,%.9g,%.9g,%d,%.6g\n", D, s.orifice[k], res[k].W, res[k].clogged, res[k].t_flow);
     if (isfinite(res[k].W) && res[k].W > 0.0) Dv[n_fit] = D, W25[n_fit] = pow(res[k].W, 0.4), ++n_fit;
   }
@@ -473,7 +473,7 @@ static TlStatus run(int argc, char **argv)
   fprintf(rates, "# fit: C %.6g k %.6g; C with k = 1.5: %.6g\n", C, kk, C15);
   fclose(rates);
   rates = NULL;
-  printf("Beverloo fit over %d orifices: C = %.4g, k = %.4g (with k = 1.5 fixed: C = %.4g)\n", n_fit, C, kk, C15);
+  tl_printf("Beverloo fit over %d orifices: C = %.4g, k = %.4g (with k = 1.5 fixed: C = %.4g)\n", n_fit, C, kk, C15);
   int monotone = 1;
   for (int k = 1; k < s.n_orifices; ++k)
     if (!(res[k].W > res[k - 1].W) || !(s.orifice[k] > s.orifice[k - 1])) monotone = 0;

@@ -211,11 +211,11 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, m->ops->init_state(m, 1, so), done);
   TlNhlCell *cell = tl_nhl_material_cell(m, 0);
   const TlMat3 sigma0 = tl_nhl_cell_committed_stress(cell);
-  printf("nhl_element_test: %s cell of %zu %s prepared in %.2f s: sigma_0 = [%.5g %.5g %.5g] Pa, <d> %.4g m, dt %.3g s; "
-         "%s path to %g axial strain in %ld steps, lateral %g Pa; operator %s\n",
-         s.dim == 2 ? "2-D" : "3-D", tl_nhl_cell_n_particles(cell), s.dim == 2 ? "disks" : "spheres", t_prepare,
-         sigma0.m[0][0], sigma0.m[1][1], sigma0.m[2][2], tl_nhl_cell_mean_diameter(cell),
-         tl_dem_timestep(tl_nhl_cell_dem(cell)), s.triaxial ? "triaxial" : "biaxial", s.strain, s.steps, s.lateral, s.op);
+  tl_printf("nhl_element_test: %s cell of %zu %s prepared in %.2f s: sigma_0 = [%.5g %.5g %.5g] Pa, <d> %.4g m, dt %.3g s; "
+            "%s path to %g axial strain in %ld steps, lateral %g Pa; operator %s\n",
+            s.dim == 2 ? "2-D" : "3-D", tl_nhl_cell_n_particles(cell), s.dim == 2 ? "disks" : "spheres", t_prepare,
+            sigma0.m[0][0], sigma0.m[1][1], sigma0.m[2][2], tl_nhl_cell_mean_diameter(cell),
+            tl_dem_timestep(tl_nhl_cell_dem(cell)), s.triaxial ? "triaxial" : "biaxial", s.strain, s.steps, s.lateral, s.op);
   TL_CHECK_GOTO(st, tl_mkdir_p(s.out), done);
   /* the table */
   enum { BASE_COLS = 16, MOD = 4 };
@@ -241,8 +241,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_timeseries_create(base_path, TL_TIMESERIES_CSV | TL_TIMESERIES_HDF5, (size_t)ncol, cols, &ts), done);
   TL_CHECK_GOTO(st, tl_particle_writer_create(s.out, "cell", &pw), done);
   TL_CHECK_GOTO(st, write_cell(pw, cell, 0), done);
-  printf("%5s %10s %10s %12s %12s %12s %3s %8s %7s | %s: %10s %10s %10s %10s\n", "step", "eps_11", "eps_22", "sigma_11",
-         "sigma_22", "q", "its", "DEM", "s", s.op, "C1111", "C2222", "C1122", "C1212");
+  tl_printf("%5s %10s %10s %12s %12s %12s %3s %8s %7s | %s: %10s %10s %10s %10s\n", "step", "eps_11", "eps_22", "sigma_11",
+            "sigma_22", "q", "its", "DEM", "s", s.op, "C1111", "C2222", "C1122", "C1212");
   double lam_l = 1.0, q_peak = 0.0, eps_peak = 0.0, eval_seconds = 0.0, last_q = 0.0, last_p = 0.0;
   long evaluations = 0, dem_steps = 0, unconverged_lateral = 0, unconverged_cells = 0;
   TlMat3 sigma = sigma0, F = tl_m3_identity();
@@ -305,16 +305,16 @@ static TlStatus run(int argc, char **argv)
     row[13] = sn[TL_NHL_STATE_IMBALANCE], row[14] = ps.path.tau, row[15] = ps.path.kinetic_ratio;
     int col = BASE_COLS;
     row[col++] = C[0], row[col++] = C[7], row[col++] = C[1], row[col++] = C[21];
-    printf("%5ld %10.3e %10.3e %12.5e %12.5e %12.5e %3ld %8ld %7.2f | %10.4e %10.4e %10.4e %10.4e\n", k, lam_a - 1.0,
-           lam_l - 1.0, sigma.m[0][0], sigma.m[1][1], q, its, step_dem, step_seconds, C[0], C[7], C[1], C[21]);
+    tl_printf("%5ld %10.3e %10.3e %12.5e %12.5e %12.5e %3ld %8ld %7.2f | %10.4e %10.4e %10.4e %10.4e\n", k, lam_a - 1.0,
+              lam_l - 1.0, sigma.m[0][0], sigma.m[1][1], q, its, step_dem, step_seconds, C[0], C[7], C[1], C[21]);
     for (int c = 0; c < s.n_compare; ++c) {
       double cc[81], Cc[36];
       TlNhlOperatorStats ost;
       TL_CHECK_GOTO(st, tl_nhl_material_compare(m, 0, cmp[c], cc, &ost), done);
       tl_nhl_operator_voigt(cc, Cc);
       row[col++] = Cc[0], row[col++] = Cc[7], row[col++] = Cc[1], row[col++] = Cc[21];
-      printf("%*s %-10s: %10.4e %10.4e %10.4e %10.4e  (%d evaluations, %.2f s)\n", 78, "", cmp[c]->ops->header.name,
-             Cc[0], Cc[7], Cc[1], Cc[21], ost.evaluations, ost.seconds);
+      tl_printf("%*s %-10s: %10.4e %10.4e %10.4e %10.4e  (%d evaluations, %.2f s)\n", 78, "", cmp[c]->ops->header.name,
+                Cc[0], Cc[7], Cc[1], Cc[21], ost.evaluations, ost.seconds);
     }
     TL_CHECK_GOTO(st, tl_timeseries_append(ts, row), done);
     /* accept the step */
@@ -326,9 +326,9 @@ static TlStatus run(int argc, char **argv)
   }
   if (s.snapshot_every == 0 || s.steps % s.snapshot_every) TL_CHECK_GOTO(st, write_cell(pw, cell, s.steps), done);
   TL_CHECK_GOTO(st, tl_timeseries_close(&ts), done);
-  printf("peak deviator %.6g Pa at axial strain %.4g; %ld evaluations, %ld DEM steps, %.3f s per evaluation, "
-         "%.3g s per particle-step\n", q_peak, eps_peak, evaluations, dem_steps, eval_seconds / (double)evaluations,
-         eval_seconds / ((double)dem_steps * (double)tl_nhl_cell_n_particles(cell)));
+  tl_printf("peak deviator %.6g Pa at axial strain %.4g; %ld evaluations, %ld DEM steps, %.3f s per evaluation, "
+            "%.3g s per particle-step\n", q_peak, eps_peak, evaluations, dem_steps, eval_seconds / (double)evaluations,
+            eval_seconds / ((double)dem_steps * (double)tl_nhl_cell_n_particles(cell)));
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "particles", (long)tl_nhl_cell_n_particles(cell));

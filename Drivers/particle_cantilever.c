@@ -398,7 +398,7 @@ static TlStatus run(int argc, char **argv)
   int resumed = 0;
   if (c.restart && c.restart[0]) {
     TL_CHECK_GOTO(s, tl_checkpoint_load(cp, c.restart, NULL, NULL), done);
-    printf("restarted from %s at step %lld, t = %.9g s\n", c.restart, (long long)d.step, tl_coupled_loop_time(loop));
+    tl_printf("restarted from %s at step %lld, t = %.9g s\n", c.restart, (long long)d.step, tl_coupled_loop_time(loop));
     resumed = 1;
   }
   const double Dt = c.substeps * dt;
@@ -406,9 +406,9 @@ static TlStatus run(int argc, char **argv)
   const long n_macro = (long)ceil(t_stop / Dt - 1e-9);
   const long out_every = c.table_dt > 0.0 ? (long)fmax(1.0, floor(c.table_dt / Dt + 0.5)) : 1;
   const long snap_every = c.snapshot_dt > 0.0 ? (long)fmax(1.0, floor(c.snapshot_dt / Dt + 0.5)) : 0;
-  printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements, "
-         "contact damping %g N s/m\n", c.cg_width, c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "",
-         c.substeps, schemes[c.scheme], tl_scoupling_n_elements(sc), gamma_n + 0.0 /* no -0 */);
+  tl_printf("S1: c = %g m (%g d), dt = %.4g s, %s FEM%s, %ld DEM steps per FEM step (%s), %zu SCoupling elements, "
+            "contact damping %g N s/m\n", c.cg_width, c.cg_width / c.d, dt, steppers[c.stepper], c.one_way ? " (rigid, one-way)" : "",
+            c.substeps, schemes[c.scheme], tl_scoupling_n_elements(sc), gamma_n + 0.0 /* no -0 */);
   /* Progress: the time fraction to -t_end, or, when the run ends as the
    * particles leave the beam, the larger of the fraction of -t_max and the
    * distance the slower particle has travelled along the beam. */
@@ -505,21 +505,21 @@ static TlStatus run(int argc, char **argv)
     snprintf(off, sizeof off, "particles stay on the beam");
   else
     snprintf(off, sizeof off, "particles leave the beam at t = %.4g s", t_off);
-  printf("%ld coupled steps to t = %.4g s; %s; err_avg = %.4g m, "
-         "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
-         step, tl_coupled_loop_time(loop), off, err_avg, sym_dev, E_max, d.e0[5]);
+  tl_printf("%ld coupled steps to t = %.4g s; %s; err_avg = %.4g m, "
+            "largest |x1 + x2| = %.3g m, largest total energy %.4g J (start %.4g J)\n",
+            step, tl_coupled_loop_time(loop), off, err_avg, sym_dev, E_max, d.e0[5]);
   TlStepperStats fs;
   tl_stepper_get_stats(st, &fs);
-  printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
-         fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
-         wall - fs.t_step);
+  tl_printf("FEM: %ld steps, %.3g Newton iterations per step, %ld factorisations; %.3g s in FE steps, %.3g s elsewhere (DEM, walls, CG, output)\n",
+            fs.steps, fs.steps ? (double)fs.newton_iterations / (double)fs.steps : 0.0, fs.factorisations, fs.t_step,
+            wall - fs.t_step);
   {
     char plot_cmd[4200], plot_dir[4200];
     tl_plot_abs_dir(c.output_dir, plot_dir, sizeof plot_dir);
-    printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s\n", plot_dir,
-           sn.beam ? ", beam.xmf, particles.xmf" : "");
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_particle_cantilever.py", plot_cmd, sizeof plot_cmd),
-           plot_dir);
+    tl_printf("files: %s/trajectory.csv, energy.csv, reference_path.csv%s\n", plot_dir,
+              sn.beam ? ", beam.xmf, particles.xmf" : "");
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_particle_cantilever.py", plot_cmd, sizeof plot_cmd),
+              plot_dir);
   }
   TlSummary sum;
   tl_summary_init(&sum);

@@ -217,7 +217,7 @@ static TlStatus settle(const Settings *s, Bed *bed)
   tl_free(&base);
   if (st) goto done;
   long steps = (long)ceil(s->t_settle / bed->dt), every = steps / 50 > 0 ? steps / 50 : 1;
-  printf("settling %ld grains, d in [%g, %g] m, dt = %.3g s, %ld steps\n", s->n, s->d_min, s->d_max, bed->dt, steps);
+  tl_printf("settling %ld grains, d in [%g, %g] m, dt = %.3g s, %ld steps\n", s->n, s->d_min, s->d_max, bed->dt, steps);
   TlProgress prog;
   tl_progress_init(&prog, "settle", (double)steps);
   TlDemEnergy en;
@@ -258,8 +258,8 @@ static TlStatus settle(const Settings *s, Bed *bed)
                       "the floor; at most -depth %g m for this bed (or raise -n)",
                       surface, s->depth, surface - 2.0 * s->d_max);
   else
-    printf("settled: kinetic energy %.3e J, bed surface under the cone z = %.4g m, packing fraction %.3f\n",
-           bed->kinetic, surface, bed->packing);
+    tl_printf("settled: kinetic energy %.3e J, bed surface under the cone z = %.4g m, packing fraction %.3f\n",
+              bed->kinetic, surface, bed->packing);
 done:
   if (ts) tl_timeseries_close(&ts);
   tl_contact_law_destroy(&law);
@@ -358,7 +358,7 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   if (s->explicit_fe) {
     double dt_crit;
     TL_CHECK_GOTO(st, tl_stepper_critical_dt(stp, &dt_crit), done);
-    if (k == 0) printf("cone: explicit critical step %.3g s, FE step %.3g s\n", dt_crit, (double)s->substeps * bed->dt);
+    if (k == 0) tl_printf("cone: explicit critical step %.3g s, FE step %.3g s\n", dt_crit, (double)s->substeps * bed->dt);
     if (!((double)s->substeps * bed->dt <= dt_crit))
       TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                                      "the FE step %ld x %g s = %g s is beyond the cone's explicit critical step %g s: "
@@ -383,8 +383,8 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
     const double k_n = s->E_g * 0.5 * (s->d_min + s->d_max), limit = 2.0 * sqrt(m_min / k_n);
     const double Dt_fe = (double)s->substeps * bed->dt;
     if (k == 0)
-      printf("cone: smallest surface node mass %.3g kg; contact-spring step limit 2 sqrt(m / k_n) = %.3g s, FE step %.3g s\n",
-             m_min, limit, Dt_fe);
+      tl_printf("cone: smallest surface node mass %.3g kg; contact-spring step limit 2 sqrt(m / k_n) = %.3g s, FE step %.3g s\n",
+                m_min, limit, Dt_fe);
     if (!(Dt_fe <= 0.5 * limit))
       TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                                      "the FE step %ld x %g s = %g s is beyond half the limit 2 sqrt(m / k_n) = %g s of "
@@ -428,8 +428,8 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   TL_CHECK_GOTO(st, tl_calloc(&force, (size_t)(n_macro / every + 2), sizeof *force), done);
   const TlNodeSet *base_nodes = NULL;
   TL_CHECK_GOTO(st, tl_mesh_find_node_set(mesh, "base", &base_nodes), done);
-  printf("run %d: c = %g m (%g d), %ld FE steps of %.3g s (%ld DEM steps each), %zu SCoupling elements, t_end %.4g s\n",
-         k, c_w, s->widths[k], n_macro, Dt, s->substeps, tl_scoupling_n_elements(sc), t_end);
+  tl_printf("run %d: c = %g m (%g d), %ld FE steps of %.3g s (%ld DEM steps each), %zu SCoupling elements, t_end %.4g s\n",
+            k, c_w, s->widths[k], n_macro, Dt, s->substeps, tl_scoupling_n_elements(sc), t_end);
   char label[64];
   snprintf(label, sizeof label, "penetration c%d", k);
   TlProgress prog;
@@ -511,9 +511,9 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   res->energy_error = W_drive > 0.0 ? worst : NAN; /* no drive work: nothing to measure the balance against */
   res->sigma_vm_max = vm;
   res->wall = tl_wtime() - wall0;
-  printf("run %d (c = %g d): resistance %.4g N at depth 0.8-1.0 x %g m, %.4g N at 0.2-0.4 x; energy balance error %.3e of "
-         "the drive's work %.4g J; largest von Mises stress %.4g Pa; up to %zu contacts; wall %.2f s\n",
-         k, s->widths[k], res->force_end, s->depth, f_start, worst, W_drive, vm, res->max_contacts, res->wall);
+  tl_printf("run %d (c = %g d): resistance %.4g N at depth 0.8-1.0 x %g m, %.4g N at 0.2-0.4 x; energy balance error %.3e of "
+            "the drive's work %.4g J; largest von Mises stress %.4g Pa; up to %zu contacts; wall %.2f s\n",
+            k, s->widths[k], res->force_end, s->depth, f_start, worst, W_drive, vm, res->max_contacts, res->wall);
 done:
   if (ts) tl_timeseries_close(&ts);
   tl_solid_output_destroy(&cone_out);
@@ -552,8 +552,8 @@ static TlStatus run(int argc, char **argv)
     if (!st) st = tl_surface_mesh_check(sm, TL_SURFACE_CLOSED);
     if (!st) st = tl_surface_mesh_transform(sm, s.surface_scale, tl_m3_identity(), tl_v3(0, 0, 0));
     if (!st) {
-      printf("surface %s: %zu vertices, %zu triangles (repair: %zu vertices merged, %zu triangles removed, %zu flipped)\n",
-             s.surface, sm->n_vertices, sm->n_triangles, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped);
+      tl_printf("surface %s: %zu vertices, %zu triangles (repair: %zu vertices merged, %zu triangles removed, %zu flipped)\n",
+                s.surface, sm->n_vertices, sm->n_triangles, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped);
       double *x = NULL;
       size_t *tri = NULL;
       st = tl_calloc(&x, 3 * sm->n_vertices, sizeof *x);
@@ -611,10 +611,10 @@ static TlStatus run(int argc, char **argv)
   const double t_mesh = tl_wtime() - tm0;
   const double base_pt[3] = {apex[0], apex[1], apex[2] + h}, up[3] = {0, 0, 1};
   TL_CHECK_GOTO(st, tl_mesh_add_face_set_on_plane(mesh, "base", base_pt, up, 1e-9 * h), done);
-  printf("body: half-width %g m, height %g m, %zu surface triangles -> %zu %s elements, %zu nodes in %.3f s; volume %.6g m^3 "
-         "(surface encloses %.6g); dihedral angles %.1f to %.1f degrees\n",
-         s.radius, h, surf.n_triangles, info.n_tetrahedra, mo.type->header.name, mesh->n_nodes, t_mesh,
-         info.mesh_volume, info.surface_volume, info.min_dihedral, info.max_dihedral);
+  tl_printf("body: half-width %g m, height %g m, %zu surface triangles -> %zu %s elements, %zu nodes in %.3f s; volume %.6g m^3 "
+            "(surface encloses %.6g); dihedral angles %.1f to %.1f degrees\n",
+            s.radius, h, surf.n_triangles, info.n_tetrahedra, mo.type->header.name, mesh->n_nodes, t_mesh,
+            info.mesh_volume, info.surface_volume, info.min_dihedral, info.max_dihedral);
   for (int k = 0; k < s.n_widths; ++k) TL_CHECK_GOTO(st, penetrate(&s, &bed, mesh, apex[2], k, &res[k]), done);
   TlSummary sum;
   tl_summary_init(&sum);

@@ -426,9 +426,9 @@ static TlStatus run_scripts(Settings *s, double wall0)
   TL_CHECK(tl_dem_setup(dem));
   long n_small, n_large;
   count_sizes(s, P, &n_small, &n_large);
-  printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
-         "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
-         n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
+  tl_printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
+            "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
+            n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
   Run r = {s, dem, NULL, grain_volume(P), 0.0, 0.0, 0, NAN, NAN};
   TL_CHECK(open_table(s, &r.ts));
   set_viscous(&r, s->viscous);
@@ -439,8 +439,8 @@ static TlStatus run_scripts(Settings *s, double wall0)
     TL_CHECK(advance(&r, s->relax_steps, STAGE_RELAX));
     TL_CHECK(compress(&r, &reached));
     cycles_reaching += reached;
-    printf("cycle %ld: pressure %.6g Pa%s, packing fraction %.4f, step %ld\n", c + 1, pressure_of(dem),
-           reached ? " (target reached)" : "", r.vol_grains / tl_domain_volume(tl_dem_domain(dem)), r.steps);
+    tl_printf("cycle %ld: pressure %.6g Pa%s, packing fraction %.4f, step %ld\n", c + 1, pressure_of(dem),
+              reached ? " (target reached)" : "", r.vol_grains / tl_domain_volume(tl_dem_domain(dem)), r.steps);
     fflush(stdout);
   }
   int rest_damped, rest;
@@ -450,8 +450,8 @@ static TlStatus run_scripts(Settings *s, double wall0)
   TL_CHECK(settle(&r, STAGE_UNDAMPED, 1, &rest));
   const double p_frictionless = pressure_of(dem);
   const double phi_frictionless = r.vol_grains / tl_domain_volume(tl_dem_domain(dem));
-  printf("frictionless packing after %ld steps: pressure %.6g Pa, packing fraction %.4f, kinetic energy %.3g J\n",
-         r.steps, p_frictionless, phi_frictionless, kinetic_of(P));
+  tl_printf("frictionless packing after %ld steps: pressure %.6g Pa, packing fraction %.4f, kinetic energy %.3g J\n",
+            r.steps, p_frictionless, phi_frictionless, kinetic_of(P));
   TlParticleWriter *writer;
   TL_CHECK(tl_particle_writer_create(s->out, "packing_frictionless", &writer));
   const char *file;
@@ -493,9 +493,9 @@ static TlStatus run_scripts(Settings *s, double wall0)
   TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
   const TlDomain *D = tl_dem_domain(dem);
   const double phi = r.vol_grains / tl_domain_volume(D), side = cbrt(tl_domain_volume(D)), ke = kinetic_of(P);
-  printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n "
-         "%.3g, kinetic energy %.3g J, cell %.6g m = %.4f d0\n",
-         rest ? "at rest" : "not at rest", r.steps, pr, s->pressure, phi, z, imbalance, ke, side, side / d0);
+  tl_printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n "
+            "%.3g, kinetic energy %.3g J, cell %.6g m = %.4f d0\n",
+            rest ? "at rest" : "not at rest", r.steps, pr, s->pressure, phi, z, imbalance, ke, side, side / d0);
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", (long)n);
@@ -592,8 +592,8 @@ static TlStatus run_servo(Settings *s, TlOptions *o, double wall0)
   configure(dem, s);
   TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
   TL_CHECK(tl_dem_setup(dem));
-  printf("periodic_compress: %ld grains, d in [%g, %g] m, cell %.4g m -> about %.4g m, target %g Pa, dt %g s\n", n,
-         s->d_min, s->d_max, L0, L_final, s->pressure, s->dt);
+  tl_printf("periodic_compress: %ld grains, d in [%g, %g] m, cell %.4g m -> about %.4g m, target %g Pa, dt %g s\n", n,
+            s->d_min, s->d_max, L0, L_final, s->pressure, s->dt);
   TlTimeSeries *ts;
   TL_CHECK(open_table(s, &ts));
   double vol_grains = grain_volume(P);
@@ -623,7 +623,7 @@ static TlStatus run_servo(Settings *s, TlOptions *o, double wall0)
       goto fail;
     }
     reached = (int)sv.reached;
-    printf("restarted from %s at step %lld, t = %.9g s\n", s->restart, (long long)sv.next_step, tl_dem_time(dem));
+    tl_printf("restarted from %s at step %lld, t = %.9g s\n", s->restart, (long long)sv.next_step, tl_dem_time(dem));
   }
   for (k = (long)sv.next_step; k < steps_max; k += s->control_every) {
     pr = pressure_of(dem);
@@ -664,7 +664,7 @@ static TlStatus run_servo(Settings *s, TlOptions *o, double wall0)
   tl_checkpoint_destroy(&cp);
   if (stopped) {
     TL_CHECK(tl_timeseries_close(&ts));
-    printf("stopped after step %ld (-stop_step): %s continues the run with -restart\n", k, cp_path);
+    tl_printf("stopped after step %ld (-stop_step): %s continues the run with -restart\n", k, cp_path);
     TlSummary sum;
     tl_summary_init(&sum);
     tl_summary_int(&sum, "n", n);
@@ -684,8 +684,8 @@ static TlStatus run_servo(Settings *s, TlOptions *o, double wall0)
   tl_particle_writer_destroy(&writer);
   double phi = vol_grains / tl_domain_volume(D);
   double side = cbrt(tl_domain_volume(D));
-  printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n %.3g, cell %.4g m = %.2f d0\n",
-         converged ? "converged" : "stopped at t_end", k, pr, s->pressure, phi, z, imbalance, side, side / d0);
+  tl_printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n %.3g, cell %.4g m = %.2f d0\n",
+            converged ? "converged" : "stopped at t_end", k, pr, s->pressure, phi, z, imbalance, side, side / d0);
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", n);

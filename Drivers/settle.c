@@ -227,7 +227,7 @@ static TlStatus run(int argc, char **argv)
       }
     }
     s.n = (long)P->n;
-    printf("%zu particles from %s\n", added, s.particles);
+    tl_printf("%zu particles from %s\n", added, s.particles);
   }
   /* pour: jittered lattice of pitch d_max * 1.05 from the top down */
   const double pitch = 1.05 * s.d_max;
@@ -270,9 +270,9 @@ static TlStatus run(int argc, char **argv)
     TlSurfaceReport report;
     TL_CHECK_GOTO(st, tl_wall_trisurface_from_file(s.walls_stl, &place, &w, &report), done);
     TL_CHECK_GOTO(st, tl_dem_add_wall(dem, w, 0), done);
-    printf("wall from %s: %zu triangles (repair: %zu points merged, %zu triangles removed, %zu flipped)\n",
-           s.walls_stl, tl_wall_trisurface_surface(w)->n_triangles, report.vertices_merged, report.triangles_removed,
-           report.triangles_flipped);
+    tl_printf("wall from %s: %zu triangles (repair: %zu points merged, %zu triangles removed, %zu flipped)\n",
+              s.walls_stl, tl_wall_trisurface_surface(w)->n_triangles, report.vertices_merged, report.triangles_removed,
+              report.triangles_flipped);
   }
   const double g = 9.81;
   tl_dem_set_gravity(dem, tl_v3(0, 0, -g));
@@ -283,8 +283,8 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_dem_set_timestep(dem, dt, 0), done);
   TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
   long steps = (long)ceil(s.t_end / dt);
-  printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
-         s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
+  tl_printf("settle: %ld particles, d in [%g, %g] m, k_n = %g N/m, dt = %g s (%.2g dt_c), %ld steps, floor %s\n", s.n,
+            s.d_min, s.d_max, k_n, dt, s.dt_fraction, steps, s.plane_floor ? "plane" : "triangulated");
   /* output */
   TL_CHECK_GOTO(st, tl_output_dir_prepare(s.out), done);
   if (!(s.snapshot_dt > 0.0) && !s.restart[0]) { /* a rerun with snapshots off: the earlier run's series would pass for this one's */
@@ -321,7 +321,7 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "driver", &progress_checkpoint_ops, &pr), done);
   if (s.restart && s.restart[0]) {
     TL_CHECK_GOTO(st, tl_checkpoint_load(cp, s.restart, NULL, NULL), done);
-    printf("restarted from %s at step %lld, t = %.9g s\n", s.restart, (long long)pr.next_step, tl_dem_time(dem));
+    tl_printf("restarted from %s at step %lld, t = %.9g s\n", s.restart, (long long)pr.next_step, tl_dem_time(dem));
     weight = 0.0;
     for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
   }
@@ -391,21 +391,21 @@ static TlStatus run(int argc, char **argv)
   const int settled = fabs(balance - 1.0) <= 0.05 && ke <= 1e-3 * ke_scale;
   const double t_now = tl_dem_time(dem);
   if (settled) {
-    printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
-           ke, en.elastic, en.dissipated, z, znr);
-    printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
-           balance, top, vol / (s.box * s.box * top), energy_error);
+    tl_printf("settled: kinetic %.3e J, elastic %.3e J, dissipated %.3e J, coordination %.2f (%.2f without rattlers)\n",
+              ke, en.elastic, en.dissipated, z, znr);
+    tl_printf("walls carry %.4f of the weight; bed height %.4g m, packing fraction %.3f; energy balance error %.2e\n",
+              balance, top, vol / (s.box * s.box * top), energy_error);
   } else {
-    printf("not settled at t = %.4g s: the walls carry %.4f of the weight (settled: 1 within 0.05), kinetic energy "
-           "%.3e J is %.3g of the weight times the mean diameter (settled: below 1e-3); the coordination %.2f and "
-           "packing fraction %.3f are of grains still moving: run longer (-t_end)\n",
-           t_now, balance, ke, ke / ke_scale, z, vol / (s.box * s.box * top));
-    printf("energy balance error %.2e\n", energy_error);
+    tl_printf("not settled at t = %.4g s: the walls carry %.4f of the weight (settled: 1 within 0.05), kinetic energy "
+              "%.3e J is %.3g of the weight times the mean diameter (settled: below 1e-3); the coordination %.2f and "
+              "packing fraction %.3f are of grains still moving: run longer (-t_end)\n",
+              t_now, balance, ke, ke / ke_scale, z, vol / (s.box * s.box * top));
+    tl_printf("energy balance error %.2e\n", energy_error);
   }
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_timeseries.py", plot_cmd, sizeof plot_cmd),
-           (tl_plot_abs_dir(s.out, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/energies.csv")));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_timeseries.py", plot_cmd, sizeof plot_cmd),
+              (tl_plot_abs_dir(s.out, plot_dir, sizeof plot_dir - 16), strcat(plot_dir, "/energies.csv")));
   }
   TlSummary sum;
   tl_summary_init(&sum);

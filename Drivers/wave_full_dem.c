@@ -127,7 +127,7 @@ static TlStatus run(int argc, char **argv)
   }
   TL_CHECK_GOTO(s, tl_wave_run(&p, &ro, &r), out);
   if (r.stopped) { /* a run stopped to leave a checkpoint: its tables and figures are the restarted run's */
-    printf("full DEM stopped after step %ld; checkpoint in %s\n", r.steps, dir);
+    tl_printf("full DEM stopped after step %ld; checkpoint in %s\n", r.steps, dir);
     TlSummary part;
     tl_summary_init(&part);
     tl_summary_int(&part, "stopped_at_step", r.steps);
@@ -145,13 +145,13 @@ static TlStatus run(int argc, char **argv)
     if (isnan(e_ref)) e_ref = r.state[k].total;
     e_dev = tl_track_max(e_dev, fabs(r.state[k].total - e_ref) / e_ref);
   }
-  printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
-         "after the excitation); output in %s\n",
-         cases[icase], excitations[iexc], r.n_particles, r.dt, r.steps, e_ref, e_dev, dir);
+  tl_printf("full DEM %s %s: %zu particles, dt = %.4g s, %ld steps, energy %.6g J (largest relative deviation %.3g "
+            "after the excitation); output in %s\n",
+            cases[icase], excitations[iexc], r.n_particles, r.dt, r.steps, e_ref, e_dev, dir);
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
-           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+              tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
   }
   TlSummary sum;
   tl_summary_init(&sum);

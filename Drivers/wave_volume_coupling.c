@@ -345,8 +345,8 @@ static TlStatus run(int argc, char **argv)
     goto out;
   }
   if (rc.stopped) {
-    printf("stopped after step %ld (t = %.6g s)%s%s\n", rc.steps, rc.steps * rc.dt,
-           ro.checkpoint_every ? "; checkpoint in " : "", ro.checkpoint_every ? dir : "");
+    tl_printf("stopped after step %ld (t = %.6g s)%s%s\n", rc.steps, rc.steps * rc.dt,
+              ro.checkpoint_every ? "; checkpoint in " : "", ro.checkpoint_every ? dir : "");
     TlSummary sum;
     tl_summary_init(&sum);
     tl_summary_string(&sum, "case", cases[icase]);
@@ -402,11 +402,11 @@ static TlStatus run(int argc, char **argv)
     Files F = {&rc, &rc, n_snap};
     TL_CHECK_GOTO(s, write_tables(dir, &F), out);
   }
-  printf("%s %s, c = %g m (%.3g dX), eps = %s, %zu particles, dt = %.4g s, %ld steps: energy %.6g J -> %.6g J "
-         "(reference %.6g J); coupled run %.2f s%s, reference %.2f s; %zu snapshots; output in %s\n",
-         cases[icase], excitations[iexc], p.c, p.c / p.dx, p.epsilon > 0 ? "given" : "Table 6", rc.n_particles, rc.dt,
-         rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall,
-         rc.start_step ? " (restarted)" : "", wall_ref, rc.n_snapshots, dir);
+  tl_printf("%s %s, c = %g m (%.3g dX), eps = %s, %zu particles, dt = %.4g s, %ld steps: energy %.6g J -> %.6g J "
+            "(reference %.6g J); coupled run %.2f s%s, reference %.2f s; %zu snapshots; output in %s\n",
+            cases[icase], excitations[iexc], p.c, p.c / p.dx, p.epsilon > 0 ? "given" : "Table 6", rc.n_particles, rc.dt,
+            rc.steps, rc.state[0].total, rc.state[rc.n - 1].total, E_ref, rc.wall,
+            rc.start_step ? " (restarted)" : "", wall_ref, rc.n_snapshots, dir);
   double baseline_diff = NAN;
   if (check) {
     /* with weight_min > 0 the solid element past the particles' end keeps
@@ -428,13 +428,13 @@ static TlStatus run(int argc, char **argv)
     double worst;
     snprintf(path, sizeof path, "%s/energies.csv", dir);
     TL_CHECK_GOTO(s, compare_tables(path, baseline, baseline_tol, &worst), out);
-    printf("energies.csv matches %s (largest relative difference %.3g, tolerance %g)\n", baseline, worst, baseline_tol);
+    tl_printf("energies.csv matches %s (largest relative difference %.3g, tolerance %g)\n", baseline, worst, baseline_tol);
     baseline_diff = worst;
   }
   {
     char plot_cmd[4200], plot_dir[4200];
-    printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
-           tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
+    tl_printf("plots: %s %s\n", tl_plot_command(TALUS_TOOLS_DIR, "plot_wave.py", plot_cmd, sizeof plot_cmd),
+              tl_plot_abs_dir(dir, plot_dir, sizeof plot_dir));
   }
   TlSummary sum;
   tl_summary_init(&sum);

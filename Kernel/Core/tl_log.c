@@ -36,14 +36,25 @@ TlLogLevel tl_log_get_level(void)
 
 void tl_log_set_level(TlLogLevel level) { tl_log_level = (int)level; }
 
+int tl_log_enabled(TlLogLevel level) { return (int)level <= (int)tl_log_get_level(); }
+
 void tl_log(TlLogLevel level, const char *fmt, ...)
 {
-  if ((int)level > (int)tl_log_get_level()) return;
+  if (!tl_log_enabled(level)) return;
   static const char *const prefix[] = {"error: ", "warning: ", "", "debug: "};
   va_list ap;
   va_start(ap, fmt);
   fputs(prefix[level], stderr);
   vfprintf(stderr, fmt, ap);
   fputc('\n', stderr);
+  va_end(ap);
+}
+
+void tl_log_stdout(TlLogLevel level, const char *fmt, ...)
+{
+  if (!tl_log_enabled(level)) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vfprintf(stdout, fmt, ap);
   va_end(ap);
 }

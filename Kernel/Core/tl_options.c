@@ -570,6 +570,22 @@ static const TlOptions *tl_options_current_db;
 void tl_options_set_current(const TlOptions *o) { tl_options_current_db = o; }
 const TlOptions *tl_options_current(void) { return tl_options_current_db; }
 
+/* At -log_level debug: every option the program read, with the value in
+ * force and where it came from, so a run's settings are in its log (before
+ * an unknown option is refused too: the table shows what was meant). */
+static void tl_options_debug_table(const TlOptions *o)
+{
+  if (!tl_log_enabled(TL_LOG_DEBUG)) return;
+  tl_debug("%s: %zu options read", o->program, o->n_doc);
+  for (size_t i = 0; i < o->n_doc; ++i) {
+    const TlOptionDoc *d = &o->doc[i];
+    const char *source = "default";
+    for (size_t k = 0; k < o->n_entry; ++k)
+      if (strcmp(o->entry[k].name, d->name) == 0) source = o->entry[k].source; /* the last one wins */
+    tl_debug("option %s = %s (%s)", d->name, d->value ? d->value : "", source);
+  }
+}
+
 TlStatus tl_options_finish(TlOptions *o, FILE *out)
 {
   if (o->help) {
@@ -580,6 +596,7 @@ TlStatus tl_options_finish(TlOptions *o, FILE *out)
     fprintf(out, "%s (Talus %s, revision %s)\n", o->program, tl_version(), tl_revision());
     return TL_HELP;
   }
+  tl_options_debug_table(o);
   size_t n_unused = 0;
   for (size_t i = 0; i < o->n_entry; ++i) n_unused += !o->entry[i].used;
   if (o->options_left) {

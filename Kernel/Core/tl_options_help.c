@@ -117,7 +117,9 @@ void tl_options_print_help(const TlOptions *o, FILE *out)
   tl_help_line(out, "-options_left [<bool>]", "list the options given but never read, as warnings, instead of refusing "
                                               "them (default: false)");
   tl_help_line(out, "-log_level <error|warn|info|debug>",
-               "the messages printed on stderr (default: info, or the environment variable TALUS_LOG_LEVEL)");
+               "the messages printed: error and warn silence the informational lines on stdout and stderr and "
+               "the progress bar, debug adds the options read; the final summary line is printed at every "
+               "level (default: info, or the environment variable TALUS_LOG_LEVEL)");
   fprintf(out, "A repeated option takes its last value.\n");
   for (size_t g = 0; g < o->n_group; ++g) {
     int any = 0;

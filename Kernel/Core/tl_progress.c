@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include "tl_log.h"
 #include "tl_timer.h"
 
 void tl_progress_init(TlProgress *p, const char *label, double total)
@@ -12,7 +13,7 @@ void tl_progress_init(TlProgress *p, const char *label, double total)
   p->total = total > 0 ? total : 1.0;
   p->started = tl_wtime();
   p->last_drawn = 0.0;
-  p->enabled = isatty(STDERR_FILENO) && getenv("CI") == NULL;
+  p->enabled = isatty(STDERR_FILENO) && getenv("CI") == NULL && tl_log_enabled(TL_LOG_INFO);
 }
 
 static void tl_format_seconds(double s, char *buf, size_t n)

@@ -1,5 +1,6 @@
-/* A progress bar with ETA on stderr, shown only on a terminal and never when
- * the environment variable CI is set, so logs stay clean. */
+/* A progress bar with ETA on stderr, shown only on a terminal, never when
+ * the environment variable CI is set, so logs stay clean, and, like every
+ * informational line, never below the log level info (tl_log.h). */
 #ifndef TL_PROGRESS_H
 #define TL_PROGRESS_H
 

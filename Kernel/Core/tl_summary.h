@@ -13,7 +13,10 @@
  * with tl_summary_undefined() and the reason, printed as key=undefined, and
  * tl_summary_print() then names it with its reason on stderr and returns an
  * error, so that the run exits non-zero.  A non-finite value given to
- * tl_summary_real() is recorded the same way. */
+ * tl_summary_real() is recorded the same way.
+ *
+ * The summary is the run's result, printed at every log level (tl_log.h):
+ * with -log_level error a run that goes well prints this one line. */
 #ifndef TL_SUMMARY_H
 #define TL_SUMMARY_H
 
