@@ -58,6 +58,32 @@ int tl_dihedral_compare_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double 
 /* The library's own exact paths of the two (used without CGAL). */
 int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy);
 int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
+/* The two signs that decide which part of a triangle (face, edge, vertex)
+ * is closest to a point (tl_triangle_closest_point):
+ *
+ * tl_dot3_sign: sign of (u - v) . (p - v), degree 2: +1 when p lies on u's
+ * side of the plane through v perpendicular to the segment vu, 0 on it.
+ * The vertex regions of a triangle are bounded by these planes; the same
+ * call from both triangles of an edge gives the same answer.
+ *
+ * tl_edge_side: sign of ((b - a) x (c - a)) . ((b - a) x (p - a)), degree 4:
+ * +1 when p lies on c's side of the plane through the edge ab perpendicular
+ * to the triangle (a, b, c), 0 on it.  The edge regions are bounded by
+ * these planes.
+ *
+ * With CGAL the exact stage is CGAL's (CGAL::angle for the first, the
+ * polynomial in the exact kernel's number type for the second); without it,
+ * expansion arithmetic.  The floating-point filters of the contact loop are
+ * inline in tl_triangle_geometry.h and call these only for the inputs they
+ * cannot decide. */
+int tl_dot3_sign(TlVec3 v, TlVec3 u, TlVec3 p);
+int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
+/* The library's own paths (filter, then expansions): always available, the
+ * fallback without CGAL and the independent check of the CGAL path.  The
+ * exact stage of tl_edge_side_filtered keeps its expansions on the heap;
+ * -2 if that allocation fails. */
+int tl_dot3_sign_filtered(TlVec3 v, TlVec3 u, TlVec3 p, int *exact_stage);
+int tl_edge_side_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, int *exact_stage);
 /* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
 /* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */

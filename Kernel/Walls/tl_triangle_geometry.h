@@ -11,8 +11,10 @@
 #ifndef TL_TRIANGLE_GEOMETRY_H
 #define TL_TRIANGLE_GEOMETRY_H
 
+#include <float.h>
 #include <math.h>
 #include "tl_math.h"
+#include "tl_predicates.h"
 
 typedef enum {
   TL_TRI_FACE = 0,
@@ -39,53 +41,90 @@ static inline int tl_tri_feature_on_edge(int f, int k)
   return 0;
 }
 
+/* The sign of a value computed in doubles with absolute error at most
+ * `bound`, or, where the value is too close to zero for the bound to decide,
+ * the exact predicate's answer (evaluated only then). */
+#define TL_TRI_SIGN(value, bound, exact) ((value) > (bound) ? 1 : (value) < -(bound) ? -1 : (exact))
+#define TL_TRI_MAX(x, y) ((x) > (y) ? (x) : (y))
+#define TL_TRI_AMAX(v) TL_TRI_MAX(fabs((v).x), TL_TRI_MAX(fabs((v).y), fabs((v).z)))
+
 /* Closest point q of triangle (a, b, c) to p, with its barycentric
  * coordinates (q = l0 a + l1 b + l2 c) and the feature it lies on.  Voronoi
- * regions tested in turn (vertex, edge, face), so that every region decision
- * is made from the same dot products and no point falls between regions.
- * Valid for any triangle with edges of non-zero length; callers refuse
- * degenerate triangles beforehand (tl_triangle_quality). */
+ * regions tested in turn (vertex, edge, face), so that no point falls
+ * between regions; a point on the boundary of a vertex and an edge region
+ * goes to the vertex, of an edge and the face to the edge.
+ *
+ * Every region decision is an exact sign (tl_predicates.h): the vertex
+ * regions' bounds are the signs of (u - v) . (p - v) (tl_dot3_sign: the
+ * same polynomial from either triangle of an edge, so both agree on where a
+ * vertex region starts), the edge regions' the side of the plane through
+ * the edge perpendicular to the triangle (tl_edge_side, degree 4).  The
+ * dot products d1..d6 and their 2 x 2 combinations va, vb, vc are those
+ * polynomials in doubles; one error bound for all of them (below) lets the
+ * filter decide every clear case from the values the point needs anyway,
+ * and only points within round-off of a region boundary reach the exact
+ * predicates.  Valid for any triangle with edges of non-zero length;
+ * callers refuse degenerate triangles beforehand (tl_triangle_quality). */
 static inline TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p,
                                                      TlVec3 *q, double bary[3])
 {
   TlVec3 ab = tl_v3_sub(b, a), ac = tl_v3_sub(c, a), ap = tl_v3_sub(p, a);
+  /* Round-off bounds.  Every d is a dot product of two rounded differences
+   * with |d| <= D = 3 L (P + L) (L the largest component of ab and ac, P of
+   * ap; bp = ap - ab and cp = ap - ac are no longer than P + L); its error
+   * is at most 5u D (u = DBL_EPSILON / 2), that of a difference of two d's
+   * 12u D, that of a 2 x 2 combination (va, vb, vc) 24u D^2.  The bounds
+   * below double these (and cover the rounding of D itself). */
+  double L = TL_TRI_MAX(TL_TRI_AMAX(ab), TL_TRI_AMAX(ac));
+  double D = 3.0 * L * (TL_TRI_AMAX(ap) + L);
+  double ed = 5.0 * DBL_EPSILON * D, edd = 12.0 * DBL_EPSILON * D, ev = 24.0 * DBL_EPSILON * D * D;
   double d1 = tl_v3_dot(ab, ap), d2 = tl_v3_dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) {
+  /* vertex a: (b - a).(p - a) <= 0 and (c - a).(p - a) <= 0 */
+  if (TL_TRI_SIGN(d1, ed, tl_dot3_sign(a, b, p)) <= 0 && TL_TRI_SIGN(d2, ed, tl_dot3_sign(a, c, p)) <= 0) {
     bary[0] = 1.0, bary[1] = 0.0, bary[2] = 0.0;
     *q = a;
     return TL_TRI_VERTEX0;
   }
   TlVec3 bp = tl_v3_sub(p, b);
   double d3 = tl_v3_dot(ab, bp), d4 = tl_v3_dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) {
+  /* vertex b: (a - b).(p - b) = -d3 <= 0 and (c - b).(p - b) = d4 - d3 <= 0 */
+  if (TL_TRI_SIGN(d3, ed, -tl_dot3_sign(b, a, p)) >= 0 && TL_TRI_SIGN(d4 - d3, edd, tl_dot3_sign(b, c, p)) <= 0) {
     bary[0] = 0.0, bary[1] = 1.0, bary[2] = 0.0;
     *q = b;
     return TL_TRI_VERTEX1;
   }
+  /* edge ab: beyond its perpendicular plane, between those of a and b */
   double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+  if (TL_TRI_SIGN(vc, ev, tl_edge_side(a, b, c, p)) <= 0 && TL_TRI_SIGN(d1, ed, tl_dot3_sign(a, b, p)) >= 0 &&
+      TL_TRI_SIGN(d3, ed, -tl_dot3_sign(b, a, p)) <= 0) {
     double t = d1 / (d1 - d3);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t); /* the decision was exact, the division is not */
     bary[0] = 1.0 - t, bary[1] = t, bary[2] = 0.0;
     *q = tl_v3_axpy(a, t, ab);
     return TL_TRI_EDGE0;
   }
   TlVec3 cp = tl_v3_sub(p, c);
   double d5 = tl_v3_dot(ab, cp), d6 = tl_v3_dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) {
+  /* vertex c: (a - c).(p - c) = -d6 <= 0 and (b - c).(p - c) = d5 - d6 <= 0 */
+  if (TL_TRI_SIGN(d6, ed, -tl_dot3_sign(c, a, p)) >= 0 && TL_TRI_SIGN(d5 - d6, edd, tl_dot3_sign(c, b, p)) <= 0) {
     bary[0] = 0.0, bary[1] = 0.0, bary[2] = 1.0;
     *q = c;
     return TL_TRI_VERTEX2;
   }
   double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+  if (TL_TRI_SIGN(vb, ev, tl_edge_side(c, a, b, p)) <= 0 && TL_TRI_SIGN(d2, ed, tl_dot3_sign(a, c, p)) >= 0 &&
+      TL_TRI_SIGN(d6, ed, -tl_dot3_sign(c, a, p)) <= 0) {
     double t = d2 / (d2 - d6);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     bary[0] = 1.0 - t, bary[1] = 0.0, bary[2] = t;
     *q = tl_v3_axpy(a, t, ac);
     return TL_TRI_EDGE2;
   }
   double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+  if (TL_TRI_SIGN(va, ev, tl_edge_side(b, c, a, p)) <= 0 && TL_TRI_SIGN(d4 - d3, edd, tl_dot3_sign(b, c, p)) >= 0 &&
+      TL_TRI_SIGN(d5 - d6, edd, tl_dot3_sign(c, b, p)) >= 0) {
     double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     bary[0] = 0.0, bary[1] = 1.0 - t, bary[2] = t;
     *q = tl_v3_axpy(b, t, tl_v3_sub(c, b));
     return TL_TRI_EDGE1;
@@ -120,8 +159,8 @@ typedef struct {
 
 /* Fills *c and returns 1 when the sphere (centre x, radius r) overlaps the
  * triangle (a, b, c) with unit face normal n; returns 0 otherwise.  A centre
- * lying on the triangle itself takes the face normal, so the normal is never
- * NaN. */
+ * lying on the triangle itself takes the face normal on its side (on the
+ * plane itself, n), so the normal is never NaN. */
 static inline int tl_triangle_sphere_contact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 n, TlVec3 x,
                                              double r, TlTriContact *con)
 {
@@ -139,7 +178,11 @@ static inline int tl_triangle_sphere_contact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec
   if (dist > 1e-12 * r) {
     con->normal = tl_v3_scale(d, 1.0 / dist);
   } else {
-    con->normal = tl_v3_dot(d, n) < 0.0 ? tl_v3_neg(n) : n;
+    /* the side of the face the centre is on, exactly (n's sense against
+     * the corner order is no close call: |n . (ab x ac)| is twice the area) */
+    int side = tl_orient3d(a, b, c, x);
+    if (tl_v3_dot(n, tl_v3_cross(tl_v3_sub(b, a), tl_v3_sub(c, a))) < 0.0) side = -side;
+    con->normal = side < 0 ? tl_v3_neg(n) : n;
   }
   return 1;
 }
