@@ -7,7 +7,10 @@
  * concave shape of a shared edge of a triangulated wall and whether its fold
  * exceeds the feature angle (tl_trisurface.c), zero-area facets
  * (tl_surface_mesh_check), a point inside a closed surface
- * (tl_surface_mesh_contains, for particle insertion).
+ * (tl_surface_mesh_contains, for particle insertion), the face, edge or
+ * vertex a sphere touches on a triangle (tl_triangle_closest_point), the
+ * side of a face a centre on it lies on, the corner order of a meshed
+ * tetrahedron (tl_mesh_from_surface).
  *
  * Every sign is exact on both paths.  With TALUS_WITH_CGAL it comes from
  * CGAL's filtered exact predicates (a small C++ shim).  Without it, a
