@@ -579,6 +579,18 @@ int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
 #endif
 }
 
+int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+  /* (-2, a failed allocation of an exact stage, reads as negative) */
+  if (tl_dot3_sign(a, b, p) <= 0 && tl_dot3_sign(a, c, p) <= 0) return 4;
+  if (tl_dot3_sign(b, a, p) <= 0 && tl_dot3_sign(b, c, p) <= 0) return 5;
+  if (tl_edge_side(a, b, c, p) <= 0 && tl_dot3_sign(a, b, p) >= 0 && tl_dot3_sign(b, a, p) >= 0) return 1;
+  if (tl_dot3_sign(c, a, p) <= 0 && tl_dot3_sign(c, b, p) <= 0) return 6;
+  if (tl_edge_side(c, a, b, p) <= 0 && tl_dot3_sign(a, c, p) >= 0 && tl_dot3_sign(c, a, p) >= 0) return 3;
+  if (tl_edge_side(b, c, a, p) <= 0 && tl_dot3_sign(b, c, p) >= 0 && tl_dot3_sign(c, b, p) >= 0) return 2;
+  return 0;
+}
+
 int tl_predicates_are_exact(void) { return 1; }
 
 int tl_predicates_use_cgal(void) { return TALUS_WITH_CGAL; }

@@ -81,6 +81,13 @@ int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
  * cannot decide. */
 int tl_dot3_sign(TlVec3 v, TlVec3 u, TlVec3 p);
 int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
+/* The part of triangle (a, b, c) closest to p, exactly, from the two signs
+ * above: 0 the face, 1 + k edge k (vertex k to vertex k + 1 mod 3), 4 + k
+ * vertex k (TlTriFeature of tl_triangle_geometry.h).  Regions tested in
+ * the order vertex a, vertex b, edge ab, vertex c, edge ca, edge bc, face;
+ * a point on a boundary takes the first.  The contact loop's filter calls
+ * this only for points within round-off of a boundary. */
+int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
 /* The library's own paths (filter, then expansions): always available, the
  * fallback without CGAL and the independent check of the CGAL path.  The
  * exact stage of tl_edge_side_filtered keeps its expansions on the heap;
