@@ -15,7 +15,6 @@ int tl_cgal_collinear3d(const double a[3], const double b[3], const double c[3])
 int tl_cgal_dihedral_compare(const double a[3], const double b[3], const double c[3], const double d[3], double cosine);
 int tl_cgal_insphere(const double a[3], const double b[3], const double c[3], const double d[3], const double e[3]);
 int tl_cgal_dot3_sign(const double v[3], const double u[3], const double p[3]);
-int tl_cgal_edge_side(const double a[3], const double b[3], const double c[3], const double p[3]);
 
 #endif
 
@@ -527,8 +526,45 @@ int tl_dot3_sign(TlVec3 v, TlVec3 u, TlVec3 p)
  * the cross products of the exact differences, then their dot product, on
  * the heap with compression (a degree-4 value: up to 3 x 16 x 16 x 2
  * components before compression).  -2 if memory ran out. */
+/* The common case of nearby points, whose differences are exact doubles:
+ * each cross-product component is an expansion of 4, each product of two
+ * of 32, the sum of 96; no heap.  Returns 2 when a difference is inexact. */
+static int tl_edge_side_short(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+  const double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pp[3] = {p.x, p.y, p.z};
+  double e[3], f[3], w[3], err;
+  for (int i = 0; i < 3; ++i) {
+    tl_two_sum(pb[i], -pa[i], &e[i], &err);
+    if (err != 0.0) return 2;
+    tl_two_sum(pc[i], -pa[i], &f[i], &err);
+    if (err != 0.0) return 2;
+    tl_two_sum(pp[i], -pa[i], &w[i], &err);
+    if (err != 0.0) return 2;
+  }
+  TlExpansion n, m, term, dot;
+  dot.n = 0;
+  for (int i = 0; i < 3; ++i) {
+    int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    double hi, lo;
+    n.n = m.n = 0;
+    tl_two_product(e[i1], f[i2], &hi, &lo);
+    tl_expansion_grow(&n, lo), tl_expansion_grow(&n, hi);
+    tl_two_product(-e[i2], f[i1], &hi, &lo);
+    tl_expansion_grow(&n, lo), tl_expansion_grow(&n, hi);
+    tl_two_product(e[i1], w[i2], &hi, &lo);
+    tl_expansion_grow(&m, lo), tl_expansion_grow(&m, hi);
+    tl_two_product(-e[i2], w[i1], &hi, &lo);
+    tl_expansion_grow(&m, lo), tl_expansion_grow(&m, hi);
+    tl_expansion_mul(&n, &m, &term);
+    tl_expansion_add(&dot, &term);
+  }
+  return tl_expansion_sign(&dot);
+}
+
 static int tl_edge_side_exact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
 {
+  int quick = tl_edge_side_short(a, b, c, p);
+  if (quick != 2) return quick;
   TlBigExpansion e[3], f[3], w[3], n[3], m[3], dot;
   memset(e, 0, sizeof e), memset(f, 0, sizeof f), memset(w, 0, sizeof w), memset(n, 0, sizeof n);
   memset(m, 0, sizeof m), memset(&dot, 0, sizeof dot);
@@ -572,8 +608,12 @@ int tl_edge_side_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, int *exact_sta
 int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
 {
 #if TALUS_WITH_CGAL
-  double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pp[3] = {p.x, p.y, p.z};
-  return tl_cgal_edge_side(pa, pb, pc, pp);
+  /* n_abc . n_abp has the sign of the cosine of the dihedral angle at ab
+   * between the half-planes through c and p: CGAL's comparison of that
+   * angle with 90 degrees (cosine 0), which needs p off the line ab (there
+   * the sign is 0).  c is off it: the triangle is not degenerate. */
+  if (tl_collinear3d(a, b, p)) return 0;
+  return -tl_dihedral_compare(a, b, c, p, 0.0);
 #else
   return tl_edge_side_filtered(a, b, c, p, NULL);
 #endif

@@ -74,8 +74,9 @@ int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
  * to the triangle (a, b, c), 0 on it.  The edge regions are bounded by
  * these planes.
  *
- * With CGAL the exact stage is CGAL's (CGAL::angle for the first, the
- * polynomial in the exact kernel's number type for the second); without it,
+ * With CGAL both are CGAL's filtered exact predicates (CGAL::angle; the
+ * comparison of the dihedral angle at ab between the half-planes through c
+ * and p with 90 degrees); without it, a floating-point filter and
  * expansion arithmetic.  The floating-point filters of the contact loop are
  * inline in tl_triangle_geometry.h and call these only for the inputs they
  * cannot decide. */

@@ -1,6 +1,5 @@
 // CGAL shim: exact orientation through CGAL's filtered exact predicates.
 // Compiled only with -DTALUS_WITH_CGAL=ON.
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -52,29 +51,4 @@ extern "C" int tl_cgal_dot3_sign(const double v[3], const double u[3], const dou
   CGAL::Angle r = CGAL::angle(Kernel::Point_3(u[0], u[1], u[2]), Kernel::Point_3(v[0], v[1], v[2]),
                               Kernel::Point_3(p[0], p[1], p[2]));
   return r == CGAL::ACUTE ? 1 : (r == CGAL::OBTUSE ? -1 : 0);
-}
-
-extern "C" int tl_cgal_edge_side(const double a[3], const double b[3], const double c[3], const double p[3])
-{
-  // ((b - a) x (c - a)) . ((b - a) x (p - a)) in the exact kernel's number
-  // type (intervals first, exact rationals where they cannot decide); no
-  // CGAL predicate names this sign.  -2 if the exact stage cannot allocate.
-  using FT = CGAL::Exact_predicates_exact_constructions_kernel::FT;
-  try {
-    FT e[3], f[3], w[3];
-    for (int i = 0; i < 3; ++i) {
-      e[i] = FT(b[i]) - FT(a[i]);
-      f[i] = FT(c[i]) - FT(a[i]);
-      w[i] = FT(p[i]) - FT(a[i]);
-    }
-    FT dot = 0;
-    for (int i = 0; i < 3; ++i) {
-      int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      dot += (e[i1] * f[i2] - e[i2] * f[i1]) * (e[i1] * w[i2] - e[i2] * w[i1]);
-    }
-    CGAL::Sign s = CGAL::sign(dot);
-    return s == CGAL::POSITIVE ? 1 : (s == CGAL::NEGATIVE ? -1 : 0);
-  } catch (...) {
-    return -2;
-  }
 }
