@@ -45,7 +45,7 @@
 
 typedef struct {
   long n, rim, substeps, snapshots, samples, reuse;
-  double d_min, d_max, rho_g, E_g, restitution, mu, box, pour_height, t_settle, dt_fraction, fe_dt_fraction;
+  double d_min, d_max, rho_g, E_g, restitution, mu, box, pour_height, t_settle, dt_fraction, fe_dt_fraction, contacts_per_node;
   double radius, tip_radius, half_angle, mesh_h, E_c, nu_c, rho_c, speed, gap, depth;
   double widths[MAX_WIDTHS];
   int n_widths, tet10, threads, explicit_fe;
@@ -111,6 +111,9 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_real(*o, "-fe_dt_fraction", 0.9, 1e-6, 1.0, "",
                                "explicit cone: largest FE step over its critical one; a shorter step than the bed's "
                                "then becomes the push's DEM step too (Tet10 at the defaults)", &s->fe_dt_fraction));
+  TL_CHECK(tl_options_get_real(*o, "-contacts_per_node", 4, 0.0, 1000.0, "",
+                               "explicit cone: grains whose contact springs one surface node may carry at once, in "
+                               "its stable step", &s->contacts_per_node));
   TL_CHECK(tl_options_get_int(*o, "-reuse", 20, 1, 100000, "Newton: refactorise the FE tangent every n iterations",
                               &s->reuse));
   TL_CHECK(tl_options_get_int(*o, "-samples", 200, 2, 10000000, "rows of each force-depth table", &s->samples));
@@ -356,21 +359,39 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   sto.max_iterations = s->reuse > 1 ? 200 : 30;
 
   TL_CHECK_GOTO(st, tl_stepper_create(s->explicit_fe ? "central_difference" : "newmark", tl_solid_system(solid), &sto, &stp), done);
+  const size_t ndof = (size_t)tl_solid_system(solid)->ndof;
+  /* The contact springs act on the cone's surface nodes explicitly (the
+   * wall is placed, the forces come back after the DEM steps): a node of
+   * lumped mass m under a spring k_n is stable for a FE step below
+   * dt_c = 2 sqrt(m / k_n).  The smallest node mass is at the sharp apex, where
+   * the mesh is finest. */
+  const TlNodeSet *surf = NULL;
+  TL_CHECK_GOTO(st, tl_mesh_find_node_set(mesh, "surface", &surf), done);
+  double m_min = INFINITY;
+  for (size_t i = 0; i < surf->n; ++i) {
+    TlSparseIndex d = tl_solid_dof(solid, surf->nodes[i], 2);
+    if (d >= 0) m_min = fmin(m_min, stp->m[d]);
+  }
+  const double k_n = s->E_g * 0.5 * (s->d_min + s->d_max), limit = 2.0 * sqrt(m_min / k_n);
   /* The push's step: the bed's, unless the explicit cone needs a shorter
-   * one.  Tet10 does at the defaults: HRZ lumping leaves each corner node
-   * 6/216 of its element's mass, and with the mid-side nodes the critical
-   * step falls about tenfold below Tet4's on the same mesh; the grains and
-   * the cone then share the shorter step (lock-step), at its cost. */
+   * one.  A node carries its elements' stiffness and the springs of the
+   * grains on its faces at once: stable below 1 / sqrt(1 / dt_e^2 + K / dt_c^2)
+   * with dt_e the elements' critical step and K = -contacts_per_node.
+   * Tet10 needs the shorter step at the defaults: HRZ lumping leaves a corner
+   * node 6/216 of its element's mass (dt_e 3.6e-7 s against Tet4's 3.7e-6 s
+   * on the same mesh, dt_c 9.8e-7 s against 8.4e-6 s); the grains and the
+   * cone then share it (lock-step), at its cost. */
   double dt = bed->dt;
   if (s->explicit_fe) {
     double dt_crit;
     TL_CHECK_GOTO(st, tl_stepper_critical_dt(stp, &dt_crit), done);
-    if (!((double)s->substeps * dt <= s->fe_dt_fraction * dt_crit)) {
-      dt = s->fe_dt_fraction * dt_crit / (double)s->substeps;
+    const double dt_both = 1.0 / sqrt(1.0 / (dt_crit * dt_crit) + s->contacts_per_node / (limit * limit));
+    if (!((double)s->substeps * dt <= s->fe_dt_fraction * dt_both)) {
+      dt = s->fe_dt_fraction * dt_both / (double)s->substeps;
       if (k == 0)
-        printf("cone: the bed's step %.3g s x %ld substeps exceeds -fe_dt_fraction %g of the cone's explicit critical "
-               "step %.3g s: the push runs at a DEM step of %.3g s\n",
-               bed->dt, s->substeps, s->fe_dt_fraction, dt_crit, dt);
+        printf("cone: the bed's step %.3g s x %ld substeps exceeds -fe_dt_fraction %g of the cone's stable step %.3g s "
+               "(elements %.3g s, %g contact springs per node %.3g s each): the push runs at a DEM step of %.3g s\n",
+               bed->dt, s->substeps, s->fe_dt_fraction, dt_both, dt_crit, s->contacts_per_node, limit, dt);
     }
     if (k == 0) printf("cone: explicit critical step %.3g s, FE step %.3g s\n", dt_crit, (double)s->substeps * dt);
     if (!(dt > 0.0))
@@ -379,26 +400,12 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   }
   TL_CHECK_GOTO(st, tl_dem_set_timestep(dem, dt, 0), done);
   TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
-
-  const size_t ndof = (size_t)tl_solid_system(solid)->ndof;
-  /* The contact springs act on the cone's surface nodes explicitly (the
-   * wall is placed, the forces come back after the DEM steps): a node of
-   * lumped mass m under a spring k_n is stable for a FE step below
-   * 2 sqrt(m / k_n).  The smallest node mass is at the sharp apex, where
-   * the mesh is finest; refuse a step beyond half that limit. */
   {
-    const TlNodeSet *surf = NULL;
-    TL_CHECK_GOTO(st, tl_mesh_find_node_set(mesh, "surface", &surf), done);
-    double m_min = INFINITY;
-    for (size_t i = 0; i < surf->n; ++i) {
-      TlSparseIndex d = tl_solid_dof(solid, surf->nodes[i], 2);
-      if (d >= 0) m_min = fmin(m_min, stp->m[d]);
-    }
-    const double k_n = s->E_g * 0.5 * (s->d_min + s->d_max), limit = 2.0 * sqrt(m_min / k_n);
     const double Dt_fe = (double)s->substeps * dt;
     if (k == 0)
       printf("cone: smallest surface node mass %.3g kg; contact-spring step limit 2 sqrt(m / k_n) = %.3g s, FE step %.3g s\n",
              m_min, limit, Dt_fe);
+    /* refuse a step beyond half that limit (an implicit cone too) */
     if (!(Dt_fe <= 0.5 * limit))
       TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                                      "the FE step %ld x %g s = %g s is beyond half the limit 2 sqrt(m / k_n) = %g s of "
