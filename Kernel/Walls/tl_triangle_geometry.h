@@ -88,11 +88,11 @@ static inline void tl_triangle_point_of_feature(TlVec3 a, TlVec3 b, TlVec3 c, Tl
  * to the triangle.  The dot products d1..d6 and their 2 x 2 combinations
  * va, vb, vc are those polynomials in doubles; with one error bound for all
  * of them (below) the filter decides every clear case from the values the
- * point needs anyway, and a point within round-off of a region boundary
- * goes to the exact classification.  Valid for any triangle with edges of
- * non-zero length; callers refuse degenerate triangles beforehand
- * (tl_triangle_quality). */
-TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, TlVec3 *q,
+ * point needs anyway; for a point within round-off of a region boundary
+ * it returns -1 and the exact classification decides.  Valid for any
+ * triangle with edges of non-zero length; callers refuse degenerate
+ * triangles beforehand (tl_triangle_quality). */
+TL_TRI_INLINE int tl_triangle_closest_point_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, TlVec3 *q,
                                                      double bary[3])
 {
   TlVec3 ab = tl_v3_sub(b, a), ac = tl_v3_sub(c, a), ap = tl_v3_sub(p, a);
@@ -114,7 +114,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = a;
     return TL_TRI_VERTEX0;
   }
-  if (!(d1 > ed || d2 > ed)) goto exact;
+  if (!(d1 > ed || d2 > ed)) return -1;
   TlVec3 bp = tl_v3_sub(p, b);
   double d3 = tl_v3_dot(ab, bp), d4 = tl_v3_dot(ac, bp), e43 = d4 - d3;
   /* vertex b: (a - b).(p - b) = -d3 <= 0 and (c - b).(p - b) = d4 - d3 <= 0 */
@@ -123,7 +123,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = b;
     return TL_TRI_VERTEX1;
   }
-  if (!(d3 < -ed || e43 > edd)) goto exact;
+  if (!(d3 < -ed || e43 > edd)) return -1;
   /* edge ab: beyond its perpendicular plane (vc <= 0), between those of a
    * and b */
   double vc = d1 * d4 - d3 * d2;
@@ -134,7 +134,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = tl_v3_axpy(a, t, ab);
     return TL_TRI_EDGE0;
   }
-  if (!(vc > ev || d1 < -ed || d3 > ed)) goto exact;
+  if (!(vc > ev || d1 < -ed || d3 > ed)) return -1;
   TlVec3 cp = tl_v3_sub(p, c);
   double d5 = tl_v3_dot(ab, cp), d6 = tl_v3_dot(ac, cp), e56 = d5 - d6;
   /* vertex c: (a - c).(p - c) = -d6 <= 0 and (b - c).(p - c) = d5 - d6 <= 0 */
@@ -143,7 +143,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = c;
     return TL_TRI_VERTEX2;
   }
-  if (!(d6 < -ed || e56 > edd)) goto exact;
+  if (!(d6 < -ed || e56 > edd)) return -1;
   double vb = d5 * d2 - d1 * d6;
   if (vb < -ev && d2 > ed && d6 < -ed) {
     double t = d2 / (d2 - d6);
@@ -152,7 +152,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = tl_v3_axpy(a, t, ac);
     return TL_TRI_EDGE2;
   }
-  if (!(vb > ev || d2 < -ed || d6 > ed)) goto exact;
+  if (!(vb > ev || d2 < -ed || d6 > ed)) return -1;
   double va = d3 * d6 - d5 * d4;
   if (va < -ev && e43 > edd && e56 > edd) {
     double t = e43 / (e43 + e56);
@@ -161,7 +161,7 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = tl_v3_axpy(b, t, tl_v3_sub(c, b));
     return TL_TRI_EDGE1;
   }
-  if (!(va > ev || e43 < -edd || e56 < -edd)) goto exact;
+  if (!(va > ev || e43 < -edd || e56 < -edd)) return -1;
   {
     double s = 1.0 / (va + vb + vc);
     double v = vb * s, w = vc * s;
@@ -169,8 +169,16 @@ TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 
     *q = tl_v3_add(a, tl_v3_add(tl_v3_scale(ab, v), tl_v3_scale(ac, w)));
     return TL_TRI_FACE;
   }
-exact:;
-  int f = tl_triangle_region(a, b, c, p);
+}
+
+/* The closest point, its feature and barycentric coordinates: the filter
+ * above, else (-1: a point within round-off of a region boundary) the exact
+ * classification, the point then computed for the feature it names. */
+TL_TRI_INLINE TlTriFeature tl_triangle_closest_point(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, TlVec3 *q, double bary[3])
+{
+  int f = tl_triangle_closest_point_filtered(a, b, c, p, q, bary);
+  if (f >= 0) return (TlTriFeature)f;
+  f = tl_triangle_region(a, b, c, p);
   tl_triangle_point_of_feature(a, b, c, p, f, q, bary);
   return (TlTriFeature)f;
 }
