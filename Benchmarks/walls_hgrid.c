@@ -24,8 +24,17 @@
  *    by Talus: the vertical force on the mesh and the resting heights of both
  *    against each other and against the weight and Hertz's overlap.
  *
- * Output: <output_dir>/scaling.csv, peer.csv, stl.csv; last line
- *   summary: ... ratio=<talus/liggghts> ... stl_ratio_<n>=... wall=<s> */
+ * 5. STL hoppers of 10^3 ... 10^6 triangles (-hopper_triangles): a conical
+ *    funnel on a plate (walls_hgrid_hopper.h) written as one STL file that
+ *    both codes read; the same lattice of grains (-hopper_particles) falls
+ *    into it and flows down the funnel; after -hopper_warmup untimed steps,
+ *    -hopper_steps timed ones, both codes, the ratio printed.  The same
+ *    answer on the smallest hopper (-hopper_answer): eight spheres rolling
+ *    down facet columns of the funnel for -hopper_answer_steps steps, their
+ *    positions and the force on the mesh from both codes.
+ *
+ * Output: <output_dir>/scaling.csv, peer.csv, stl.csv, hopper.csv; last line
+ *   summary: ... ratio=<talus/liggghts> ... stl_ratio_<n>=... hopper_ratio_<n>=... wall=<s> */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -39,6 +48,7 @@
 #include "tl_dem.h"
 #include "tl_lammps_data.h"
 #include "tl_wall_trisurface.h"
+#include "walls_hgrid_hopper.h"
 
 typedef struct {
   double radius, density, youngs, poisson, restitution, mu, dt;
@@ -51,6 +61,10 @@ typedef struct {
   double stl_triangles[8];
   int n_stl, stl_repeat, stl_answer;
   long stl_steps;
+  int stl_floors;
+  double hopper_triangles[8];
+  int n_hopper, hopper_answer;
+  long hopper_particles, hopper_warmup, hopper_steps, hopper_answer_steps;
   const char *output_dir;
 } Setup;
 
@@ -420,6 +434,156 @@ done:
   return status;
 }
 
+/* Talus in the hopper: spheres from x, the wall read from the STL file
+ * (checked, not repaired: the file is clean), `warmup` untimed and `steps`
+ * timed steps; the final positions (x_end, may be NULL) and the force on the
+ * mesh. */
+static TlStatus hopper_talus(const Setup *s, const char *stl, const TlVec3 *x, size_t n, long warmup, long steps,
+                             double *us, double *cpu_share, double *load_seconds, size_t *triangles, TlVec3 *x_end,
+                             TlVec3 *force)
+{
+  TlDem *dem = NULL;
+  TlContactLaw *law = NULL;
+  TlWall *wall = NULL;
+  TlStatus status = TL_OK;
+  TL_CHECK_GOTO(status, tl_dem_create(&dem), done);
+  TlDomain dom;
+  TL_CHECK_GOTO(status, tl_domain_init_open(&dom, tl_v3(-0.045, -0.045, -0.005), tl_v3(0.045, 0.045, 0.05)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_domain(dem, &dom), done);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_CHECK_GOTO(status, tl_particles_add_species(P, "glass", s->density, s->radius, s->radius, &sp), done);
+  TL_CHECK_GOTO(status, tl_particles_reserve(P, n), done);
+  int64_t id0 = 0;
+  for (size_t i = 0; i < n; ++i) {
+    size_t at;
+    TL_CHECK_GOTO(status, tl_dem_add_particle(dem, x[i], tl_v3(0, 0, 0), s->radius, sp, &at), done);
+    if (i == 0) id0 = P->id[at];
+  }
+  TL_CHECK_GOTO(status, make_law(s, &law), done);
+  TL_CHECK_GOTO(status, tl_dem_add_law(dem, law, NULL), done);
+  law = NULL;
+  double t0 = tl_wtime();
+  TlWallPlacement place;
+  tl_wall_placement_default(&place);
+  place.repair = 0;
+  TL_CHECK_GOTO(status, tl_wall_trisurface_from_file(stl, &place, &wall, NULL), done);
+  *load_seconds = tl_wtime() - t0;
+  *triangles = tl_wall_trisurface_surface(wall)->n_triangles;
+  TlWall *w = wall;
+  TL_CHECK_GOTO(status, tl_dem_add_wall(dem, wall, 0), done);
+  wall = NULL;
+  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
+  TL_CHECK_GOTO(status, tl_dem_set_skin(dem, 0.0002 / (2 * s->radius)), done);
+  TL_CHECK_GOTO(status, tl_dem_set_timestep(dem, s->dt, 0), done);
+  TL_CHECK_GOTO(status, tl_dem_setup(dem), done);
+  if (warmup > 0) TL_CHECK_GOTO(status, tl_dem_step(dem, warmup), done);
+  double sec = 0.0, cpu = 0.0;
+  char label[64];
+  snprintf(label, sizeof label, "talus hopper %zu triangles", *triangles);
+  TL_CHECK_GOTO(status, timed_steps(dem, steps, label, &sec, &cpu), done);
+  *us = 1e6 * sec / ((double)steps * (double)P->n);
+  *cpu_share = sec > 0.0 ? cpu / sec : 0.0;
+  /* by insertion order (ids are given in it; the storage is sorted) */
+  if (x_end)
+    for (size_t i = 0; i < P->n; ++i) {
+      int64_t k = P->id[i] - id0;
+      if (k >= 0 && (size_t)k < n) x_end[k] = P->x[i];
+    }
+  *force = w->force;
+done:
+  tl_contact_law_destroy(&law);
+  tl_wall_destroy(&wall);
+  tl_dem_destroy(&dem);
+  return status;
+}
+
+/* Part 5: hoppers of growing triangle count, then the same answer. */
+static TlStatus hoppers(const Setup *s, TlSummary *summary)
+{
+  char dir[4200], stl[4400], smallest[4400] = "", *path = NULL;
+  TlSurfaceMesh *mesh = NULL;
+  TlVec3 *sites = NULL;
+  TlAtomicFile *f = NULL;
+  size_t n_sites = 0;
+  HopperGeometry g0;
+  memset(&g0, 0, sizeof g0);
+  TlStatus status = TL_OK;
+  snprintf(dir, sizeof dir, "%s/hopper", s->output_dir);
+  TL_CHECK(tl_mkdir_p(dir));
+  TL_CHECK_GOTO(status, tl_path_join(s->output_dir, "hopper.csv", &path), done);
+  TL_CHECK_GOTO(status, tl_atomic_file_open(path, &f), done);
+  FILE *out = tl_atomic_file_stream(f);
+  fprintf(out, "triangles,spheres,talus_load_s,talus_us_per_particle_step,talus_cpu_share,liggghts_us_per_particle_step,"
+               "talus_over_liggghts\n");
+  for (int c = 0; c < s->n_hopper; ++c) {
+    HopperGeometry g;
+    hopper_geometry(s->hopper_triangles[c], &g);
+    if (c == 0) g0 = g;
+    TL_CHECK_GOTO(status, hopper_mesh(&g, &mesh), done);
+    snprintf(stl, sizeof stl, "%s/hopper_%zu.stl", dir, mesh->n_triangles);
+    TL_CHECK_GOTO(status, tl_stl_write(stl, mesh, 0), done); /* ASCII: what LIGGGHTS reads */
+    tl_surface_mesh_destroy(&mesh);
+    if (c == 0) snprintf(smallest, sizeof smallest, "%s", stl);
+    tl_free(&sites);
+    TL_CHECK_GOTO(status, hopper_sites(&g, s->radius, (size_t)s->hopper_particles, &sites, &n_sites), done);
+    double us = 0.0, share = 0.0, load = 0.0, lig = 0.0;
+    size_t nt = 0;
+    TlVec3 force;
+    TL_CHECK_GOTO(status, hopper_talus(s, stl, sites, n_sites, s->hopper_warmup, s->hopper_steps, &us, &share, &load, &nt,
+                                       NULL, &force), done);
+    char deck[64], deck_path[4600];
+    snprintf(deck, sizeof deck, "in.hopper_%zu", nt);
+    snprintf(deck_path, sizeof deck_path, "%s/%s", dir, deck);
+    TL_CHECK_GOTO(status, hopper_deck(deck_path, stl, sites, n_sites, s->radius, s->density, s->youngs, s->poisson,
+                                      s->restitution, s->mu, s->dt, s->hopper_warmup, s->hopper_steps, 0), done);
+    TL_CHECK_GOTO(status, hopper_liggghts(dir, deck, &lig), done);
+    double lig_us = 1e6 * lig / ((double)s->hopper_steps * (double)n_sites), ratio = us / lig_us;
+    printf("STL hopper %s: %zu triangles (%d x %d funnel, %d^2 x 2 plate), %zu spheres, steps %ld..%ld: talus %.4f "
+           "us/particle-step (load %.3g s, cpu_share %.2f), liggghts %.4f, talus/liggghts = %.3f\n",
+           stl, nt, g.n_theta, g.n_z, g.n_plate, n_sites, s->hopper_warmup, s->hopper_warmup + s->hopper_steps, us, load,
+           share, lig_us, ratio);
+    fprintf(out, "%zu,%zu,%.6g,%.6g,%.3g,%.6g,%.6g\n", nt, n_sites, load, us, share, lig_us, ratio);
+    char key[48];
+    snprintf(key, sizeof key, "hopper_ratio_%zu", nt);
+    tl_summary_real(summary, key, ratio);
+    fflush(stdout);
+  }
+  TL_CHECK_GOTO(status, tl_atomic_file_commit(&f), done);
+  if (s->hopper_answer && smallest[0]) {
+    TlVec3 x[HOPPER_ANSWER_SPHERES], xt[HOPPER_ANSWER_SPHERES], xl[HOPPER_ANSWER_SPHERES], ft;
+    for (int i = 0; i < HOPPER_ANSWER_SPHERES; ++i) x[i] = hopper_answer_position(&g0, s->radius, i);
+    double us, share, load;
+    size_t nt;
+    TL_CHECK_GOTO(status, hopper_talus(s, smallest, x, HOPPER_ANSWER_SPHERES, 0, s->hopper_answer_steps, &us, &share,
+                                       &load, &nt, xt, &ft), done);
+    char deck_path[4600], dump[4600];
+    snprintf(deck_path, sizeof deck_path, "%s/in.answer", dir);
+    TL_CHECK_GOTO(status, hopper_deck(deck_path, smallest, x, HOPPER_ANSWER_SPHERES, s->radius, s->density, s->youngs,
+                                      s->poisson, s->restitution, s->mu, s->dt, 0, s->hopper_answer_steps, 1), done);
+    double lig;
+    TL_CHECK_GOTO(status, hopper_liggghts(dir, "in.answer", &lig), done);
+    snprintf(dump, sizeof dump, "%s/answer.dump", dir);
+    TL_CHECK_GOTO(status, hopper_read_dump(dump, xl, HOPPER_ANSWER_SPHERES), done);
+    double dx = 0.0, travel = INFINITY;
+    for (int i = 0; i < HOPPER_ANSWER_SPHERES; ++i) {
+      dx = fmax(dx, tl_v3_norm(tl_v3_sub(xt[i], xl[i])));
+      travel = fmin(travel, tl_v3_norm(tl_v3_sub(xt[i], x[i])));
+    }
+    printf("same answer, %d spheres rolling down the funnel of %s for %ld steps: each travelled at least %.4g m; "
+           "positions differ by at most %.3e m (%.2e of the radius); force on the mesh talus (%.9g, %.9g, %.9g) N\n",
+           HOPPER_ANSWER_SPHERES, smallest, s->hopper_answer_steps, travel, dx, dx / s->radius, ft.x, ft.y, ft.z);
+    tl_summary_real(summary, "hopper_answer_position_diff", dx / s->radius);
+    tl_summary_real(summary, "hopper_answer_travel", travel);
+  }
+done:
+  tl_atomic_file_abort(&f);
+  tl_free(&path);
+  tl_free(&sites);
+  tl_surface_mesh_destroy(&mesh);
+  return status;
+}
+
 static TlStatus run(int argc, char **argv, TlSummary *summary)
 {
   double wall0 = tl_wtime();
@@ -456,6 +620,16 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
   TL_CHECK_GOTO(status, tl_options_get_int(o, "-stl_repeat", 1, 1, 100, "LIGGGHTS runs per STL floor (the median is used)", &threads), done);
   s.stl_repeat = (int)threads;
   TL_CHECK_GOTO(status, tl_options_get_bool(o, "-stl_answer", 1, "compare forces and heights of spheres resting on the STL floor with LIGGGHTS", &s.stl_answer), done);
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-stl_floors", 1, "run the STL floors (parts 3 and 4)", &s.stl_floors), done);
+  TL_CHECK_GOTO(status, tl_options_get_real_list(o, "-hopper_triangles", "1e3,1e4,1e5,1e6", "", "approximate triangle counts of the STL hoppers run by both codes (part 5)", s.hopper_triangles, 8, &s.n_hopper), done);
+  int hopper_on = 1;
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-hopper", 1, "run the STL hoppers (part 5)", &hopper_on), done);
+  if (!hopper_on) s.n_hopper = 0;
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-hopper_particles", 3000, 1, 100000, "spheres poured into the hopper (lattice sites, from the bottom up)", &s.hopper_particles), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-hopper_warmup", 1000, 0, 100000000, "untimed steps of each hopper (both codes)", &s.hopper_warmup), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-hopper_steps", 1000, 1, 100000000, "timed steps of each hopper (both codes)", &s.hopper_steps), done);
+  TL_CHECK_GOTO(status, tl_options_get_bool(o, "-hopper_answer", 1, "compare spheres rolling down the smallest hopper with LIGGGHTS", &s.hopper_answer), done);
+  TL_CHECK_GOTO(status, tl_options_get_int(o, "-hopper_answer_steps", 5000, 1, 100000000, "steps of the same-answer run", &s.hopper_answer_steps), done);
   TL_CHECK_GOTO(status, tl_options_get_int(o, "-threads", 1, 1, 1024, "OpenMP threads for Talus (LIGGGHTS runs on 1 rank)", &threads), done);
   TL_CHECK_GOTO(status, tl_options_get_string(o, "-output_dir", "results/walls_hgrid", "output folder", &s.output_dir), done);
   status = tl_options_finish(o, stdout);
@@ -566,7 +740,7 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
     tl_summary_real(summary, "ratio", ratio40);
   }
   /* ---- 3. STL floors of growing size, both codes on the same file ---- */
-  if (s.n_stl > 0) {
+  if (s.stl_floors && s.n_stl > 0) {
     char *path = NULL;
     TlAtomicFile *f = NULL;
     TL_CHECK_GOTO(status, tl_path_join(s.output_dir, "stl.csv", &path), done);
@@ -622,6 +796,8 @@ static TlStatus run(int argc, char **argv, TlSummary *summary)
       tl_summary_real(summary, "answer_height_diff", dz);
     }
   }
+  /* ---- 5. STL hoppers, both codes on the same file ---- */
+  if (s.n_hopper > 0) TL_CHECK_GOTO(status, hoppers(&s, summary), done);
   tl_summary_int(summary, "threads", threads);
   tl_summary_real(summary, "wall", tl_wtime() - wall0);
 done:

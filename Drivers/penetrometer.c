@@ -45,7 +45,7 @@
 
 typedef struct {
   long n, rim, substeps, snapshots, samples, reuse;
-  double d_min, d_max, rho_g, E_g, restitution, mu, box, pour_height, t_settle, dt_fraction;
+  double d_min, d_max, rho_g, E_g, restitution, mu, box, pour_height, t_settle, dt_fraction, fe_dt_fraction, contacts_per_node;
   double radius, tip_radius, half_angle, mesh_h, E_c, nu_c, rho_c, speed, gap, depth;
   double widths[MAX_WIDTHS];
   int n_widths, tet10, threads, explicit_fe;
@@ -108,6 +108,12 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
                                  "kinetics then are the solid's own, no lag), or implicit Newmark", &fem));
   s->explicit_fe = fem == 0;
   TL_CHECK(tl_options_get_int(*o, "-substeps", 1, 1, 1000, "DEM steps per FE step", &s->substeps));
+  TL_CHECK(tl_options_get_real(*o, "-fe_dt_fraction", 0.9, 1e-6, 1.0, "",
+                               "explicit cone: largest FE step over its critical one; a shorter step than the bed's "
+                               "then becomes the push's DEM step too (Tet10 at the defaults)", &s->fe_dt_fraction));
+  TL_CHECK(tl_options_get_real(*o, "-contacts_per_node", 4, 0.0, 1000.0, "",
+                               "explicit cone: grains whose contact springs one surface node may carry at once, in "
+                               "its stable step", &s->contacts_per_node));
   TL_CHECK(tl_options_get_int(*o, "-reuse", 20, 1, 100000, "Newton: refactorise the FE tangent every n iterations",
                               &s->reuse));
   TL_CHECK(tl_options_get_int(*o, "-samples", 200, 2, 10000000, "rows of each force-depth table", &s->samples));
@@ -345,8 +351,6 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   TL_CHECK_GOTO(st, tl_scoupling_add_to_dem(sc, dem, 0), done);
   tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
   tl_dem_set_threads(dem, s->threads);
-  TL_CHECK_GOTO(st, tl_dem_set_timestep(dem, bed->dt, 0), done);
-  TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
   /* The solid starts moving with its base: v = (0, 0, -V) everywhere. */
   TlStepperOptions sto;
   tl_stepper_options_default(&sto);
@@ -355,43 +359,60 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
   sto.max_iterations = s->reuse > 1 ? 200 : 30;
 
   TL_CHECK_GOTO(st, tl_stepper_create(s->explicit_fe ? "central_difference" : "newmark", tl_solid_system(solid), &sto, &stp), done);
-  if (s->explicit_fe) {
-    double dt_crit;
-    TL_CHECK_GOTO(st, tl_stepper_critical_dt(stp, &dt_crit), done);
-    if (k == 0) tl_printf("cone: explicit critical step %.3g s, FE step %.3g s\n", dt_crit, (double)s->substeps * bed->dt);
-    if (!((double)s->substeps * bed->dt <= dt_crit))
-      TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
-                                     "the FE step %ld x %g s = %g s is beyond the cone's explicit critical step %g s: "
-                                     "lower -substeps or -E_c, coarsen -mesh_h, or use -fem newmark",
-                                     s->substeps, bed->dt, (double)s->substeps * bed->dt, dt_crit), done);
-  }
-
   const size_t ndof = (size_t)tl_solid_system(solid)->ndof;
   /* The contact springs act on the cone's surface nodes explicitly (the
    * wall is placed, the forces come back after the DEM steps): a node of
    * lumped mass m under a spring k_n is stable for a FE step below
-   * 2 sqrt(m / k_n).  The smallest node mass is at the sharp apex, where
-   * the mesh is finest; refuse a step beyond half that limit. */
-  {
-    const TlNodeSet *surf = NULL;
-    TL_CHECK_GOTO(st, tl_mesh_find_node_set(mesh, "surface", &surf), done);
-    double m_min = INFINITY;
-    for (size_t i = 0; i < surf->n; ++i) {
-      TlSparseIndex d = tl_solid_dof(solid, surf->nodes[i], 2);
-      if (d >= 0) m_min = fmin(m_min, stp->m[d]);
+   * dt_c = 2 sqrt(m / k_n).  The smallest node mass is at the sharp apex, where
+   * the mesh is finest. */
+  const TlNodeSet *surf = NULL;
+  TL_CHECK_GOTO(st, tl_mesh_find_node_set(mesh, "surface", &surf), done);
+  double m_min = INFINITY;
+  for (size_t i = 0; i < surf->n; ++i) {
+    TlSparseIndex d = tl_solid_dof(solid, surf->nodes[i], 2);
+    if (d >= 0) m_min = fmin(m_min, stp->m[d]);
+  }
+  const double k_n = s->E_g * 0.5 * (s->d_min + s->d_max), limit = 2.0 * sqrt(m_min / k_n);
+  /* The push's step: the bed's, unless the explicit cone needs a shorter
+   * one.  A node carries its elements' stiffness and the springs of the
+   * grains on its faces at once: stable below 1 / sqrt(1 / dt_e^2 + K / dt_c^2)
+   * with dt_e the elements' critical step and K = -contacts_per_node.
+   * Tet10 needs the shorter step at the defaults: HRZ lumping leaves a corner
+   * node 6/216 of its element's mass (dt_e 3.6e-7 s against Tet4's 3.7e-6 s
+   * on the same mesh, dt_c 9.8e-7 s against 8.4e-6 s); the grains and the
+   * cone then share it (lock-step), at its cost. */
+  double dt = bed->dt;
+  if (s->explicit_fe) {
+    double dt_crit;
+    TL_CHECK_GOTO(st, tl_stepper_critical_dt(stp, &dt_crit), done);
+    const double dt_both = 1.0 / sqrt(1.0 / (dt_crit * dt_crit) + s->contacts_per_node / (limit * limit));
+    if (!((double)s->substeps * dt <= s->fe_dt_fraction * dt_both)) {
+      dt = s->fe_dt_fraction * dt_both / (double)s->substeps;
+      if (k == 0)
+        tl_printf("cone: the bed's step %.3g s x %ld substeps exceeds -fe_dt_fraction %g of the cone's stable step %.3g s "
+                  "(elements %.3g s, %g contact springs per node %.3g s each): the push runs at a DEM step of %.3g s\n",
+                  bed->dt, s->substeps, s->fe_dt_fraction, dt_both, dt_crit, s->contacts_per_node, limit, dt);
     }
-    const double k_n = s->E_g * 0.5 * (s->d_min + s->d_max), limit = 2.0 * sqrt(m_min / k_n);
-    const double Dt_fe = (double)s->substeps * bed->dt;
+    if (k == 0) tl_printf("cone: explicit critical step %.3g s, FE step %.3g s\n", dt_crit, (double)s->substeps * dt);
+    if (!(dt > 0.0))
+      TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
+                                     "the cone's explicit critical step %g s leaves no positive step", dt_crit), done);
+  }
+  TL_CHECK_GOTO(st, tl_dem_set_timestep(dem, dt, 0), done);
+  TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
+  {
+    const double Dt_fe = (double)s->substeps * dt;
     if (k == 0)
       tl_printf("cone: smallest surface node mass %.3g kg; contact-spring step limit 2 sqrt(m / k_n) = %.3g s, FE step %.3g s\n",
                 m_min, limit, Dt_fe);
+    /* refuse a step beyond half that limit (an implicit cone too) */
     if (!(Dt_fe <= 0.5 * limit))
       TL_CHECK_GOTO(st, tl_error_set(TL_ERR_UNSTABLE, __FILE__, __LINE__,
                                      "the FE step %ld x %g s = %g s is beyond half the limit 2 sqrt(m / k_n) = %g s of "
                                      "the lightest surface node (m = %g kg, k_n = %g N/m): the coupling would feed "
                                      "energy into the cone; at most -substeps %ld, or a denser (-rho_c) or coarser "
-                                     "(-mesh_h) cone", s->substeps, bed->dt, Dt_fe, limit, m_min, k_n,
-                                     (long)floor(0.5 * limit / bed->dt)), done);
+                                     "(-mesh_h) cone", s->substeps, dt, Dt_fe, limit, m_min, k_n,
+                                     (long)floor(0.5 * limit / dt)), done);
   }
   TL_CHECK_GOTO(st, tl_calloc(&v0, ndof, sizeof *v0), done);
   for (size_t a = 0; a < nn; ++a) v0[tl_solid_dof(solid, a, 2)] = -V;
@@ -418,7 +439,7 @@ static TlStatus penetrate(const Settings *s, const Bed *bed, TlMesh *mesh, doubl
     snprintf(name, sizeof name, "particles_c%d", k);
     TL_CHECK_GOTO(st, tl_particle_writer_create(s->out, name, &pw), done);
   }
-  const double Dt = (double)s->substeps * bed->dt;
+  const double Dt = (double)s->substeps * dt;
   const double t_end = (s->gap + s->depth) / V;
   const long n_macro = (long)ceil(t_end / Dt - 1e-9);
   const long every = n_macro / s->samples > 0 ? n_macro / s->samples : 1;

@@ -11,6 +11,7 @@
 #include "tl_config.h"
 #include "tl_memory.h"
 #include "tl_mesh_from_surface_cgal.h"
+#include "tl_predicates.h"
 
 /* A triangle whose area is below this fraction of its longest edge squared
  * is a needle or a collapsed triangle: no mesher can respect it. */
@@ -167,6 +168,8 @@ TlStatus tl_surface_check(const TlSurfaceArrays *s, double *volume, double *area
   return TL_OK;
 }
 
+/* The mesher's post-processing (with CGAL only). */
+#if TALUS_WITH_CGAL
 static double tet_signed_volume(const double *x, const size_t *c)
 {
   double a[3], b[3], d[3], n[3];
@@ -269,6 +272,8 @@ static TlStatus add_midside_nodes(const TlElementType *type, size_t *n_nodes, do
   return TL_OK;
 }
 
+#endif
+
 static TlStatus check_options(const TlMeshFromSurfaceOptions *o, const TlSurfaceArrays *s,
                               double area, TlCgalMeshCriteria *c)
 {
@@ -355,12 +360,15 @@ TlStatus tl_mesh_from_surface(const TlSurfaceArrays *s, const TlMeshFromSurfaceO
   for (size_t t = 0; t < tm.n_tets; ++t) {
     size_t *c = tm.tets + 4 * t;
     double v = tet_signed_volume(x, c);
-    if (v < 0.0) { /* the type's corner order is positive: swap two corners */
+    /* the corner order from the exact orientation, the volume only summed */
+    if (tl_orient3d(tl_v3(x[3 * c[0]], x[3 * c[0] + 1], x[3 * c[0] + 2]), tl_v3(x[3 * c[1]], x[3 * c[1] + 1], x[3 * c[1] + 2]),
+                    tl_v3(x[3 * c[2]], x[3 * c[2] + 1], x[3 * c[2] + 2]), tl_v3(x[3 * c[3]], x[3 * c[3] + 1], x[3 * c[3] + 2])) < 0) {
+      /* the type's corner order is positive: swap two corners */
       size_t tmp = c[1];
       c[1] = c[2];
       c[2] = tmp;
-      v = -v;
     }
+    v = fabs(v);
     min_vol = fmin(min_vol, v);
     mesh_vol += v;
     tet_dihedrals(x, c, &dmin, &dmax);

@@ -14,6 +14,7 @@ int tl_cgal_orient2d(const double a[2], const double b[2], const double c[2]);
 int tl_cgal_collinear3d(const double a[3], const double b[3], const double c[3]);
 int tl_cgal_dihedral_compare(const double a[3], const double b[3], const double c[3], const double d[3], double cosine);
 int tl_cgal_insphere(const double a[3], const double b[3], const double c[3], const double d[3], const double e[3]);
+int tl_cgal_dot3_sign(const double v[3], const double u[3], const double p[3]);
 
 #endif
 
@@ -475,6 +476,159 @@ int tl_dihedral_compare(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double cosine)
 #else
   return tl_dihedral_compare_filtered(a, b, c, d, cosine, NULL);
 #endif
+}
+
+/* (u - v) . (p - v) exactly: three products of two-component differences,
+ * at most 24 components. */
+static int tl_dot3_exact(TlVec3 v, TlVec3 u, TlVec3 p)
+{
+  const double pv[3] = {v.x, v.y, v.z}, pu[3] = {u.x, u.y, u.z}, pp[3] = {p.x, p.y, p.z};
+  TlExpansion du, dp, term, sum;
+  sum.n = 0;
+  for (int k = 0; k < 3; ++k) {
+    tl_expansion_diff(pu[k], pv[k], &du);
+    tl_expansion_diff(pp[k], pv[k], &dp);
+    tl_expansion_mul(&du, &dp, &term);
+    tl_expansion_add(&sum, &term);
+  }
+  return tl_expansion_sign(&sum);
+}
+
+/* The filter: each term carries 2u from its rounded differences and 1u
+ * from its product, the two sums 2u more: 5u of the permanent; 4
+ * DBL_EPSILON (8u) bounds it with the permanent's own rounding. */
+int tl_dot3_sign_filtered(TlVec3 v, TlVec3 u, TlVec3 p, int *exact_stage)
+{
+  TlVec3 e = tl_v3_sub(u, v), w = tl_v3_sub(p, v);
+  double m0 = e.x * w.x, m1 = e.y * w.y, m2 = e.z * w.z;
+  double dot = m0 + m1 + m2, permanent = fabs(m0) + fabs(m1) + fabs(m2);
+  double bound = 4.0 * DBL_EPSILON * permanent;
+  if (exact_stage) *exact_stage = 0;
+  if (dot > bound) return 1;
+  if (dot < -bound) return -1;
+  /* a product of rounded differences is zero only when a difference is */
+  if (permanent == 0.0) return 0;
+  if (exact_stage) *exact_stage = 1;
+  return tl_dot3_exact(v, u, p);
+}
+
+int tl_dot3_sign(TlVec3 v, TlVec3 u, TlVec3 p)
+{
+#if TALUS_WITH_CGAL
+  double pv[3] = {v.x, v.y, v.z}, pu[3] = {u.x, u.y, u.z}, pp[3] = {p.x, p.y, p.z};
+  return tl_cgal_dot3_sign(pv, pu, pp);
+#else
+  return tl_dot3_sign_filtered(v, u, p, NULL);
+#endif
+}
+
+/* n . m exactly, n = e x f and m = e x w (e = b - a, f = c - a, w = p - a):
+ * the cross products of the exact differences, then their dot product, on
+ * the heap with compression (a degree-4 value: up to 3 x 16 x 16 x 2
+ * components before compression).  -2 if memory ran out. */
+/* The common case of nearby points, whose differences are exact doubles:
+ * each cross-product component is an expansion of 4, each product of two
+ * of 32, the sum of 96; no heap.  Returns 2 when a difference is inexact. */
+static int tl_edge_side_short(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+  const double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pp[3] = {p.x, p.y, p.z};
+  double e[3], f[3], w[3], err;
+  for (int i = 0; i < 3; ++i) {
+    tl_two_sum(pb[i], -pa[i], &e[i], &err);
+    if (err != 0.0) return 2;
+    tl_two_sum(pc[i], -pa[i], &f[i], &err);
+    if (err != 0.0) return 2;
+    tl_two_sum(pp[i], -pa[i], &w[i], &err);
+    if (err != 0.0) return 2;
+  }
+  TlExpansion n, m, term, dot;
+  dot.n = 0;
+  for (int i = 0; i < 3; ++i) {
+    int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    double hi, lo;
+    n.n = m.n = 0;
+    tl_two_product(e[i1], f[i2], &hi, &lo);
+    tl_expansion_grow(&n, lo), tl_expansion_grow(&n, hi);
+    tl_two_product(-e[i2], f[i1], &hi, &lo);
+    tl_expansion_grow(&n, lo), tl_expansion_grow(&n, hi);
+    tl_two_product(e[i1], w[i2], &hi, &lo);
+    tl_expansion_grow(&m, lo), tl_expansion_grow(&m, hi);
+    tl_two_product(-e[i2], w[i1], &hi, &lo);
+    tl_expansion_grow(&m, lo), tl_expansion_grow(&m, hi);
+    tl_expansion_mul(&n, &m, &term);
+    tl_expansion_add(&dot, &term);
+  }
+  return tl_expansion_sign(&dot);
+}
+
+static int tl_edge_side_exact(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+  int quick = tl_edge_side_short(a, b, c, p);
+  if (quick != 2) return quick;
+  TlBigExpansion e[3], f[3], w[3], n[3], m[3], dot;
+  memset(e, 0, sizeof e), memset(f, 0, sizeof f), memset(w, 0, sizeof w), memset(n, 0, sizeof n);
+  memset(m, 0, sizeof m), memset(&dot, 0, sizeof dot);
+  const double pa[3] = {a.x, a.y, a.z}, pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z}, pp[3] = {p.x, p.y, p.z};
+  int ok = 1, sign = -2;
+  for (int i = 0; i < 3 && ok; ++i)
+    ok = big_set_diff(&e[i], pb[i], pa[i]) && big_set_diff(&f[i], pc[i], pa[i]) && big_set_diff(&w[i], pp[i], pa[i]);
+  for (int i = 0; i < 3 && ok; ++i) {
+    int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+    ok = big_add_product(&n[i], &e[i1], &f[i2], 1.0) && big_add_product(&n[i], &e[i2], &f[i1], -1.0) &&
+         big_add_product(&m[i], &e[i1], &w[i2], 1.0) && big_add_product(&m[i], &e[i2], &w[i1], -1.0);
+  }
+  for (int i = 0; i < 3 && ok; ++i) ok = big_add_product(&dot, &n[i], &m[i], 1.0);
+  if (ok) sign = dot.n == 0 ? 0 : (dot.c[dot.n - 1] > 0.0 ? 1 : -1);
+  for (int i = 0; i < 3; ++i) free(e[i].c), free(f[i].c), free(w[i].c), free(n[i].c), free(m[i].c);
+  free(dot.c);
+  return sign;
+}
+
+/* The filter: a cross-product component carries 4u of its permanent (two
+ * rounded differences, the product, the difference), each term of the dot
+ * product 4u + 4u + 1u of the product of the two permanents, the two sums
+ * 2u: 11u; 8 DBL_EPSILON (16u) bounds it with the permanents' rounding. */
+int tl_edge_side_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, int *exact_stage)
+{
+  TlVec3 e = tl_v3_sub(b, a), f = tl_v3_sub(c, a), w = tl_v3_sub(p, a);
+  double n1 = e.y * f.z, n2 = e.z * f.y, n3 = e.z * f.x, n4 = e.x * f.z, n5 = e.x * f.y, n6 = e.y * f.x;
+  double m1 = e.y * w.z, m2 = e.z * w.y, m3 = e.z * w.x, m4 = e.x * w.z, m5 = e.x * w.y, m6 = e.y * w.x;
+  double dot = (n1 - n2) * (m1 - m2) + (n3 - n4) * (m3 - m4) + (n5 - n6) * (m5 - m6);
+  double permanent = (fabs(n1) + fabs(n2)) * (fabs(m1) + fabs(m2)) + (fabs(n3) + fabs(n4)) * (fabs(m3) + fabs(m4)) +
+                     (fabs(n5) + fabs(n6)) * (fabs(m5) + fabs(m6));
+  double bound = 8.0 * DBL_EPSILON * permanent;
+  if (exact_stage) *exact_stage = 0;
+  if (dot > bound) return 1;
+  if (dot < -bound) return -1;
+  if (permanent == 0.0) return 0;
+  if (exact_stage) *exact_stage = 1;
+  return tl_edge_side_exact(a, b, c, p);
+}
+
+int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+#if TALUS_WITH_CGAL
+  /* n_abc . n_abp has the sign of the cosine of the dihedral angle at ab
+   * between the half-planes through c and p: CGAL's comparison of that
+   * angle with 90 degrees (cosine 0), which needs p off the line ab (there
+   * the sign is 0).  c is off it: the triangle is not degenerate. */
+  if (tl_collinear3d(a, b, p)) return 0;
+  return -tl_dihedral_compare(a, b, c, p, 0.0);
+#else
+  return tl_edge_side_filtered(a, b, c, p, NULL);
+#endif
+}
+
+int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
+{
+  /* (-2, a failed allocation of an exact stage, reads as negative) */
+  if (tl_dot3_sign(a, b, p) <= 0 && tl_dot3_sign(a, c, p) <= 0) return 4;
+  if (tl_dot3_sign(b, a, p) <= 0 && tl_dot3_sign(b, c, p) <= 0) return 5;
+  if (tl_edge_side(a, b, c, p) <= 0 && tl_dot3_sign(a, b, p) >= 0 && tl_dot3_sign(b, a, p) >= 0) return 1;
+  if (tl_dot3_sign(c, a, p) <= 0 && tl_dot3_sign(c, b, p) <= 0) return 6;
+  if (tl_edge_side(c, a, b, p) <= 0 && tl_dot3_sign(a, c, p) >= 0 && tl_dot3_sign(c, a, p) >= 0) return 3;
+  if (tl_edge_side(b, c, a, p) <= 0 && tl_dot3_sign(b, c, p) >= 0 && tl_dot3_sign(c, b, p) >= 0) return 2;
+  return 0;
 }
 
 int tl_predicates_are_exact(void) { return 1; }

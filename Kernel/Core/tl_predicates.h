@@ -7,7 +7,10 @@
  * concave shape of a shared edge of a triangulated wall and whether its fold
  * exceeds the feature angle (tl_trisurface.c), zero-area facets
  * (tl_surface_mesh_check), a point inside a closed surface
- * (tl_surface_mesh_contains, for particle insertion).
+ * (tl_surface_mesh_contains, for particle insertion), the face, edge or
+ * vertex a sphere touches on a triangle (tl_triangle_closest_point), the
+ * side of a face a centre on it lies on, the corner order of a meshed
+ * tetrahedron (tl_mesh_from_surface).
  *
  * Every sign is exact on both paths.  With TALUS_WITH_CGAL it comes from
  * CGAL's filtered exact predicates (a small C++ shim).  Without it, a
@@ -58,6 +61,40 @@ int tl_dihedral_compare_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 d, double 
 /* The library's own exact paths of the two (used without CGAL). */
 int tl_orient2d_filtered(double ax, double ay, double bx, double by, double cx, double cy);
 int tl_collinear3d_filtered(TlVec3 a, TlVec3 b, TlVec3 c);
+/* The two signs that decide which part of a triangle (face, edge, vertex)
+ * is closest to a point (tl_triangle_closest_point):
+ *
+ * tl_dot3_sign: sign of (u - v) . (p - v), degree 2: +1 when p lies on u's
+ * side of the plane through v perpendicular to the segment vu, 0 on it.
+ * The vertex regions of a triangle are bounded by these planes; the same
+ * call from both triangles of an edge gives the same answer.
+ *
+ * tl_edge_side: sign of ((b - a) x (c - a)) . ((b - a) x (p - a)), degree 4:
+ * +1 when p lies on c's side of the plane through the edge ab perpendicular
+ * to the triangle (a, b, c), 0 on it.  The edge regions are bounded by
+ * these planes.
+ *
+ * With CGAL both are CGAL's filtered exact predicates (CGAL::angle; the
+ * comparison of the dihedral angle at ab between the half-planes through c
+ * and p with 90 degrees); without it, a floating-point filter and
+ * expansion arithmetic.  The floating-point filters of the contact loop are
+ * inline in tl_triangle_geometry.h and call these only for the inputs they
+ * cannot decide. */
+int tl_dot3_sign(TlVec3 v, TlVec3 u, TlVec3 p);
+int tl_edge_side(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
+/* The part of triangle (a, b, c) closest to p, exactly, from the two signs
+ * above: 0 the face, 1 + k edge k (vertex k to vertex k + 1 mod 3), 4 + k
+ * vertex k (TlTriFeature of tl_triangle_geometry.h).  Regions tested in
+ * the order vertex a, vertex b, edge ab, vertex c, edge ca, edge bc, face;
+ * a point on a boundary takes the first.  The contact loop's filter calls
+ * this only for points within round-off of a boundary. */
+int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
+/* The library's own paths (filter, then expansions): always available, the
+ * fallback without CGAL and the independent check of the CGAL path.  The
+ * exact stage of tl_edge_side_filtered keeps its expansions on the heap;
+ * -2 if that allocation fails. */
+int tl_dot3_sign_filtered(TlVec3 v, TlVec3 u, TlVec3 p, int *exact_stage);
+int tl_edge_side_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, int *exact_stage);
 /* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
 /* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */

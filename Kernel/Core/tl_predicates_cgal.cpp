@@ -44,3 +44,11 @@ extern "C" int tl_cgal_dihedral_compare(const double a[3], const double b[3], co
       Kernel::Point_3(d[0], d[1], d[2]), cosine);
   return r == CGAL::SMALLER ? -1 : (r == CGAL::LARGER ? 1 : 0);
 }
+
+extern "C" int tl_cgal_dot3_sign(const double v[3], const double u[3], const double p[3])
+{
+  // angle(u, v, p) is the sign of (u - v) . (p - v): acute, right or obtuse at v.
+  CGAL::Angle r = CGAL::angle(Kernel::Point_3(u[0], u[1], u[2]), Kernel::Point_3(v[0], v[1], v[2]),
+                              Kernel::Point_3(p[0], p[1], p[2]));
+  return r == CGAL::ACUTE ? 1 : (r == CGAL::OBTUSE ? -1 : 0);
+}

@@ -339,6 +339,7 @@ static TlStatus count_nonmanifold(const TlSurfaceMesh *m, TlSurfaceReport *r)
   return TL_OK;
 }
 
+#if TALUS_WITH_CGAL
 /* Holes after repair: cycles of boundary half-edges. */
 static TlStatus count_holes(const TlSurfaceMesh *m, TlSurfaceReport *r)
 {
@@ -391,6 +392,7 @@ done:
   tl_free(&seen);
   return status;
 }
+#endif
 
 TlStatus tl_surface_mesh_repair(TlSurfaceMesh *m, const TlSurfaceRepairOptions *options, TlSurfaceReport *report)
 {
