@@ -402,10 +402,65 @@ static inline void body_force(TlDem *d, size_t i)
   d->xr[i][3] = P->radius[i];
 }
 
+/* The deferred contributions, in thread order then list order: each
+ * particle's sum is the one a single thread makes. */
+static void apply_deferred(TlDem *d, const Split *S, int nt)
+{
+  TlParticles *P = d->P;
+  const int planar = d->dim == 2, rot = P->w != NULL;
+  TlVec3 *F = P->f, *T = P->torque;
+  for (int t = 1; t < nt; ++t)
+    for (size_t e = 0; e < S->n_def[t]; ++e) {
+      const Deferred q = S->def[t][e];
+      F[q.p].x += q.f.x;
+      F[q.p].y += q.f.y;
+      if (!planar) F[q.p].z += q.f.z;
+      if (rot && planar) T[q.p].z += q.t.z;
+      else if (rot) {
+        T[q.p].x += q.t.x;
+        T[q.p].y += q.t.y;
+        T[q.p].z += q.t.z;
+      }
+    }
+}
+
+/* The walls [w0, w1), all by particle ranges, over the blocks of particles:
+ * block after block, each wall in turn within a block, so that a particle
+ * receives its walls' forces in wall order.  Called inside a parallel
+ * region, the blocks are shared between its threads (round robin: the
+ * particles near a wall are few and grouped by the grid order); outside,
+ * one thread does them all. */
+static void range_walls_blocks(TlDem *d, size_t w0, size_t w1)
+{
+  const size_t nw = w1 - w0, n = d->P->n, nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+  TlWall *const *walls = d->walls + w0;
+  const TlWallStep *steps = d->wall_steps + w0;
+  TlWallSums *sums = d->wall_sums;
+  _Pragma("omp for schedule(static, 1)")
+  for (size_t b = 0; b < nb; ++b) {
+    const size_t lo = b * TL_WALL_BLOCK, hi = lo + TL_WALL_BLOCK < n ? lo + TL_WALL_BLOCK : n;
+    for (size_t k = 0; k < nw; ++k) {
+      TlWallSums *sk = &sums[b * nw + k];
+      memset(sk, 0, sizeof *sk);
+      walls[k]->ops->interact_range(walls[k], &steps[k], lo, hi, sk);
+    }
+  }
+}
+
+/* The end of the run of walls by particle ranges that starts at wall w0. */
+static size_t range_walls_end(const TlDem *d, size_t w0)
+{
+  size_t w1 = w0;
+  while (w1 < d->n_walls && tl_wall_by_ranges(d->walls[w1])) ++w1;
+  return w1;
+}
+
 /* The contact loop of one list on d->nt_now threads; with `body`, the body
- * forces first, in the same parallel region. */
+ * forces first, in the same parallel region; with walls_end > 0, the walls
+ * [0, walls_end) (by particle ranges, prepared) after it, in the same region
+ * too, once the deferred contributions are in. */
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, Split *S, int bonded,
-                              int body, int want_energy, const double *cw, Accum *acc)
+                              int body, int want_energy, const double *cw, size_t walls_end, Accum *acc)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
@@ -422,7 +477,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     TL_CHECK(tl_array_reserve(&S->chunk_el, &S->chunk_cap, n_chunks + 1, sizeof *S->chunk_el));
     TL_CHECK(tl_array_reserve(&S->chunk_pw, &cap, n_chunks + 1, sizeof *S->chunk_pw));
   }
-  double body_seconds = 0.0;
+  double body_seconds = 0.0, reduce_seconds = 0.0, walls_seconds = 0.0;
   TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
     if (body) {
@@ -487,36 +542,40 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
       _Pragma("omp critical")
       status = c.status;
     }
+    if (walls_end) {
+      /* the walls after every contact of the list, as in a step on one
+       * thread: the deferred contributions first (one thread), then the
+       * walls' blocks shared */
+      _Pragma("omp barrier")
+      _Pragma("omp master")
+      {
+        const double tr = tl_dem_clock(d);
+        apply_deferred(d, S, nt);
+        reduce_seconds = tl_dem_clock(d) - tr;
+      }
+      _Pragma("omp barrier")
+      const double tw = tl_dem_clock(d);
+      range_walls_blocks(d, 0, walls_end);
+      if (tid == 0) walls_seconds = tl_dem_clock(d) - tw; /* after the loop's barrier */
+    }
   });
   if (status != TL_OK) {
     if (status == TL_ERR_STATE) TL_ERROR(TL_ERR_STATE, "contact loop: a thread deferred more contributions than counted");
     return tl_error_trace(status, __FILE__, __LINE__);
   }
-  /* the deferred contributions, in thread order then list order: each
-   * particle's sum is the one a single thread makes */
-  const int planar = d->dim == 2;
-  TlVec3 *F = P->f, *T = P->torque;
-  const double tr = tl_dem_clock(d);
-  for (int t = 1; t < nt; ++t)
-    for (size_t e = 0; e < S->n_def[t]; ++e) {
-      const Deferred q = S->def[t][e];
-      F[q.p].x += q.f.x;
-      F[q.p].y += q.f.y;
-      if (!planar) F[q.p].z += q.f.z;
-      if (rot && planar) T[q.p].z += q.t.z;
-      else if (rot) {
-        T[q.p].x += q.t.x;
-        T[q.p].y += q.t.y;
-        T[q.p].z += q.t.z;
-      }
-    }
+  if (!walls_end) {
+    const double tr = tl_dem_clock(d);
+    apply_deferred(d, S, nt);
+    reduce_seconds = tl_dem_clock(d) - tr;
+  }
   d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
   d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= body_seconds;
-  if (nt > 1) {
-    const double dr = tl_dem_clock(d) - tr; /* booked as the reduction */
-    d->prof.seconds[TL_DEM_PHASE_REDUCE] += dr;
-    d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= dr;
+  if (nt > 1) { /* booked as the reduction */
+    d->prof.seconds[TL_DEM_PHASE_REDUCE] += reduce_seconds;
+    d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= reduce_seconds;
   }
+  d->prof.seconds[TL_DEM_PHASE_WALLS] += walls_seconds;
+  d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= walls_seconds;
   {
     const int m = nt < TL_DEM_MAX_TIMED_THREADS ? nt : TL_DEM_MAX_TIMED_THREADS;
     double mx = 0.0, mean = 0.0;
@@ -535,6 +594,29 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     }
   acc->touching += touching;
   return TL_OK;
+}
+
+/* Each wall's step, and the walls by particle ranges prepared with room
+ * for their blocks' sums. */
+static TlStatus prepare_walls(TlDem *d)
+{
+  const size_t n = d->P->n, nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+  TL_CHECK(tl_array_reserve(&d->wall_steps, &d->wall_steps_cap, d->n_walls + 1, sizeof *d->wall_steps));
+  size_t most = 0;
+  for (size_t w = 0; w < d->n_walls; ++w) {
+    TlWall *W = d->walls[w];
+    /* between two builds no particle moves more than half the skin from
+     * its build position (tl_dem_needs_rebuild); a deforming cell carries
+     * them further, affinely: no promise there */
+    const int promise = !d->domain.deforming && d->skin > 0.0;
+    d->wall_steps[w] = (TlWallStep){d->P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, d->track_energy,
+                                    promise ? d->list_version : 0, promise ? 0.5 * d->skin : INFINITY};
+    if (!tl_wall_by_ranges(W)) continue;
+    TL_CHECK(W->ops->prepare(W, &d->wall_steps[w]));
+    const size_t run = range_walls_end(d, w) - w;
+    most = run > most ? run : most;
+  }
+  return tl_array_reserve(&d->wall_sums, &d->wall_sums_cap, nb * most + 1, sizeof *d->wall_sums);
 }
 
 TlStatus tl_dem_eval_forces(TlDem *d)
@@ -570,22 +652,36 @@ TlStatus tl_dem_eval_forces(TlDem *d)
     TL_CHECK(tl_dem_contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
     if (has_bonds) TL_CHECK(tl_dem_contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
   }
+  /* the walls by particle ranges are prepared here, and the first run of
+   * them joins the list's region when nothing is evaluated in between */
+  TL_CHECK(prepare_walls(d));
+  const size_t walls_fused = !has_bonds ? range_walls_end(d, 0) : 0;
   TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, &d->split_list, 0, fused, want,
-                         weighted ? d->cw_list : NULL, &acc));
+                         weighted ? d->cw_list : NULL, walls_fused, &acc));
   if (has_bonds)
     TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, &d->split_bonds, 1, 0, want,
-                           weighted ? d->cw_bonds : NULL, &acc));
+                           weighted ? d->cw_bonds : NULL, 0, &acc));
   tl_dem_tick(d, TL_DEM_PHASE_CONTACTS, &t0);
   d->n_touching = acc.touching;
   if (want) {
     d->elastic_pp = acc.elastic;
     d->contact_work_pp += d->dt * acc.power;
   }
-  /* walls */
-  for (size_t w = 0; w < d->n_walls; ++w) {
+  /* walls, in order: a run of walls by particle ranges in one pass over
+   * the blocks (the first run done above), the others one by one */
+  for (size_t w = 0; w < d->n_walls;) {
     TlWall *W = d->walls[w];
-    TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
-    TL_CHECK(W->ops->interact(W, &st));
+    if (!tl_wall_by_ranges(W)) {
+      TL_CHECK(W->ops->interact(W, &d->wall_steps[w]));
+      ++w;
+      continue;
+    }
+    const size_t w1 = range_walls_end(d, w);
+    if (w || !walls_fused) TL_PARALLEL_IF(ntb > 1, "omp parallel num_threads(ntb)", range_walls_blocks(d, w, w1););
+    const size_t nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+    for (size_t k = w; k < w1; ++k)
+      TL_CHECK(tl_wall_book_blocks(d->walls[k], &d->wall_steps[k], d->wall_sums + (k - w), nb, w1 - w));
+    w = w1;
   }
   tl_dem_tick(d, TL_DEM_PHASE_WALLS, &t0);
   return TL_OK;

@@ -129,6 +129,10 @@ struct TlDem {
   TlDemPhaseTimes prof; /* tl_dem_phase_times */
   int profile;          /* clocks read: on from the first tl_dem_reset_phase_times */
   Split split_list, split_bonds;
+  TlWallStep *wall_steps; /* each wall's step, this evaluation */
+  size_t wall_steps_cap;
+  TlWallSums *wall_sums;  /* walls by particle ranges: per block, per wall of a run */
+  size_t wall_sums_cap;
   unsigned long list_version; /* bumped whenever a list or the particle order changes */
 };
 
