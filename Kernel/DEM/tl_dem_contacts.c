@@ -402,9 +402,9 @@ static inline void body_force(TlDem *d, size_t i)
   d->xr[i][3] = P->radius[i];
 }
 
-/* The deferred contributions, in thread order then list order: each
- * particle's sum is the one a single thread makes. */
-static void apply_deferred(TlDem *d, const Split *S, int nt)
+/* The deferred contributions to particles [lo, hi), in thread order then
+ * list order: each particle's sum is the one a single thread makes. */
+static void apply_deferred(TlDem *d, const Split *S, int nt, size_t lo, size_t hi)
 {
   TlParticles *P = d->P;
   const int planar = d->dim == 2, rot = P->w != NULL;
@@ -412,6 +412,7 @@ static void apply_deferred(TlDem *d, const Split *S, int nt)
   for (int t = 1; t < nt; ++t)
     for (size_t e = 0; e < S->n_def[t]; ++e) {
       const Deferred q = S->def[t][e];
+      if (q.p < lo || q.p >= hi) continue;
       F[q.p].x += q.f.x;
       F[q.p].y += q.f.y;
       if (!planar) F[q.p].z += q.f.z;
@@ -424,21 +425,22 @@ static void apply_deferred(TlDem *d, const Split *S, int nt)
     }
 }
 
-/* The walls [w0, w1), all by particle ranges, over the blocks of particles:
- * block after block, each wall in turn within a block, so that a particle
- * receives its walls' forces in wall order.  Called inside a parallel
- * region, the blocks are shared between its threads (round robin: the
- * particles near a wall are few and grouped by the grid order); outside,
- * one thread does them all. */
-static void range_walls_blocks(TlDem *d, size_t w0, size_t w1)
+/* The walls [w0, w1), all by particle ranges, over the blocks of particles
+ * b = tid, tid + team, ... (round robin: the particles near a wall are few
+ * and grouped by the grid order): block after block, each wall in turn
+ * within a block, so that a particle receives its walls' forces in wall
+ * order.  With S, the list's deferred contributions to a block go in first,
+ * by the same thread: a particle gets its contacts, then its walls, as on
+ * one thread, with no barrier in between. */
+static void range_walls_blocks(TlDem *d, size_t w0, size_t w1, int tid, int team, const Split *S, int nt)
 {
   const size_t nw = w1 - w0, n = d->P->n, nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
   TlWall *const *walls = d->walls + w0;
   const TlWallStep *steps = d->wall_steps + w0;
   TlWallSums *sums = d->wall_sums;
-  _Pragma("omp for schedule(static, 1)")
-  for (size_t b = 0; b < nb; ++b) {
+  for (size_t b = (size_t)tid; b < nb; b += (size_t)team) {
     const size_t lo = b * TL_WALL_BLOCK, hi = lo + TL_WALL_BLOCK < n ? lo + TL_WALL_BLOCK : n;
+    if (S) apply_deferred(d, S, nt, lo, hi);
     for (size_t k = 0; k < nw; ++k) {
       TlWallSums *sk = &sums[b * nw + k];
       memset(sk, 0, sizeof *sk);
@@ -544,19 +546,16 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     }
     if (walls_end) {
       /* the walls after every contact of the list, as in a step on one
-       * thread: the deferred contributions first (one thread), then the
-       * walls' blocks shared */
-      _Pragma("omp barrier")
-      _Pragma("omp master")
-      {
-        const double tr = tl_dem_clock(d);
-        apply_deferred(d, S, nt);
-        reduce_seconds = tl_dem_clock(d) - tr;
-      }
-      _Pragma("omp barrier")
+       * thread: each block's deferred contributions, then its walls, by
+       * the thread that takes the block */
       const double tw = tl_dem_clock(d);
-      range_walls_blocks(d, 0, walls_end);
-      if (tid == 0) walls_seconds = tl_dem_clock(d) - tw; /* after the loop's barrier */
+      if (nt > 1) {
+        _Pragma("omp barrier")
+        range_walls_blocks(d, 0, walls_end, tid, omp_get_num_threads(), S, nt);
+      } else {
+        range_walls_blocks(d, 0, walls_end, 0, 1, NULL, 1);
+      }
+      if (tid == 0) walls_seconds = tl_dem_clock(d) - tw; /* thread 0's share, the barrier's wait included */
     }
   });
   if (status != TL_OK) {
@@ -565,7 +564,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
   }
   if (!walls_end) {
     const double tr = tl_dem_clock(d);
-    apply_deferred(d, S, nt);
+    apply_deferred(d, S, nt, 0, n);
     reduce_seconds = tl_dem_clock(d) - tr;
   }
   d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
@@ -677,7 +676,11 @@ TlStatus tl_dem_eval_forces(TlDem *d)
       continue;
     }
     const size_t w1 = range_walls_end(d, w);
-    if (w || !walls_fused) TL_PARALLEL_IF(ntb > 1, "omp parallel num_threads(ntb)", range_walls_blocks(d, w, w1););
+    if (w || !walls_fused)
+      TL_PARALLEL_IF(ntb > 1, "omp parallel num_threads(ntb)", {
+        const int tid = ntb > 1 ? omp_get_thread_num() : 0, team = ntb > 1 ? omp_get_num_threads() : 1;
+        range_walls_blocks(d, w, w1, tid, team, NULL, 1);
+      });
     const size_t nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
     for (size_t k = w; k < w1; ++k)
       TL_CHECK(tl_wall_book_blocks(d->walls[k], &d->wall_steps[k], d->wall_sums + (k - w), nb, w1 - w));
