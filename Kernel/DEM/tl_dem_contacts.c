@@ -105,6 +105,9 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
    * (tl_contact_lever): the same subtraction either way, so that the default
    * rounds as before */
   const double half = law->lever_radius ? 0.0 : 0.5;
+  /* spins staged for the laws that read them (and for the power of
+   * couples when energy is tracked) */
+  const int spins = ROT && (!law->ignores_spins || want);
   for (size_t k = ch.start; k < ch.end; ++k) {
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
@@ -168,15 +171,19 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       const double sz = lj * wj + li * wi;
       vr.x += sz * n.y;
       vr.y -= sz * n.x;
-      spin_mean[m] = (TlVec3){0.0, 0.0, 0.5 * (wi + wj)};
-      spin_rel[m] = (TlVec3){0.0, 0.0, wj - wi};
+      if (spins) {
+        spin_mean[m] = (TlVec3){0.0, 0.0, 0.5 * (wi + wj)};
+        spin_rel[m] = (TlVec3){0.0, 0.0, wj - wi};
+      }
     } else if (ROT) {
       const TlVec3 wi = w[i], wj = w[j];
       /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
       TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
       vr = tl_v3_sub(vr, tl_v3_cross(s, n));
-      spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
-      spin_rel[m] = tl_v3_sub(wj, wi);
+      if (spins) {
+        spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+        spin_rel[m] = tl_v3_sub(wj, wi);
+      }
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     /* vr stays three scalars, as in a loop that uses it at once: staged as a
@@ -198,8 +205,8 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
   }
   if (!m) return;
   cc->n = m;
-  cc->spin_mean = ROT ? spin_mean : no_spin;
-  cc->spin_rel = ROT ? spin_rel : no_spin;
+  cc->spin_mean = spins ? spin_mean : no_spin;
+  cc->spin_rel = spins ? spin_rel : no_spin;
   TlStatus st = law->ops->evaluate_chunk(law, cc);
   if (st != TL_OK) {
     c->status = st;
