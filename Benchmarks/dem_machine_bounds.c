@@ -85,7 +85,7 @@ static TlStatus run(int argc, char **argv, TlSummary *sum)
                              "the cost of an empty parallel region and of a barrier.",
                              &o));
   long mb, repeat, tmax, count;
-  TL_CHECK(tl_options_get_int(o, "-mb", 128, 8, 8192, "size of each of the triad's three arrays [MiB]", &mb));
+  TL_CHECK(tl_options_get_int(o, "-mb", 128, 1, 8192, "size of each of the triad's three arrays (1-3: resident in a 32 MiB last-level cache) [MiB]", &mb));
   TL_CHECK(tl_options_get_int(o, "-repeat", 7, 3, 64, "passes per measurement (median and best reported)", &repeat));
   TL_CHECK(tl_options_get_int(o, "-threads_max", 2, 1, 64, "threads of the second measurement", &tmax));
   TL_CHECK(tl_options_get_int(o, "-regions", 20000, 100, 100000000, "empty regions (and barriers) per pass", &count));
