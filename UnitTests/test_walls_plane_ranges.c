@@ -32,6 +32,14 @@ static TlStatus evaluate(TlWall *w, TlParticles *P, const TlContactLaw *law, uns
   return TL_OK;
 }
 
+/* A constructor for the refused type below (never called). */
+static TlStatus half_create(const void *params, TlWall **w)
+{
+  (void)params;
+  (void)w;
+  return TL_ERR_STATE;
+}
+
 int main(void)
 {
   TL_TEST_STATUS(tl_initialize(), TL_OK);
@@ -134,6 +142,15 @@ int main(void)
   /* a failure in one block is the booking's failure */
   sums[1].status = TL_ERR_NUMERIC;
   TL_TEST_STATUS(tl_wall_book_blocks(scan, &st, sums, nb, 1), TL_ERR_NUMERIC);
+  /* a type with one of the two range ops and not the other is refused */
+  TlWallOps half = *scan->ops;
+  half.interact_range = NULL;
+  TL_TEST_STATUS(tl_wall_register("plane_half_ranges", "prepare without interact_range", NULL, &half, NULL, 0),
+                 TL_ERR_ARG);
+  TL_TEST_STATUS(tl_wall_register("plane_half_ranges", "prepare without interact_range", half_create, &half, NULL, 0),
+                 TL_ERR_ARG);
+  TL_TEST_ASSERT(strstr(tl_error_message(), "interact_range") != NULL, "the refusal names the missing op: %s",
+                 tl_error_message());
   tl_wall_destroy(&scan);
   tl_wall_destroy(&cand);
   tl_contact_law_destroy(&law);
