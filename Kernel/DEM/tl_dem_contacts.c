@@ -612,9 +612,12 @@ static TlStatus prepare_walls(TlDem *d)
   for (size_t w = 0; w < d->n_walls; ++w) {
     TlWall *W = d->walls[w];
     /* between two builds no particle moves more than half the skin from
-     * its build position (tl_dem_needs_rebuild); a deforming cell carries
-     * them further, affinely: no promise there */
-    const int promise = !d->domain.deforming && d->skin > 0.0;
+     * its build position (tl_dem_needs_rebuild, run after the drift of
+     * every step): promised inside tl_dem_step, never to an evaluation on
+     * its own (tl_dem_compute_forces: the particles may have been moved by
+     * hand since the last check) nor in a deforming cell, which carries
+     * them further, affinely */
+    const int promise = d->in_steps && !d->domain.deforming && d->skin > 0.0;
     d->wall_steps[w] = (TlWallStep){d->P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, d->track_energy,
                                     promise ? d->list_version : 0, promise ? 0.5 * d->skin : INFINITY};
     if (!tl_wall_by_ranges(W)) continue;
