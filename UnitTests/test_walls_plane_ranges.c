@@ -8,6 +8,7 @@
 #include <math.h>
 #include <string.h>
 #include "talus.h"
+#include "tl_dem.h"
 #include "tl_test.h"
 #include "tl_wall.h"
 
@@ -30,6 +31,37 @@ static TlStatus evaluate(TlWall *w, TlParticles *P, const TlContactLaw *law, uns
   *contacts = w->n_contacts;
   *elastic = w->elastic_energy;
   return TL_OK;
+}
+
+/* In the world: after steps (candidates kept), a sphere moved by hand
+ * onto the floor and the forces evaluated on their own
+ * (tl_dem_compute_forces) meets the floor: no candidate list is trusted
+ * outside tl_dem_step. */
+static void test_world_moved_by_hand(void)
+{
+  TlDem *dem = NULL;
+  TL_TEST_STATUS(tl_dem_create(&dem), TL_OK);
+  TlParticles *P = tl_dem_particles(dem);
+  int sp;
+  TL_TEST_STATUS(tl_particles_add_species(P, "g", 1000.0, 0.5, 0.5, &sp), TL_OK);
+  for (int k = 0; k < 20; ++k)
+    TL_TEST_STATUS(tl_dem_add_particle(dem, tl_v3(3.0 * k, 0, 5.0), tl_v3(0, 0, 0), 0.5, sp, NULL), TL_OK);
+  TlContactLaw *law = NULL;
+  TL_TEST_STATUS(tl_test_law(&law, "linear", "k_n", 1e4, "restitution", 0.5, "mu", 0.5, NULL), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_law(dem, law, NULL), TL_OK);
+  TlWall *floor_ = NULL;
+  TL_TEST_STATUS(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &floor_), TL_OK);
+  TL_TEST_STATUS(tl_dem_add_wall(dem, floor_, 0), TL_OK);
+  tl_dem_set_gravity(dem, tl_v3(0, 0, 0));
+  TL_TEST_STATUS(tl_dem_set_timestep(dem, 1e-4, 0), TL_OK);
+  TL_TEST_STATUS(tl_dem_setup(dem), TL_OK);
+  TL_TEST_STATUS(tl_dem_step(dem, 5), TL_OK);
+  P->x[3].z = 0.5 - 1e-3; /* 1e-3 into the floor */
+  TL_TEST_STATUS(tl_dem_compute_forces(dem), TL_OK);
+  TL_TEST_REL(P->f[3].z, 1e4 * 1e-3, 1e-12);
+  TL_TEST_ASSERT(tl_dem_wall(dem, 0)->n_contacts == 1, "%zu floor contacts after the move, expected 1",
+                 tl_dem_wall(dem, 0)->n_contacts);
+  tl_dem_destroy(&dem);
 }
 
 /* A constructor for the refused type below (never called). */
@@ -151,6 +183,7 @@ int main(void)
                  TL_ERR_ARG);
   TL_TEST_ASSERT(strstr(tl_error_message(), "interact_range") != NULL, "the refusal names the missing op: %s",
                  tl_error_message());
+  test_world_moved_by_hand();
   tl_wall_destroy(&scan);
   tl_wall_destroy(&cand);
   tl_contact_law_destroy(&law);
