@@ -35,6 +35,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "peers/tl_peer.h"
+#include "tl_bench.h"
 #include "talus.h"
 #include "tl_parallel.h"
 #include "tl_dem.h"
@@ -232,7 +233,9 @@ static TlStatus run(int argc, char **argv)
   TlOptions *o;
   TL_CHECK(tl_options_create(argc, argv,
                              "Talus against LAMMPS on the chute benchmark and a dense Hertz-Mindlin packing, "
-                             "same particles, same laws, µs per particle-step and their ratio.",
+                             "same particles, same laws, µs per particle-step and their ratio.  The last lines "
+                             "before the summary are the table of both scenes (medians of -repeat runs): "
+                             "`dem_vs_lammps -repeat 3` from build/Benchmarks gives it in one command.",
                              &o));
   char root[4096], def_chute[4200];
   repo_root(root, sizeof root);
@@ -270,6 +273,10 @@ static TlStatus run(int argc, char **argv)
   int nthr = c.threads_max > 1 ? 2 : 1;
   int thr[2] = {1, c.threads_max};
   const char *names[2] = {"chute", "hertz"};
+  /* the final table: per scene, Talus and LAMMPS on 1 and 2 cores, and
+   * whether the threads gave the one-thread answers */
+  double tab_t[2][2] = {{NAN, NAN}, {NAN, NAN}}, tab_p[2][2] = {{NAN, NAN}, {NAN, NAN}};
+  int tab_same[2] = {-1, -1};
   for (int sc = 0; sc < 2; ++sc) {
     if ((sc == 0 && !c.do_chute) || (sc == 1 && !c.do_hertz)) continue;
     char path[4096], stl[16];
@@ -316,6 +323,8 @@ static TlStatus run(int argc, char **argv)
           tl_summary_real(&sum, key, dr);
         }
       }
+      tab_t[sc][k] = tm;
+      tab_p[sc][k] = pm;
       printf("%s, %d core%s: talus %.4f us/particle-step (min %.4f)", names[sc], thr[k], thr[k] > 1 ? "s" : "", tm, tmin);
       if (c.peer) printf(", lammps %.4f, ratio talus/lammps = %.3f", pm, tm / pm);
       if (k == 0) {
@@ -335,6 +344,7 @@ static TlStatus run(int argc, char **argv)
         }
         /* the answers do not depend on the thread count, to the last bit */
         const int same = ke == ke1 && erot == erot1;
+        tab_same[sc] = same;
         printf(", answers %s", same ? "identical to 1 thread" : "DIFFER from 1 thread");
         snprintf(key, sizeof key, "%s_threads_identical", names[sc]);
         tl_summary_int(&sum, key, same);
@@ -344,6 +354,23 @@ static TlStatus run(int argc, char **argv)
     c.steps = steps_save;
     tl_lammps_data_destroy(&data);
   }
+  /* the table (NaN columns: not measured, printed as -) */
+  printf("\n| scene | Talus 1 thread | LAMMPS 1 rank | ratio | Talus %d threads | LAMMPS %d ranks | ratio | "
+         "speed-up Talus / LAMMPS | same answers on %d threads |\n|---|---|---|---|---|---|---|---|---|\n",
+         thr[nthr - 1], thr[nthr - 1], thr[nthr - 1]);
+  for (int sc = 0; sc < 2; ++sc) {
+    if ((sc == 0 && !c.do_chute) || (sc == 1 && !c.do_hertz)) continue;
+    char cell[8][32];
+    const double v[8] = {tab_t[sc][0], tab_p[sc][0], tab_t[sc][0] / tab_p[sc][0], tab_t[sc][1], tab_p[sc][1],
+                         tab_t[sc][1] / tab_p[sc][1], tab_t[sc][0] / tab_t[sc][1], tab_p[sc][0] / tab_p[sc][1]};
+    for (int q = 0; q < 8; ++q) {
+      if (isfinite(v[q])) snprintf(cell[q], sizeof cell[q], q == 2 || q >= 5 ? "%.2f" : "%.4f us", v[q]);
+      else snprintf(cell[q], sizeof cell[q], "-");
+    }
+    printf("| %s | %s | %s | %s | %s | %s | %s | %s / %s | %s |\n", names[sc], cell[0], cell[1], cell[2], cell[3],
+           cell[4], cell[5], cell[6], cell[7], tab_same[sc] < 0 ? "-" : tab_same[sc] ? "yes" : "NO");
+  }
+  printf("(µs per particle-step, medians of %d runs; load average now %.2f)\n\n", c.repeat, tl_bench_load_average());
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   TlStatus s_sum = tl_summary_print(&sum, stdout);
   tl_options_destroy(&o);

@@ -264,22 +264,29 @@ static void test_bond_rebuilds(void)
  * the energy sums go chunk by chunk.  A lattice large enough for the
  * threaded contact loop (more than 8192 pairs), with rotation, energy
  * tracking and, in the second scene (9261 particles: threaded integration
- * too), a pair of species with two laws and bonds. */
+ * too), a pair of species with two laws and bonds.  The third and fourth
+ * scenes add plane walls (a floor and a descending lid, evaluated by
+ * particle ranges): without bonds they share the contact loop's region,
+ * with bonds they have one of their own; the walls' forces, torques and
+ * energies must not change either. */
 typedef struct {
   TlVec3 x[9261], v[9261], w[9261], f[9261], t[9261];
   TlDemEnergy e;
-  size_t n, contacts;
+  TlVec3 wall_f[2], wall_t[2];
+  double wall_e[2][3];
+  size_t n, contacts, wall_contacts;
 } ThreadRun;
 
-static TlStatus lattice_run(int threads, int mixed, long steps, ThreadRun *out)
+static TlStatus lattice_run(int threads, int scene, long steps, ThreadRun *out)
 {
+  const int mixed = scene & 1, walls = scene >= 2;
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
   TlParticles *P = tl_dem_particles(dem);
   TlDomain dom;
   /* the second scene above 8192 particles: threaded integration and body
    * forces in the contact loop's region */
-  int per[3] = {1, 1, 1}, m = mixed ? 21 : 16;
+  int per[3] = {1, 1, !walls}, m = mixed || walls ? 21 : 16;
   TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, 0), tl_v3(m, m, m), per));
   TL_CHECK(tl_dem_set_domain(dem, &dom));
   int a, b;
@@ -306,10 +313,30 @@ static TlStatus lattice_run(int threads, int mixed, long steps, ThreadRun *out)
     /* bonds along a diagonal of the lattice (ids of neighbours in x) */
     for (int q = 0; q < 40; ++q) TL_CHECK(tl_dem_add_bond(dem, (int64_t)q * 97, (int64_t)q * 97 + m * m));
   }
+  if (walls) {
+    /* the bottom layer rests on the floor, the top one meets the lid */
+    TlWall *w;
+    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0.05), tl_v3(0, 0, 1), &w));
+    TL_CHECK(tl_dem_add_wall(dem, w, 0));
+    TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, m - 0.05), tl_v3(0, 0, -1), &w));
+    TL_CHECK(tl_wall_plane_set_velocity(w, tl_v3(0, 0, -0.5)));
+    TL_CHECK(tl_dem_add_wall(dem, w, 0));
+    tl_dem_set_gravity(dem, tl_v3(0, 0, -1));
+  }
   tl_dem_set_threads(dem, threads);
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
   TL_CHECK(tl_dem_step(dem, steps));
+  out->wall_contacts = 0;
+  for (size_t k = 0; k < tl_dem_n_walls(dem) && k < 2; ++k) {
+    const TlWall *w = tl_dem_wall(dem, k);
+    out->wall_f[k] = w->force;
+    out->wall_t[k] = w->torque;
+    out->wall_e[k][0] = w->elastic_energy;
+    out->wall_e[k][1] = w->contact_work;
+    out->wall_e[k][2] = w->work;
+    out->wall_contacts += w->n_contacts;
+  }
   for (size_t i = 0; i < P->n; ++i) {
     size_t q = (size_t)P->id[i];
     out->x[q] = P->x[i];
@@ -330,10 +357,12 @@ static TlStatus lattice_run(int threads, int mixed, long steps, ThreadRun *out)
 static void test_threads(void)
 {
   static ThreadRun r1, rt;
-  for (int mixed = 0; mixed < 2; ++mixed) {
-    TL_TEST_STATUS(lattice_run(1, mixed, 60, &r1), TL_OK);
+  static const char *names[4] = {"one law", "two laws and bonds", "one law, two planes", "two laws, bonds, two planes"};
+  for (int scene = 0; scene < 4; ++scene) {
+    TL_TEST_STATUS(lattice_run(1, scene, 60, &r1), TL_OK);
     for (int threads = 2; threads <= 3; ++threads) {
-      TL_TEST_STATUS(lattice_run(threads, mixed, 60, &rt), TL_OK);
+      memset(&rt, 0, sizeof rt);
+      TL_TEST_STATUS(lattice_run(threads, scene, 60, &rt), TL_OK);
       size_t bad = 0;
       double dx = 0.0, dw = 0.0;
       for (size_t i = 0; i < r1.n; ++i) {
@@ -345,13 +374,21 @@ static void test_threads(void)
         dw = fmax(dw, tl_v3_norm(tl_v3_sub(r1.w[i], rt.w[i])));
       }
       const int same_e = !memcmp(&r1.e, &rt.e, sizeof r1.e);
-      printf("1 vs %d threads, %s, %zu particles, %zu contacts, 60 steps: %zu particles differ in x, v, w, f or "
-             "torque (largest dx %.2e, dw %.2e), energies %s\n",
-             threads, mixed ? "two laws and bonds" : "one law", r1.n, r1.contacts, bad, dx, dw,
-             same_e ? "identical" : "differ");
-      TL_TEST_ASSERT(r1.n == rt.n && r1.contacts > 1000 && bad == 0 && same_e,
-                     "%d threads change the answers: %zu particles differ (dx %g, dw %g), energies %s", threads, bad,
-                     dx, dw, same_e ? "same" : "differ");
+      const int same_w = !memcmp(r1.wall_f, rt.wall_f, sizeof r1.wall_f) &&
+                         !memcmp(r1.wall_t, rt.wall_t, sizeof r1.wall_t) &&
+                         !memcmp(r1.wall_e, rt.wall_e, sizeof r1.wall_e) && r1.wall_contacts == rt.wall_contacts;
+      printf("1 vs %d threads, %s, %zu particles, %zu contacts, %zu wall contacts, 60 steps: %zu particles differ in "
+             "x, v, w, f or torque (largest dx %.2e, dw %.2e), energies %s, walls %s\n",
+             threads, names[scene], r1.n, r1.contacts, r1.wall_contacts, bad, dx, dw, same_e ? "identical" : "differ",
+             same_w ? "identical" : "differ");
+      TL_TEST_ASSERT(r1.n == rt.n && r1.contacts > 1000 && bad == 0 && same_e && same_w,
+                     "%d threads change the answers of scene '%s': %zu particles differ (dx %g, dw %g), energies %s, "
+                     "walls %s", threads, names[scene], bad, dx, dw, same_e ? "same" : "differ",
+                     same_w ? "same" : "differ");
+      if (scene >= 2)
+        TL_TEST_ASSERT(r1.wall_contacts > 300 && r1.wall_f[0].z < 0.0 && r1.wall_f[1].z > 0.0,
+                       "scene '%s': %zu wall contacts, floor force z %g, lid force z %g: the walls do not act",
+                       names[scene], r1.wall_contacts, r1.wall_f[0].z, r1.wall_f[1].z);
     }
   }
 }

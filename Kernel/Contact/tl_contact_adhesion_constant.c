@@ -18,6 +18,7 @@ static TlStatus adhesion_setup(TlContactPart *part, const TlContactPart *normal)
 {
   (void)normal;
   part->active = ((Adhesion *)part)->force > 0.0;
+  part->ignores_spins = 1; /* forces along n from the overlap and v_rel only */
   return TL_OK;
 }
 

@@ -75,6 +75,7 @@ static TlStatus history_setup(TlContactPart *part, const TlContactPart *normal)
   part->history_doubles = 3;
   part->needs_rotation = 1;
   part->lever_radius = 1;
+  part->ignores_spins = 1; /* the spins enter through v_rel only */
   if (!part->active) return TL_OK;
   TL_CHECK(lammps_gamma_t("lammps_history", f->gamma_t_given, f->dampflag, normal, &f->gamma_t));
   f->k_t = f->k_t_given;

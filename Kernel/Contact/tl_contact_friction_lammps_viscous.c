@@ -46,6 +46,7 @@ static TlStatus viscous_setup(TlContactPart *part, const TlContactPart *normal)
   part->active = f->mu > 0.0 && f->gamma_t > 0.0;
   part->needs_rotation = 1;
   part->lever_radius = 1;
+  part->ignores_spins = 1; /* the spins enter through v_rel only */
   return TL_OK;
 }
 

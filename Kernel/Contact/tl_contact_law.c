@@ -285,12 +285,13 @@ static TlStatus composed_setup(TlContactLaw *base)
   law->base.history_doubles = 0;
   law->base.needs_rotation = 0;
   law->base.lever_radius = 0;
+  law->base.ignores_spins = 1;
   for (int k = 0; k < TL_CONTACT_N_KINDS; ++k) {
     TlContactPart *p = law->part[k];
     if (!p) continue;
     p->normal = n;
     p->history_doubles = 0;
-    p->needs_rotation = p->bonded = p->active = p->lever_radius = 0;
+    p->needs_rotation = p->bonded = p->active = p->lever_radius = p->ignores_spins = 0;
     TL_CHECK(p->ops->setup(p, k == TL_CONTACT_NORMAL ? NULL : n));
     if (k == TL_CONTACT_NORMAL) p->active = 1;
     if (!p->active) continue;
@@ -298,6 +299,7 @@ static TlStatus composed_setup(TlContactLaw *base)
     law->base.history_doubles += p->history_doubles;
     law->base.needs_rotation |= p->needs_rotation;
     law->base.lever_radius |= p->lever_radius;
+    law->base.ignores_spins &= p->ignores_spins;
     law->run_kind[law->n_run] = k;
     law->run[law->n_run++] = p;
   }

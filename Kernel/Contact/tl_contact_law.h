@@ -159,6 +159,10 @@ struct TlContactLaw {
    * as LAMMPS's granular pair styles and fix wall/gran.  Whoever stages a
    * contact (the world, a wall) reads it through tl_contact_lever. */
   int lever_radius;
+  /* 1: the law reads neither spin_mean nor spin_rel of a chunk and makes no
+   * couple, so the world's contact loop need not stage the spins (it
+   * points them at zeros); 0, the default, stages them. */
+  int ignores_spins;
 };
 
 /* The lever arm of a body of radius r in a contact of overlap δ under `law`. */

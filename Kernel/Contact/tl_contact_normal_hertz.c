@@ -115,6 +115,7 @@ static TlStatus hertz_setup(TlContactPart *part, const TlContactPart *normal)
   }
   part->bonded = 0;
   part->active = 1;
+  part->ignores_spins = 1; /* forces along n from the overlap and v_rel only */
   return TL_OK;
 }
 

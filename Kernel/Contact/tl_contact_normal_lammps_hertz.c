@@ -41,6 +41,7 @@ static TlStatus hertz_setup(TlContactPart *part, const TlContactPart *normal)
     TL_ERROR(TL_ERR_ARG, "lammps_hertz normal part: limit_damping = %g must be 0 or 1", h->limit_damping);
   part->lever_radius = 1;
   part->active = 1;
+  part->ignores_spins = 1; /* forces along n from the overlap and v_rel only */
   return TL_OK;
 }
 

@@ -40,6 +40,7 @@ static TlStatus setup(TlContactPart *part, int bonded)
   l->eta = l->restitution > 0.0 ? tl_damping_ratio_from_restitution(l->restitution) : 0.0;
   part->bonded = bonded;
   part->active = 1;
+  part->ignores_spins = 1; /* forces along n from the overlap and v_rel only */
   return TL_OK;
 }
 static TlStatus linear_setup(TlContactPart *part, const TlContactPart *normal) { (void)normal; return setup(part, 0); }

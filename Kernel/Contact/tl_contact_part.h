@@ -109,6 +109,8 @@ struct TlContactPart {
   int active;             /* set by setup: 0 drops the part (e.g. mu = 0) */
   int lever_radius;       /* set by setup: the law's contacts use the radius as lever arm
                              (TlContactLaw.lever_radius) */
+  int ignores_spins;      /* set by setup: reads neither spin_mean nor spin_rel and makes no
+                             couple (TlContactLaw.ignores_spins); 0, the default, is always safe */
   const TlContactPart *normal; /* the law's normal part (self for a normal part) */
 };
 

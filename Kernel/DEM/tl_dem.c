@@ -53,6 +53,8 @@ void tl_dem_destroy(TlDem **dp)
   tl_free(&d->perm);
   tl_free(&d->old_to_new);
   tl_free(&d->xr);
+  tl_free(&d->wall_steps);
+  tl_free(&d->wall_sums);
   Split *splits[2] = {&d->split_list, &d->split_bonds};
   for (int q = 0; q < 2; ++q) {
     tl_free(&splits[q]->owner);

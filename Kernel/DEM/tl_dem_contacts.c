@@ -105,6 +105,9 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
    * (tl_contact_lever): the same subtraction either way, so that the default
    * rounds as before */
   const double half = law->lever_radius ? 0.0 : 0.5;
+  /* spins staged for the laws that read them (and for the power of
+   * couples when energy is tracked) */
+  const int spins = ROT && (!law->ignores_spins || want);
   for (size_t k = ch.start; k < ch.end; ++k) {
     const uint32_t i = L->i[k], j = L->j[k];
     TlVec3 b;
@@ -168,15 +171,19 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
       const double sz = lj * wj + li * wi;
       vr.x += sz * n.y;
       vr.y -= sz * n.x;
-      spin_mean[m] = (TlVec3){0.0, 0.0, 0.5 * (wi + wj)};
-      spin_rel[m] = (TlVec3){0.0, 0.0, wj - wi};
+      if (spins) {
+        spin_mean[m] = (TlVec3){0.0, 0.0, 0.5 * (wi + wj)};
+        spin_rel[m] = (TlVec3){0.0, 0.0, wj - wi};
+      }
     } else if (ROT) {
       const TlVec3 wi = w[i], wj = w[j];
       /* ω_j × (-lj n) - ω_i × (li n) = -(lj ω_j + li ω_i) × n */
       TlVec3 s = {lj * wj.x + li * wi.x, lj * wj.y + li * wi.y, lj * wj.z + li * wi.z};
       vr = tl_v3_sub(vr, tl_v3_cross(s, n));
-      spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
-      spin_rel[m] = tl_v3_sub(wj, wi);
+      if (spins) {
+        spin_mean[m] = tl_v3_scale(tl_v3_add(wi, wj), 0.5);
+        spin_rel[m] = tl_v3_sub(wj, wi);
+      }
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     /* vr stays three scalars, as in a loop that uses it at once: staged as a
@@ -198,8 +205,8 @@ static inline __attribute__((always_inline)) void process_chunk(ChunkCtx *c, TlC
   }
   if (!m) return;
   cc->n = m;
-  cc->spin_mean = ROT ? spin_mean : no_spin;
-  cc->spin_rel = ROT ? spin_rel : no_spin;
+  cc->spin_mean = spins ? spin_mean : no_spin;
+  cc->spin_rel = spins ? spin_rel : no_spin;
   TlStatus st = law->ops->evaluate_chunk(law, cc);
   if (st != TL_OK) {
     c->status = st;
@@ -402,10 +409,67 @@ static inline void body_force(TlDem *d, size_t i)
   d->xr[i][3] = P->radius[i];
 }
 
+/* The deferred contributions to particles [lo, hi), in thread order then
+ * list order: each particle's sum is the one a single thread makes. */
+static void apply_deferred(TlDem *d, const Split *S, int nt, size_t lo, size_t hi)
+{
+  TlParticles *P = d->P;
+  const int planar = d->dim == 2, rot = P->w != NULL;
+  TlVec3 *F = P->f, *T = P->torque;
+  for (int t = 1; t < nt; ++t)
+    for (size_t e = 0; e < S->n_def[t]; ++e) {
+      const Deferred q = S->def[t][e];
+      if (q.p < lo || q.p >= hi) continue;
+      F[q.p].x += q.f.x;
+      F[q.p].y += q.f.y;
+      if (!planar) F[q.p].z += q.f.z;
+      if (rot && planar) T[q.p].z += q.t.z;
+      else if (rot) {
+        T[q.p].x += q.t.x;
+        T[q.p].y += q.t.y;
+        T[q.p].z += q.t.z;
+      }
+    }
+}
+
+/* The walls [w0, w1), all by particle ranges, over the blocks of particles
+ * b = tid, tid + team, ... (round robin: the particles near a wall are few
+ * and grouped by the grid order): block after block, each wall in turn
+ * within a block, so that a particle receives its walls' forces in wall
+ * order.  With S, the list's deferred contributions to a block go in first,
+ * by the same thread: a particle gets its contacts, then its walls, as on
+ * one thread, with no barrier in between. */
+static void range_walls_blocks(TlDem *d, size_t w0, size_t w1, int tid, int team, const Split *S, int nt)
+{
+  const size_t nw = w1 - w0, n = d->P->n, nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+  TlWall *const *walls = d->walls + w0;
+  const TlWallStep *steps = d->wall_steps + w0;
+  TlWallSums *sums = d->wall_sums;
+  for (size_t b = (size_t)tid; b < nb; b += (size_t)team) {
+    const size_t lo = b * TL_WALL_BLOCK, hi = lo + TL_WALL_BLOCK < n ? lo + TL_WALL_BLOCK : n;
+    if (S) apply_deferred(d, S, nt, lo, hi);
+    for (size_t k = 0; k < nw; ++k) {
+      TlWallSums *sk = &sums[b * nw + k];
+      memset(sk, 0, sizeof *sk);
+      walls[k]->ops->interact_range(walls[k], &steps[k], lo, hi, sk);
+    }
+  }
+}
+
+/* The end of the run of walls by particle ranges that starts at wall w0. */
+static size_t range_walls_end(const TlDem *d, size_t w0)
+{
+  size_t w1 = w0;
+  while (w1 < d->n_walls && tl_wall_by_ranges(d->walls[w1])) ++w1;
+  return w1;
+}
+
 /* The contact loop of one list on d->nt_now threads; with `body`, the body
- * forces first, in the same parallel region. */
+ * forces first, in the same parallel region; with walls_end > 0, the walls
+ * [0, walls_end) (by particle ranges, prepared) after it, in the same region
+ * too, once the deferred contributions are in. */
 static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, size_t n_chunks, Split *S, int bonded,
-                              int body, int want_energy, const double *cw, Accum *acc)
+                              int body, int want_energy, const double *cw, size_t walls_end, Accum *acc)
 {
   TlParticles *P = d->P;
   const size_t n = P->n;
@@ -422,7 +486,7 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     TL_CHECK(tl_array_reserve(&S->chunk_el, &S->chunk_cap, n_chunks + 1, sizeof *S->chunk_el));
     TL_CHECK(tl_array_reserve(&S->chunk_pw, &cap, n_chunks + 1, sizeof *S->chunk_pw));
   }
-  double body_seconds = 0.0;
+  double body_seconds = 0.0, reduce_seconds = 0.0, walls_seconds = 0.0;
   TL_PARALLEL_IF(nt > 1, "omp parallel num_threads(nt) reduction(+ : touching)", {
     int tid = nt > 1 ? omp_get_thread_num() : 0;
     if (body) {
@@ -487,36 +551,37 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
       _Pragma("omp critical")
       status = c.status;
     }
+    if (walls_end) {
+      /* the walls after every contact of the list, as in a step on one
+       * thread: each block's deferred contributions, then its walls, by
+       * the thread that takes the block */
+      const double tw = tl_dem_clock(d);
+      if (nt > 1) {
+        _Pragma("omp barrier")
+        range_walls_blocks(d, 0, walls_end, tid, omp_get_num_threads(), S, nt);
+      } else {
+        range_walls_blocks(d, 0, walls_end, 0, 1, NULL, 1);
+      }
+      if (tid == 0) walls_seconds = tl_dem_clock(d) - tw; /* thread 0's share, the barrier's wait included */
+    }
   });
   if (status != TL_OK) {
     if (status == TL_ERR_STATE) TL_ERROR(TL_ERR_STATE, "contact loop: a thread deferred more contributions than counted");
     return tl_error_trace(status, __FILE__, __LINE__);
   }
-  /* the deferred contributions, in thread order then list order: each
-   * particle's sum is the one a single thread makes */
-  const int planar = d->dim == 2;
-  TlVec3 *F = P->f, *T = P->torque;
-  const double tr = tl_dem_clock(d);
-  for (int t = 1; t < nt; ++t)
-    for (size_t e = 0; e < S->n_def[t]; ++e) {
-      const Deferred q = S->def[t][e];
-      F[q.p].x += q.f.x;
-      F[q.p].y += q.f.y;
-      if (!planar) F[q.p].z += q.f.z;
-      if (rot && planar) T[q.p].z += q.t.z;
-      else if (rot) {
-        T[q.p].x += q.t.x;
-        T[q.p].y += q.t.y;
-        T[q.p].z += q.t.z;
-      }
-    }
+  if (!walls_end) {
+    const double tr = tl_dem_clock(d);
+    apply_deferred(d, S, nt, 0, n);
+    reduce_seconds = tl_dem_clock(d) - tr;
+  }
   d->prof.seconds[TL_DEM_PHASE_BODY] += body_seconds;
   d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= body_seconds;
-  if (nt > 1) {
-    const double dr = tl_dem_clock(d) - tr; /* booked as the reduction */
-    d->prof.seconds[TL_DEM_PHASE_REDUCE] += dr;
-    d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= dr;
+  if (nt > 1) { /* booked as the reduction */
+    d->prof.seconds[TL_DEM_PHASE_REDUCE] += reduce_seconds;
+    d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= reduce_seconds;
   }
+  d->prof.seconds[TL_DEM_PHASE_WALLS] += walls_seconds;
+  d->prof.seconds[TL_DEM_PHASE_CONTACTS] -= walls_seconds;
   {
     const int m = nt < TL_DEM_MAX_TIMED_THREADS ? nt : TL_DEM_MAX_TIMED_THREADS;
     double mx = 0.0, mean = 0.0;
@@ -535,6 +600,32 @@ static TlStatus evaluate_list(TlDem *d, TlContactList *L, const Chunk *chunks, s
     }
   acc->touching += touching;
   return TL_OK;
+}
+
+/* Each wall's step, and the walls by particle ranges prepared with room
+ * for their blocks' sums. */
+static TlStatus prepare_walls(TlDem *d)
+{
+  const size_t n = d->P->n, nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+  TL_CHECK(tl_array_reserve(&d->wall_steps, &d->wall_steps_cap, d->n_walls + 1, sizeof *d->wall_steps));
+  size_t most = 0;
+  for (size_t w = 0; w < d->n_walls; ++w) {
+    TlWall *W = d->walls[w];
+    /* between two builds no particle moves more than half the skin from
+     * its build position (tl_dem_needs_rebuild, run after the drift of
+     * every step): promised inside tl_dem_step, never to an evaluation on
+     * its own (tl_dem_compute_forces: the particles may have been moved by
+     * hand since the last check) nor in a deforming cell, which carries
+     * them further, affinely */
+    const int promise = d->in_steps && !d->domain.deforming && d->skin > 0.0;
+    d->wall_steps[w] = (TlWallStep){d->P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, d->track_energy,
+                                    promise ? d->list_version : 0, promise ? 0.5 * d->skin : INFINITY};
+    if (!tl_wall_by_ranges(W)) continue;
+    TL_CHECK(W->ops->prepare(W, &d->wall_steps[w]));
+    const size_t run = range_walls_end(d, w) - w;
+    most = run > most ? run : most;
+  }
+  return tl_array_reserve(&d->wall_sums, &d->wall_sums_cap, nb * most + 1, sizeof *d->wall_sums);
 }
 
 TlStatus tl_dem_eval_forces(TlDem *d)
@@ -570,22 +661,40 @@ TlStatus tl_dem_eval_forces(TlDem *d)
     TL_CHECK(tl_dem_contact_weights(d, &d->list, &d->cw_list, &d->cw_list_cap));
     if (has_bonds) TL_CHECK(tl_dem_contact_weights(d, &d->bonds, &d->cw_bonds, &d->cw_bonds_cap));
   }
+  /* the walls by particle ranges are prepared here, and the first run of
+   * them joins the list's region when nothing is evaluated in between */
+  TL_CHECK(prepare_walls(d));
+  const size_t walls_fused = !has_bonds ? range_walls_end(d, 0) : 0;
   TL_CHECK(evaluate_list(d, &d->list, d->chunks, d->n_chunks, &d->split_list, 0, fused, want,
-                         weighted ? d->cw_list : NULL, &acc));
+                         weighted ? d->cw_list : NULL, walls_fused, &acc));
   if (has_bonds)
     TL_CHECK(evaluate_list(d, &d->bonds, d->bond_chunks, d->n_bond_chunks, &d->split_bonds, 1, 0, want,
-                           weighted ? d->cw_bonds : NULL, &acc));
+                           weighted ? d->cw_bonds : NULL, 0, &acc));
   tl_dem_tick(d, TL_DEM_PHASE_CONTACTS, &t0);
   d->n_touching = acc.touching;
   if (want) {
     d->elastic_pp = acc.elastic;
     d->contact_work_pp += d->dt * acc.power;
   }
-  /* walls */
-  for (size_t w = 0; w < d->n_walls; ++w) {
+  /* walls, in order: a run of walls by particle ranges in one pass over
+   * the blocks (the first run done above), the others one by one */
+  for (size_t w = 0; w < d->n_walls;) {
     TlWall *W = d->walls[w];
-    TlWallStep st = {P, d->grid, &d->domain, d->laws[W->law], d->t, d->dt, want};
-    TL_CHECK(W->ops->interact(W, &st));
+    if (!tl_wall_by_ranges(W)) {
+      TL_CHECK(W->ops->interact(W, &d->wall_steps[w]));
+      ++w;
+      continue;
+    }
+    const size_t w1 = range_walls_end(d, w);
+    if (w || !walls_fused)
+      TL_PARALLEL_IF(ntb > 1, "omp parallel num_threads(ntb)", {
+        const int tid = ntb > 1 ? omp_get_thread_num() : 0, team = ntb > 1 ? omp_get_num_threads() : 1;
+        range_walls_blocks(d, w, w1, tid, team, NULL, 1);
+      });
+    const size_t nb = (n + TL_WALL_BLOCK - 1) / TL_WALL_BLOCK;
+    for (size_t k = w; k < w1; ++k)
+      TL_CHECK(tl_wall_book_blocks(d->walls[k], &d->wall_steps[k], d->wall_sums + (k - w), nb, w1 - w));
+    w = w1;
   }
   tl_dem_tick(d, TL_DEM_PHASE_WALLS, &t0);
   return TL_OK;

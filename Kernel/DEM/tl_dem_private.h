@@ -110,6 +110,9 @@ struct TlDem {
   int dim; /* 3, or 2: disks in the plane z = 0 (tl_dem_set_dimension) */
   long steps, rebuilds;
   int kick_pending; /* the last step's second half kick is still to do (tl_dem_step) */
+  int in_steps;     /* inside tl_dem_step: the displacement check has just run, so every particle is within
+                       half the skin of its build position (the walls' candidates may be kept); not so
+                       for an evaluation on its own (tl_dem_compute_forces) */
   size_t n_touching;
   /* energy bookkeeping */
   double elastic_pp, contact_work_pp, work_ext;
@@ -129,6 +132,10 @@ struct TlDem {
   TlDemPhaseTimes prof; /* tl_dem_phase_times */
   int profile;          /* clocks read: on from the first tl_dem_reset_phase_times */
   Split split_list, split_bonds;
+  TlWallStep *wall_steps; /* each wall's step, this evaluation */
+  size_t wall_steps_cap;
+  TlWallSums *wall_sums;  /* walls by particle ranges: per block, per wall of a run */
+  size_t wall_sums_cap;
   unsigned long list_version; /* bumped whenever a list or the particle order changes */
 };
 

@@ -241,11 +241,16 @@ TlStatus tl_dem_step(TlDem *d, long n)
   const TlParticles *P = d->P;
   const int join = !d->weight_fn && !(d->track_energy && (P->f_ext || P->f_coupling));
   for (long s = 0; s < n; ++s) {
+    /* inside a step the displacement check, after the drift, covers any
+     * move since the build, the caller's between two calls included */
+    d->in_steps = 1;
     TlStatus st = one_step(d, join && s + 1 < n);
     if (st != TL_OK) {
       d->kick_pending = 0;
+      d->in_steps = 0;
       return tl_error_trace(st, __FILE__, __LINE__);
     }
   }
+  d->in_steps = 0;
   return TL_OK;
 }

@@ -21,6 +21,9 @@ TlStatus tl_wall_register(const char *name, const char *description, TlWallConst
              name ? name : "(null)");
   if (!ops->bounding_box || !ops->interact || !ops->destroy)
     TL_ERROR(TL_ERR_ARG, "wall type '%s': its ops need bounding_box, interact and destroy", name);
+  if (!ops->prepare != !ops->interact_range)
+    TL_ERROR(TL_ERR_ARG, "wall type '%s': its ops give %s without %s (a wall by particle ranges needs both)", name,
+             ops->prepare ? "prepare" : "interact_range", ops->prepare ? "interact_range" : "prepare");
   for (int k = 0; k < n_params; ++k)
     if (params[k].offset % sizeof(double))
       TL_ERROR(TL_ERR_ARG, "wall type '%s': parameter '%s' at offset %zu is not a double of the parameter block", name,
@@ -101,4 +104,55 @@ int tl_wall_is_bounded(const TlWall *w)
   TlVec3 lo, hi;
   w->ops->bounding_box(w, &lo, &hi);
   return tl_v3_isfinite(lo) && tl_v3_isfinite(hi);
+}
+
+int tl_wall_by_ranges(const TlWall *w) { return w->ops->prepare && w->ops->interact_range; }
+
+TlStatus tl_wall_book_blocks(TlWall *w, const TlWallStep *step, const TlWallSums *sums, size_t nb, size_t stride)
+{
+  TlWallSums t;
+  memset(&t, 0, sizeof t);
+  for (size_t b = 0; b < nb; ++b) {
+    const TlWallSums *s = sums + b * stride;
+    if (s->status != TL_OK) return tl_error_trace(s->status, __FILE__, __LINE__);
+    t.elastic += s->elastic;
+    t.power += s->power;
+    t.work += s->work;
+    t.force = tl_v3_add(t.force, s->force);
+    t.torque = tl_v3_add(t.torque, s->torque);
+    t.n_contacts += s->n_contacts;
+  }
+  w->force = t.force;
+  w->torque = t.torque;
+  w->n_contacts = t.n_contacts;
+  if (step->want_energy) {
+    w->elastic_energy = t.elastic;
+    w->contact_work += step->dt * t.power;
+    w->work += step->dt * t.work;
+  }
+  return TL_OK;
+}
+
+TlStatus tl_wall_interact_blocks(TlWall *w, const TlWallStep *step)
+{
+  if (!tl_wall_by_ranges(w))
+    TL_ERROR(TL_ERR_UNSUPPORTED, "wall '%s' of type '%s' is not evaluated by particle ranges (no prepare or "
+             "interact_range)", w->name, w->ops->header.name);
+  TL_CHECK(w->ops->prepare(w, step));
+  /* the blocks' sums one after another, each added as the world adds it */
+  const size_t n = step->particles->n;
+  TlWallSums t, s;
+  memset(&t, 0, sizeof t);
+  for (size_t lo = 0; lo < n; lo += TL_WALL_BLOCK) {
+    memset(&s, 0, sizeof s);
+    w->ops->interact_range(w, step, lo, lo + TL_WALL_BLOCK < n ? lo + TL_WALL_BLOCK : n, &s);
+    if (s.status != TL_OK) return tl_error_trace(s.status, __FILE__, __LINE__);
+    t.elastic += s.elastic;
+    t.power += s.power;
+    t.work += s.work;
+    t.force = tl_v3_add(t.force, s.force);
+    t.torque = tl_v3_add(t.torque, s.torque);
+    t.n_contacts += s.n_contacts;
+  }
+  return tl_wall_book_blocks(w, step, &t, 1, 1);
 }

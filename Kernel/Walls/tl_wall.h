@@ -19,6 +19,18 @@
  * inside `interact` but must add to particle forces without races (for
  * instance by accumulating per particle in a contact-ordered pass).
  *
+ * Walls by particle ranges: a wall whose contacts are each one particle's
+ * own (a particle meets it at most once and its contact changes no other
+ * particle's force, as for a plane) may also answer `prepare` and
+ * `interact_range`.  The world then evaluates it inside the step's parallel
+ * region instead of a region of its own: `prepare` once (one thread), then
+ * `interact_range` over the blocks of TL_WALL_BLOCK particles, several
+ * blocks at once on different threads, each block's sums kept apart and
+ * added in block order by tl_wall_book_blocks, so that nothing depends on the
+ * thread count.  tl_wall_interact_blocks does the same on one thread: such a
+ * wall's `interact` may simply call it.  A wall without these ops is
+ * evaluated through `interact`, as before.
+ *
  * Accounting: when step->want_energy is set, `interact` must update the
  * base fields elastic_energy (stored in its contacts after the step),
  * contact_work (+= dt * Σ force·vrel: energy its contacts took from the
@@ -67,7 +79,27 @@ typedef struct {
   double t;                 /* time at which forces are evaluated */
   double dt;
   int want_energy;
+  /* What the world promises about the particles' motion, so that a wall may
+   * keep candidates between steps: while `version` stays the same (0: no
+   * promise), no particle has been added, removed or renumbered, and none is
+   * further than `reach` from where it was when the version began. */
+  unsigned long version;
+  double reach;
 } TlWallStep;
+
+/* What one block of particles adds to a wall's accounting (see above). */
+typedef struct {
+  double elastic;       /* elastic energy stored in the block's contacts */
+  double power;         /* Σ force·vrel of the contacts (energy taken from the bodies, per unit time) */
+  double work;          /* Σ force·v_wall (work of the wall's prescribed motion, per unit time) */
+  TlVec3 force, torque; /* on the wall, torque about the origin */
+  size_t n_contacts;
+  TlStatus status;      /* the first failure in the block, TL_OK otherwise */
+} TlWallSums;
+
+/* Particles per block of a wall evaluated by particle ranges: fixed, so that
+ * the blocks (and the order of their sums) are the same on any thread count. */
+enum { TL_WALL_BLOCK = 512 };
 
 typedef struct {
   TlOpsHeader header; /* kind "wall" */
@@ -91,6 +123,12 @@ typedef struct {
   /* Visits every contact of the last interact (see above); particles are
    * those that interact saw. */
   TlStatus (*visit_contacts)(const TlWall *w, const TlParticles *particles, TlWallVisitor visit, void *ctx);
+  /* Optional, together (walls by particle ranges, see above): `prepare`
+   * once per step before any block (storage sized to the particles);
+   * `interact_range` the contacts of particles [lo, hi) into *sums (zeroed
+   * by the caller), safe to run at once on disjoint blocks. */
+  TlStatus (*prepare)(TlWall *w, const TlWallStep *step);
+  void (*interact_range)(TlWall *w, const TlWallStep *step, size_t lo, size_t hi, TlWallSums *sums);
 } TlWallOps;
 
 struct TlWall {
@@ -127,6 +165,17 @@ TlStatus tl_wall_create(const char *type, size_t n, const TlWallSetting *setting
 /* Visits the contacts of the last interact through the type's op; a type
  * without the op is refused with its name. */
 TlStatus tl_wall_visit_contacts(const TlWall *w, const TlParticles *particles, TlWallVisitor visit, void *ctx);
+/* Whether the wall is evaluated by particle ranges (prepare and
+ * interact_range both given). */
+int tl_wall_by_ranges(const TlWall *w);
+/* Books the sums of a step's nb blocks, added in block order (stride:
+ * TlWallSums between one block's and the next's): force, torque and
+ * n_contacts, and with step->want_energy the energies.  Returns the first
+ * block's failure, if any. */
+TlStatus tl_wall_book_blocks(TlWall *w, const TlWallStep *step, const TlWallSums *sums, size_t nb, size_t stride);
+/* A wall by particle ranges on one thread: prepare, every block in turn,
+ * booked (the same numbers as the world's threaded evaluation). */
+TlStatus tl_wall_interact_blocks(TlWall *w, const TlWallStep *step);
 /* Calls the type's destroy and nulls *w. */
 void tl_wall_destroy(TlWall **w);
 /* Whether the bounding box is finite in every component. */

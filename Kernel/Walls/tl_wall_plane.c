@@ -1,7 +1,6 @@
 /* The infinite plane wall. */
 #include <float.h>
 #include <math.h>
-#include <omp.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -18,6 +17,15 @@ typedef struct {
   double *history;
   uint8_t *touching;
   TlVec3 *force_prev; /* force on the particle at the last step (work by the trapezoidal rule) */
+  /* Candidates: the particles that can reach the plane before the world's
+   * next version (TlWallStep), ascending; the others are not scanned.  Kept
+   * for `version` (0: none, every particle is scanned) while the plane has
+   * moved less than `slack` along its normal since `point_cand`. */
+  uint32_t *cand;
+  size_t n_cand, cand_cap, n_cand_for;
+  unsigned long version;
+  TlVec3 point_cand;
+  double slack;
 } TlWallPlane;
 
 enum { PLANE_CHUNK = 64 };
@@ -59,20 +67,15 @@ static TlStatus plane_fit(TlWallPlane *p, size_t n, size_t hd)
   return TL_OK;
 }
 
-typedef struct {
-  double elastic, power, work;
-  TlVec3 force, torque;
-  size_t n;
-  TlStatus status;
-} PlaneSums;
-
+/* Evaluates a batch of contacts and adds their forces (the particles'
+ * own: no other range touches them). */
 static void flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g, TlContactResult *r, const size_t *idx,
-                  size_t m, PlaneSums *sum)
+                  size_t m, TlWallSums *sum)
 {
   if (!m) return;
   TlContactBatch b = {m, g, r, st->dt, st->want_energy};
   TlStatus s = st->law->ops->evaluate(st->law, &b);
-  if (s != TL_OK) sum->status = s;
+  if (s != TL_OK && sum->status == TL_OK) sum->status = s;
   TlParticles *P = st->particles;
   for (size_t c = 0; c < m; ++c) {
     size_t i = idx[c];
@@ -94,88 +97,129 @@ static void flush(TlWallPlane *p, const TlWallStep *st, TlContactGeometry *g, Tl
   }
 }
 
-/* Every particle touches a plane at most once, so threads working on
- * disjoint particle ranges write disjoint forces: race-free by construction. */
-static TlStatus plane_interact(TlWall *w, const TlWallStep *st)
+/* A particle's contact state, cleared when it leaves the plane. */
+static inline void plane_release(TlWallPlane *p, size_t i)
 {
-  TlWallPlane *p = (TlWallPlane *)w;
-  TlParticles *P = st->particles;
-  const size_t hd = st->law->history_doubles, n = P->n;
-  TL_CHECK(plane_fit(p, n, hd));
-  PlaneSums tot;
-  memset(&tot, 0, sizeof tot);
+  p->touching[i] = 0;
+  p->force_prev[i] = tl_v3(0, 0, 0);
+  if (p->hd) memset(p->history + i * p->hd, 0, p->hd * sizeof *p->history);
+}
+
+/* The candidates for the world's version: every particle within reach of
+ * the plane, counting both the particles' moves (2 reach: from where they
+ * were when the version began to here, and on) and the plane's (slack, one
+ * reach); the others, which cannot touch before the next version, are
+ * released now. */
+static TlStatus plane_candidates(TlWallPlane *p, const TlWallStep *st)
+{
+  const TlParticles *P = st->particles;
+  const size_t n = P->n;
+  p->version = 0;
+  if (n > UINT32_MAX) return TL_OK; /* indices too large to keep: scan every particle */
+  TL_CHECK(tl_array_reserve(&p->cand, &p->cand_cap, n + 1, sizeof *p->cand));
+  const double reach = st->reach, margin = 3.0 * reach;
   const TlVec3 nrm = p->normal, pt = p->point;
-  int nt = n >= 8192 ? omp_get_max_threads() : 1;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-  {
-    TlContactGeometry g[PLANE_CHUNK];
-    TlContactResult r[PLANE_CHUNK];
-    size_t idx[PLANE_CHUNK], m = 0;
-    PlaneSums loc;
-    memset(&loc, 0, sizeof loc);
-#pragma omp for schedule(static) nowait
-    for (size_t i = 0; i < n; ++i) {
-      double s = tl_v3_dot(tl_v3_sub(P->x[i], pt), nrm);
-      double ri = P->radius[i];
-      if (s >= ri || P->motion[i] != TL_MOTION_FREE) {
-        if (p->touching[i]) {
-          p->touching[i] = 0;
-          p->force_prev[i] = tl_v3(0, 0, 0);
-          if (hd) memset(p->history + i * hd, 0, hd * sizeof *p->history);
-        }
-        continue;
-      }
-      p->touching[i] = 1;
-      loc.n++;
-      TlContactGeometry *c = &g[m];
-      c->normal = tl_v3_neg(nrm);
-      c->overlap = ri - s;
-      /* the middle of the overlap, as between particles, or the radius for a
-       * law that asks for it (tl_contact_lever) */
-      c->branch_i = st->law->lever_radius ? tl_v3_scale(nrm, -ri) : tl_v3_scale(nrm, -0.5 * (ri + s));
-      c->branch_j = tl_v3(0, 0, 0);
-      TlVec3 vi = P->v[i];
-      if (P->w) {
-        vi = tl_v3_add(vi, tl_v3_cross(P->w[i], c->branch_i));
-        c->spin_mean = tl_v3_scale(P->w[i], 0.5);
-        c->spin_rel = tl_v3_neg(P->w[i]);
-      } else {
-        c->spin_mean = c->spin_rel = tl_v3(0, 0, 0);
-      }
-      c->vrel = tl_v3_sub(p->velocity, vi);
-      c->meff = P->mass[i];
-      c->reff = ri;
-      c->history = hd ? p->history + i * hd : NULL;
-      c->bonded = 0;
-      idx[m++] = i;
-      if (m == PLANE_CHUNK) {
-        flush(p, st, g, r, idx, m, &loc);
-        m = 0;
-      }
-    }
-    flush(p, st, g, r, idx, m, &loc);
-#pragma omp critical(tl_wall_plane_sums)
-    {
-      tot.elastic += loc.elastic;
-      tot.power += loc.power;
-      tot.work += loc.work;
-      tot.force = tl_v3_add(tot.force, loc.force);
-      tot.torque = tl_v3_add(tot.torque, loc.torque);
-      tot.n += loc.n;
-      if (loc.status != TL_OK) tot.status = loc.status;
-    }
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double s = tl_v3_dot(tl_v3_sub(P->x[i], pt), nrm);
+    if (s < P->radius[i] + margin) p->cand[m++] = (uint32_t)i;
+    else if (p->touching[i]) plane_release(p, i);
   }
-  if (tot.status != TL_OK) return tl_error_trace(tot.status, __FILE__, __LINE__);
-  w->force = tot.force;
-  w->torque = tot.torque;
-  w->n_contacts = tot.n;
-  if (st->want_energy) {
-    w->elastic_energy = tot.elastic;
-    w->contact_work += st->dt * tot.power;
-    w->work += st->dt * tot.work;
-  }
+  p->n_cand = m;
+  p->n_cand_for = n;
+  p->point_cand = pt;
+  p->slack = reach;
+  p->version = st->version;
   return TL_OK;
 }
+
+static TlStatus plane_prepare(TlWall *w, const TlWallStep *st)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  const size_t n = st->particles->n;
+  TL_CHECK(plane_fit(p, n, st->law->history_doubles));
+  const int promise = st->version != 0 && isfinite(st->reach) && st->reach > 0.0;
+  if (!promise) {
+    p->version = 0;
+    return TL_OK;
+  }
+  const double moved = fabs(tl_v3_dot(tl_v3_sub(p->point, p->point_cand), p->normal));
+  if (p->version != st->version || p->n_cand_for != n || !(moved <= p->slack)) TL_CHECK(plane_candidates(p, st));
+  return TL_OK;
+}
+
+/* The contacts of particles [lo, hi).  Every particle touches a plane at
+ * most once, so disjoint ranges write disjoint forces and contact state:
+ * race-free by construction.  The scan reads through local pointers so that
+ * the far particles (most of them) cost a few instructions each. */
+static void plane_range(TlWall *w, const TlWallStep *st, size_t lo, size_t hi, TlWallSums *sum)
+{
+  TlWallPlane *p = (TlWallPlane *)w;
+  const TlParticles *P = st->particles;
+  const size_t hd = p->hd;
+  const TlVec3 nrm = p->normal, pt = p->point;
+  const TlVec3 *x = P->x;
+  const double *restrict radius = P->radius;
+  const uint8_t *restrict motion = P->motion;
+  uint8_t *touching = p->touching;
+  const int lever_radius = st->law->lever_radius;
+  TlContactGeometry g[PLANE_CHUNK];
+  TlContactResult r[PLANE_CHUNK];
+  size_t idx[PLANE_CHUNK], m = 0;
+  /* the candidates in [lo, hi), or every particle of it */
+  const uint32_t *cand = p->cand;
+  size_t k = 0, k_end = hi - lo;
+  if (p->version) {
+    size_t a = 0, b = p->n_cand;
+    while (a < b) {
+      const size_t c = a + (b - a) / 2;
+      if (cand[c] < lo) a = c + 1;
+      else b = c;
+    }
+    k = a;
+    for (k_end = a; k_end < p->n_cand && cand[k_end] < hi; ++k_end) {}
+  }
+  for (; k < k_end; ++k) {
+    const size_t i = p->version ? cand[k] : lo + k;
+    const double s = tl_v3_dot(tl_v3_sub(x[i], pt), nrm);
+    const double ri = radius[i];
+    if (s >= ri || motion[i] != TL_MOTION_FREE) {
+      if (touching[i]) plane_release(p, i);
+      continue;
+    }
+    touching[i] = 1;
+    sum->n_contacts++;
+    TlContactGeometry *c = &g[m];
+    c->normal = tl_v3_neg(nrm);
+    c->overlap = ri - s;
+    /* the middle of the overlap, as between particles, or the radius for a
+     * law that asks for it (tl_contact_lever) */
+    c->branch_i = lever_radius ? tl_v3_scale(nrm, -ri) : tl_v3_scale(nrm, -0.5 * (ri + s));
+    c->branch_j = tl_v3(0, 0, 0);
+    TlVec3 vi = P->v[i];
+    if (P->w) {
+      vi = tl_v3_add(vi, tl_v3_cross(P->w[i], c->branch_i));
+      c->spin_mean = tl_v3_scale(P->w[i], 0.5);
+      c->spin_rel = tl_v3_neg(P->w[i]);
+    } else {
+      c->spin_mean = c->spin_rel = tl_v3(0, 0, 0);
+    }
+    c->vrel = tl_v3_sub(p->velocity, vi);
+    c->meff = P->mass[i];
+    c->reff = ri;
+    c->history = hd ? p->history + i * hd : NULL;
+    c->bonded = 0;
+    idx[m++] = i;
+    if (m == PLANE_CHUNK) {
+      flush(p, st, g, r, idx, m, sum);
+      m = 0;
+    }
+  }
+  flush(p, st, g, r, idx, m, sum);
+}
+
+/* On its own (outside the world's step): the blocks one after another. */
+static TlStatus plane_interact(TlWall *w, const TlWallStep *st) { return tl_wall_interact_blocks(w, st); }
 
 static TlStatus plane_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
 {
@@ -206,6 +250,7 @@ static TlStatus plane_remap(TlWall *w, const size_t *old_to_new, size_t n_old)
   p->force_prev = fp;
   p->capacity = cap;
   p->n = n_new;
+  p->version = 0; /* indices changed: the candidates go */
   return TL_OK;
 }
 
@@ -264,6 +309,7 @@ static TlStatus plane_load(TlWall *w, const void *buffer, size_t size)
   p->point = tl_v3(v[0], v[1], v[2]);
   p->velocity = tl_v3(v[3], v[4], v[5]);
   p->hd = SIZE_MAX; /* force a reset in plane_fit */
+  p->version = 0;
   TL_CHECK(plane_fit(p, n, hd));
   if (hd) { memcpy(p->history, b, n * hd * sizeof(double)); b += n * hd * sizeof(double); }
   memcpy(p->touching, b, n);
@@ -297,13 +343,14 @@ static void plane_destroy(TlWall *w)
   tl_free(&p->force_prev);
   tl_free(&p->history);
   tl_free(&p->touching);
+  tl_free(&p->cand);
   tl_free(&p);
 }
 
 static const TlWallOps plane_ops = {{"wall", "plane", "infinite plane, particles on the side of its normal"},
                                     plane_bbox, plane_interact, plane_remap, plane_advance,
                                     plane_checkpoint_size, plane_save, plane_load, plane_destroy,
-                                    plane_visit_contacts};
+                                    plane_visit_contacts, plane_prepare, plane_range};
 
 /* The parameter block of the plane's constructor by name. */
 typedef struct {
