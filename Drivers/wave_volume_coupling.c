@@ -217,12 +217,6 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_bool(o, "-penalty_check", 1,
                                        "refuse a penalty beyond the explicit stable range (eps dt^2 lambda_max of the "
                                        "weighted coupling over 2, or 4 for the spring variant)", &penalty_check), done);
-  TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", 4, 1, 5, "Gauss points per direction for Eq. 18", &quad), done);
-  static const char *const fems[] = {"central_difference", "newmark", NULL};
-  int ifem = 0;
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-stepper", "central_difference", fems,
-                                         "the solid's stepper: central_difference (explicit, the paper's run) or "
-                                         "newmark (implicit, beta = 1/4, gamma = 1/2)", &ifem), done);
   /* -configuration: the paper's text, or the choices read from the authors'
    * published runs (tools/v1_published_runs.py); it sets the defaults of the
    * options it stands for, each of which can still be given */
@@ -239,9 +233,20 @@ static TlStatus run(int argc, char **argv)
   int iconf = 0, icontact = 0, ipulse = 0, iweight = 0, ipmass = 0, ireach = 0;
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-configuration", "paper_text", configurations,
                                          "paper_text: the text's formulation (-contact bonded -pulse_direction out "
-                                         "-weight cosine -weight_min 0 -penalty_mass consistent -cg_reach c -coupling_order current); published: the authors' published "
-                                         "runs (-contact compression -pulse_direction in -weight linear -weight_min 0.1 -penalty_mass "
-                                         "lumped -cg_reach c-d -coupling_order lagged, pulse n x 0.1 m/s); each of these options given with it overrides its value", &iconf), done);
+                                         "-weight cosine -weight_min 0 -penalty_mass consistent -cg_reach c -coupling_order current "
+                                         "-quad_order 4 -stepper central_difference); published: the authors' published runs (-contact compression "
+                                         "-pulse_direction in -weight linear -weight_min 0.1 -penalty_mass lumped -cg_reach c "
+                                         "-coupling_order lagged -quad_order 2 -stepper newmark, pulse n x 0.1 m/s); each of these "
+                                         "options given with it overrides its value", &iconf), done);
+  TL_CHECK_GOTO(s, tl_options_get_int(o, "-quad_order", iconf ? 2 : 4, 1, 5,
+                                      "Gauss points per direction for Eq. 18 (the published runs: the hex8 element's "
+                                      "own rule, 2)", &quad), done);
+  static const char *const fems[] = {"central_difference", "newmark", NULL};
+  int ifem = 0;
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-stepper", fems[iconf], fems,
+                                         "the solid's stepper: central_difference (explicit, the paper's run) or "
+                                         "newmark (implicit, beta = 1/4, gamma = 1/2, consistent mass: the published "
+                                         "runs' solid)", &ifem), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-contact", contacts[iconf], contacts,
                                          "particle bonds: bonded (tension and compression) or compression (push only: "
                                          "the published runs' species has no tensile range)", &icontact), done);
@@ -258,9 +263,11 @@ static TlStatus run(int argc, char **argv)
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-penalty_mass", pmasses[iconf], pmasses,
                                          "M_ij of the penalty force F_i = eps sum_j M_ij r_j: consistent (int N_i N_j) or "
                                          "lumped (row sums: each node on its own mismatch, as the published runs)", &ipmass), done);
-  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_reach", reaches[iconf], reaches,
-                                         "particles an element gathers for Eq. 18 (c > 0): those within c of it, or within "
-                                         "c - d (d the particle diameter; the published runs' bounding box)", &ireach), done);
+  TL_CHECK_GOTO(s, tl_options_get_choice(o, "-cg_reach", "c", reaches,
+                                         "particles an element gathers for Eq. 18 (c > 0): those within c of it (the "
+                                         "published runs too: their box, c - d beyond the element, is widened to whole "
+                                         "search cells of size d plus half a cell, which holds every particle the kernel "
+                                         "reaches from a Gauss point), or within c - d (d the particle diameter)", &ireach), done);
   TL_CHECK_GOTO(s, tl_options_get_choice(o, "-coupling_order", orders[iconf], orders,
                                          "coupling forces of a step (-variant paper): current (from this step's "
                                          "displacements of both sides, the solid's inside its step) or lagged (from the "

@@ -78,7 +78,8 @@ typedef struct {
                               step's mismatch, fixed before either steps (the
                               published explicit loop); 0: this step's */
   int cg_reach_less_d;     /* 1: Eq. 18 over the particles within c - d of an
-                              element (published); 0: within c */
+                              element; 0: within c (also the published runs,
+                              whose search gathers whole cells) */
 } TlWaveParams;
 
 /* The paper's values: 1P, pulse, c = 0. */

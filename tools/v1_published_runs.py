@@ -14,8 +14,16 @@ parameters, and prints, in the definitions of Drivers/wave_volume_coupling.c:
   dissipated       1 - E_coupled(t_end) / E_reference(t_end), t_end = 0.09 s (the
                    last output at or before it); E_reference from ref/ (1P) or the
                    coupled run's own E(0) (the full DEM keeps it to 3e-4)
-  dissipated_fig   the authors' figure: 1 - E(row 63) / E(row 20), rows of 0.964 ms
-                   (t = 19.3 and 60.8 ms; their plotDissipation's default window)
+  dissipated_fig   the authors' figure: 1 - E(row last) / E(row 20), rows of 0.964 ms:
+                   last = 63 for 1P (t = 19.3 and 60.8 ms; their plotDissipation's default
+                   window), 82 for 2P-4P (79.1 ms; their call for 8P-64P passes lastIter=83)
+  t_last_s         time of the last stored row (3P c = 0 stops at 53 ms: its dissipated is
+                   taken there, after the wave has left the overlap)
+  trace_offset     the shift k of Trace.dat rows against .ene rows (trace row j + k with
+                   ene row j) that keeps the total momentum closest to its initial value
+                   over rows 25-59 (before the far end reflects): 0, the rows pair one to one
+  cell_m           the restart file's search-cell size (hGrid cellSizes): the particle
+                   diameter, the grid Eq. 18's particles are gathered on
   momentum_drift   largest |P_coupled - P_reference| / max |P_reference| before
                    t = 0.9 L / sqrt(E / rho) (P_reference: ref/, or the initial P)
   mass_err0, mass_err  |m_DE + m_FE - rho V| / rho V at t = 0, largest over the run
@@ -114,6 +122,8 @@ def restart_params(text):
             p["dissipation"] = float(w[w.index("dissipation") + 1])
             if "adhesionForceMax" in w:
                 p["adhesion_force_max"] = float(w[w.index("adhesionForceMax") + 1])
+        elif w[0] == "hGrid" and "cellSizes" in w:
+            p["cell"] = float(w[w.index("cellSizes") + 1]) * 1e-3
         elif w[0] == "Particles":
             p["particles"] = int(w[1])
         elif w[0] == "BaseParticle" and "radius" not in p:
@@ -163,7 +173,7 @@ def main():
     mexact = RHO * LENGTH * WIDTH * WIDTH
     t_refl = 0.9 * LENGTH / math.sqrt(E_MOD / RHO)
     cols = ["case", "folder", "c_dX", "dissipated", "dissipated_fig", "momentum_drift", "mass_err0", "mass_err",
-            "profile_err", "E0_J", "particles", "radius_m", "stiffness_N_m", "density_kg_m3", "dt_over_tc",
+            "profile_err", "t_last_s", "trace_offset", "cell_m", "E0_J", "particles", "radius_m", "stiffness_N_m", "density_kg_m3", "dt_over_tc",
             "t_max_s", "contact_tension", "mass_dem_kg", "mass_fem_kg"]
     print(",".join(cols), file=out)
     checks = []
@@ -189,7 +199,12 @@ def main():
             with_ref = nP == 1
             E_ref = sum(ref_ene[last][c] for c in (9, 10, 11)) * J if with_ref else E[0]
             dissipated = 1.0 - E[last] / E_ref
-            fig = 1.0 - E[63] / E[20] if rows > 63 else float("nan")
+            fig_row = 63 if nP == 1 else 82
+            fig = 1.0 - E[fig_row] / E[20] if rows > fig_row else float("nan")
+            def momentum_spread(k):
+                return max(abs((ene[r][3] + trace[r + k][6]) - (ene[0][3] + trace[k][6])) * J
+                           for r in range(25, min(60, rows - 1)) if 0 <= r + k < len(trace))
+            offset = min((-1, 0, 1), key=momentum_spread)
             P = [(ene[r][3] + trace[r][6]) * J for r in range(rows)]
             P_ref = [ref_ene[r][3] * J for r in range(len(ref_ene))] if with_ref else [P[0]] * rows
             pmax = max(abs(v) for v in P_ref)
@@ -214,13 +229,14 @@ def main():
             tension = "no" if par.get("adhesion_force_max", 1.0) == 0.0 else "yes"
             print(",".join(str(v) for v in [
                 "%dP" % n, folder, "%.2f" % c_dx, "%.4f" % dissipated, "%.4f" % fig, "%.3g" % drift,
-                "%.3g" % mass_err0, "%.3g" % mass_err, "%.4f" % perr, "%.4f" % E[0], par.get("particles"),
+                "%.3g" % mass_err0, "%.3g" % mass_err, "%.4f" % perr, "%.4g" % times[last], offset,
+                "%.4g" % par.get("cell", float("nan")), "%.4f" % E[0], par.get("particles"),
                 "%.4g" % par.get("radius"), "%.4g" % par.get("stiffness"), "%.4g" % par.get("density"),
                 "%.4g" % (par["dt"] / tc), "%.4g" % par["t_max"], tension, "%.1f" % (ene[0][1] * J),
                 "%.1f" % (trace[0][4] * J)]), file=out)
             # the driver's defaults against the restart file
             want = {"particles": round(WIDTH / d) ** 2 * round(12.0 / d), "radius": d / 2, "stiffness": k,
-                    "density": 6 * RHO / math.pi, "dt": 0.01 * tc}
+                    "density": 6 * RHO / math.pi, "dt": 0.01 * tc, "cell": d}
             for key, v in want.items():
                 got = par.get(key)
                 if got is None or abs(got - v) > 1e-5 * abs(v):  # rho = 1309 rounds rho_g to 2500
@@ -235,7 +251,8 @@ def main():
         folder, ours = arg.split("=", 1)
         compare_profiles(src, folder, ours, ref_data, out)
     if not checks:
-        print("# every run's particle count, radius, stiffness, density and dt equal the driver's defaults to 1e-5"
+        print("# every run's particle count, radius, stiffness, density and dt equal the driver's defaults to 1e-5,"
+              " its search cells are one particle diameter"
               " (their rho_g = 2500 against 6 x 1309 / pi = 2500.006)", file=out)
     return 0
 

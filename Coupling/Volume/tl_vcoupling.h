@@ -102,9 +102,10 @@ TlStatus tl_vcoupling_set_width(TlVCoupling *vc, double c);
  *     (int N_i dV) r_i: each node penalised on its own mismatch alone;
  *   reach_shrink (m, >= 0): Eq. 18 (c > 0) gathers the particles within
  *     max(c - reach_shrink, 0) of each element instead of the kernel's
- *     whole reach c; with reach_shrink = d (a particle diameter, the
- *     published runs' bounding box) an element sees its own particles
- *     alone up to c = d. */
+ *     whole reach c; with reach_shrink = d (a particle diameter: the
+ *     published runs' bounding box before their search widens it to whole
+ *     cells, which gives back the reach c) an element sees its own
+ *     particles alone up to c = d. */
 typedef enum { TL_VCOUPLING_COSINE = 0, TL_VCOUPLING_LINEAR } TlVCouplingProfile;
 TlStatus tl_vcoupling_set_profile(TlVCoupling *vc, TlVCouplingProfile profile);
 TlStatus tl_vcoupling_set_weight_min(TlVCoupling *vc, double weight_min);
