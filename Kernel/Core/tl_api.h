@@ -103,10 +103,10 @@ void tl_api_mesh_nodes(const TlMesh *mesh, int *dim, size_t *n_nodes, const doub
 TlStatus tl_api_mesh_node_set(const TlMesh *mesh, const char *name, size_t *n, const size_t **nodes);
 /* A stepper of registered type `type` over `sys`: the library's default
  * options (tl_stepper_options_default) with n named numeric settings over
- * them (beta, gamma, rtol, atol, max_iterations, reuse, keep_factors,
- * line_search, nonlinear_solver, lumped, predictor, allow_unstable, blowup,
- * critical_bound, ramp_time, max_cuts) and the linear solver's name
- * (NULL: the default). */
+ * them, each a parameter of the type (tl_stepper_options_set: the
+ * catalogue's table of the type, e.g. beta, gamma, rtol, max_iterations,
+ * keep_factors for newmark; blowup, critical_bound for central_difference),
+ * and the linear solver's name (NULL: the default). */
 TlStatus tl_api_stepper_create(const char *type, TlMechSystem *sys, const char *solver, size_t n,
                                const char *const *names, const double *values, TlStepper **st);
 /* The stepper's time and its dof-space state arrays (n doubles each). */
