@@ -18,6 +18,7 @@ size_t tl_api_sizeof(const char *type_name)
       {"TlCoupledEnergy", sizeof(TlCoupledEnergy)},
       {"TlEnergies", sizeof(TlEnergies)},
       {"TlWallSetting", sizeof(TlWallSetting)},
+      {"TlVCouplingDiag", sizeof(TlVCouplingDiag)},
   };
   if (!type_name) return 0;
   for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k)
