@@ -19,6 +19,7 @@ size_t tl_api_sizeof(const char *type_name)
       {"TlEnergies", sizeof(TlEnergies)},
       {"TlWallSetting", sizeof(TlWallSetting)},
       {"TlVCouplingDiag", sizeof(TlVCouplingDiag)},
+      {"TlVCouplingParams", sizeof(TlVCouplingParams)},
   };
   if (!type_name) return 0;
   for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k)

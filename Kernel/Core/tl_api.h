@@ -51,7 +51,8 @@
 enum { TL_API_FLOAT64 = 0, TL_API_INT64 = 1, TL_API_INT32 = 2, TL_API_UINT8 = 3 };
 
 /* sizeof of a plain-data struct by its C name ("TlVec3", "TlDemEnergy",
- * "TlDemStats", "TlCoupledEnergy", "TlEnergies", "TlWallSetting", "TlVCouplingDiag"); 0 for any
+ * "TlDemStats", "TlCoupledEnergy", "TlEnergies", "TlWallSetting", "TlVCouplingDiag",
+ * "TlVCouplingParams"); 0 for any
  * other name. */
 size_t tl_api_sizeof(const char *type_name);
 

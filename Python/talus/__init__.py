@@ -1,5 +1,6 @@
 """Talus from Python: DEM worlds, walls, meshes, solids and the surface
-coupling through the C library's handles, with the particle and node
+and volume couplings, scenes from files (LAMMPS data and HDF5 snapshots,
+STL and Gmsh surfaces, Gmsh meshes) through the C library's handles, with the particle and node
 arrays as numpy views of the library's memory (no copy).
 
     import talus
@@ -16,7 +17,7 @@ import ctypes
 
 from . import _lib
 from ._lib import TalusError
-from .coupling import CoupledLoop, SurfaceCoupling
+from .coupling import CoupledLoop, SurfaceCoupling, VolumeCoupledLoop
 from .dem import ContactLaw, Wall, World
 from .fem import Material, Mesh, Solid, Stepper
 from .output import ParticleWriter, SolidWriter, WallWriter
@@ -24,7 +25,7 @@ from .output import ParticleWriter, SolidWriter, WallWriter
 library_path = _lib.path
 
 __all__ = ["TalusError", "World", "ContactLaw", "Wall", "Mesh", "Material", "Solid", "Stepper",
-           "SurfaceCoupling", "CoupledLoop", "ParticleWriter", "SolidWriter", "WallWriter", "types", "library_path"]
+           "SurfaceCoupling", "CoupledLoop", "VolumeCoupledLoop", "ParticleWriter", "SolidWriter", "WallWriter", "types", "library_path"]
 
 
 def types(kind):
