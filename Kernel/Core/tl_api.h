@@ -56,6 +56,15 @@ enum { TL_API_FLOAT64 = 0, TL_API_INT64 = 1, TL_API_INT32 = 2, TL_API_UINT8 = 3 
  * other name. */
 size_t tl_api_sizeof(const char *type_name);
 
+/* The parameter table of the registered type `name` of `kind` (the
+ * catalogue's): *n (may be NULL) receives its length; for 0 <= k < n, the
+ * parameter's name, default (NaN: none, the caller gives it), closed range,
+ * unit ("1": dimensionless) and meaning (any output may be NULL); k < 0
+ * asks for the count alone.  An unknown type is refused with the kind's
+ * names. */
+TlStatus tl_api_type_param(const char *kind, const char *name, int k, int *n, const char **pname, double *def,
+                           double *lo, double *hi, const char **unit, const char **help);
+
 /* A numeric setting of a named field of a C struct, for the create
  * functions below. */
 typedef struct {

@@ -68,8 +68,10 @@ TlStatus tl_api_timeseries_create(const char *dir, const char *name, size_t n_co
                                   TlTimeSeries **ts)
 {
   char base[4096];
-  if (snprintf(base, sizeof base, "%s/%s", dir, name) >= (int)sizeof base)
-    TL_ERROR(TL_ERR_ARG, "table path %s/%s longer than %zu characters", dir, name, sizeof base - 1);
+  const int len = snprintf(base, sizeof base, "%s/%s", dir, name);
+  if (len < 0 || len >= (int)sizeof base)
+    TL_ERROR(TL_ERR_ARG, "table path of %d characters (folder %.40s..., name %s) longer than the limit %zu", len, dir,
+             name, sizeof base - 1);
   TL_CHECK(tl_timeseries_create(base, TL_TIMESERIES_CSV, n_columns, columns, ts));
   return TL_OK;
 }

@@ -103,6 +103,8 @@ _prototypes = {
     "tl_status_name": (ctypes.c_char_p, [ctypes.c_int]),
     "tl_registry_list": (ctypes.c_size_t, [ctypes.c_char_p, c_char_pp, ctypes.c_size_t]),
     "tl_api_sizeof": (ctypes.c_size_t, [ctypes.c_char_p]),
+    "tl_api_type_param": (S, [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int, c_int_p, c_char_pp, c_double_p,
+                              c_double_p, c_double_p, c_char_pp, c_char_pp]),
     # DEM world
     "tl_dem_create": (S, [handle_p]),
     "tl_dem_destroy": (None, [handle_p]),

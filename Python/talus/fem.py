@@ -126,16 +126,14 @@ class Solid(_lib.Handle):
         return lib.tl_solid_total_mass(self._h)
 
 
-STEPPER_OPTIONS = ("beta", "gamma", "rtol", "atol", "max_iterations", "reuse", "keep_factors", "line_search",
-                   "nonlinear_solver", "lumped", "predictor", "allow_unstable", "blowup", "critical_bound",
-                   "ramp_time", "max_cuts")
-
-
 class Stepper(_lib.Handle):
     """A registered time stepper over a solid (`talus.types("stepper")`:
     newmark, central_difference, quasi_static) with the library's default
-    options and the numeric ones given (STEPPER_OPTIONS, e.g.
-    keep_factors=1, rtol=1e-8) and a linear solver by name.  The state
+    options and the numeric ones given, each a parameter of the type
+    (`talus.parameters("stepper", type)`: e.g. keep_factors=1, rtol=1e-8
+    for newmark, blowup for central_difference; another name, a value out
+    of range or a fraction for an integer is refused) and a linear solver
+    by name.  The state
     starts at rest at t = 0."""
 
     def __init__(self, solid, type="newmark", solver=None, **options):
