@@ -192,6 +192,7 @@ _prototypes = {
     "tl_solid_system": (handle, [handle]),
     "tl_solid_total_mass": (ctypes.c_double, [handle]),
     "tl_solid_dofs_to_nodes": (None, [handle, c_double_p, c_double_p]),
+    "tl_solid_reactions": (S, [handle, ctypes.c_double, c_double_p, c_double_p, c_double_p]),
     "tl_api_stepper_create": (S, [ctypes.c_char_p, handle, ctypes.c_char_p, ctypes.c_size_t, c_char_pp, c_double_p,
                                   handle_p]),
     "tl_api_stepper_state": (None, [handle, c_double_p, c_size_p, handle_p, handle_p, handle_p]),

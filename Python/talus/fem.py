@@ -118,6 +118,16 @@ class Solid(_lib.Handle):
     def setup(self):
         call("tl_solid_setup", self._h)
 
+    def reactions(self, stepper, static=True):
+        """The reaction forces at the constrained node components at the
+        stepper's state (n_nodes, dim; 0 elsewhere): f_int(u) - f_ext, plus
+        M a unless static."""
+        t, n, u, v, a = stepper._state()
+        out = np.zeros((self.mesh.n_nodes, self.mesh.dim))
+        call("tl_solid_reactions", self._h, float(t), ctypes.cast(u, _lib.c_double_p),
+             None if static else ctypes.cast(a, _lib.c_double_p), out.ctypes.data_as(_lib.c_double_p))
+        return out
+
     def fix(self, node_set, mask=7):
         call("tl_solid_fix", self._h, cstr(node_set), int(mask))
 
