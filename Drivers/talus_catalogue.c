@@ -5,6 +5,7 @@
  * the registries (tl_registry.h) so it cannot go stale.  docs/catalogue.md
  * is this program's Markdown output; the test catalogue_current fails when
  * the two differ. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,11 +30,20 @@ static const struct {
      "`tl_material_create(name, &m)`, then `tl_material_set(m, name, value)`; every material also takes `density` "
      "(kg/m³), a parameter of the base type that the tables below do not list"},
     {"stepper", "Time steppers",
-     "`tl_stepper_create(type, system, &options, &stepper)`; their settings (Newmark beta and gamma, Newton "
-     "tolerances, the linear solver, ...) are the fields of `TlStepperOptions` (tl_stepper.h), not registered "
-     "parameters"},
-    {"linear_solver", "Linear solvers", "`tl_linear_solver_create(type, A, &solver)`, or the `solver` field of `TlStepperOptions`"},
-    {"cg_kernel", "Coarse-graining kernels", "`tl_cg_kernel_create(name, width, dim, &kernel)`; `-cg_kernel NAME` in drivers"},
+     "`tl_stepper_create(type, system, &options, &stepper)`; the parameters are the fields of `TlStepperOptions` "
+     "(tl_stepper.h) each type reads: `tl_stepper_options_default` gives the defaults below, "
+     "`tl_stepper_options_set(&options, type, name, value)` sets one within its range, and `tl_stepper_create` "
+     "refuses a value outside it.  Switches, choices and counts take whole values.  The implicit steppers also read `solver`, the "
+     "name of a linear solver (below; default NULL: cholmod for a symmetric Jacobian, else klu)"},
+    {"linear_solver", "Linear solvers",
+     "`tl_linear_solver_create(type, A, &solver)`, or the `solver` field of `TlStepperOptions`.  They take no "
+     "settings: each analyses the pattern once with its library's default fill-reducing ordering and "
+     "refactorises numerically on each factor (CHOLMOD: simplicial for small systems, "
+     "else its own choice; KLU: reuses its pivot sequence while the condition estimate allows; UMFPACK: its "
+     "default iterative refinement)"},
+    {"cg_kernel", "Coarse-graining kernels",
+     "`tl_cg_kernel_create(name, width, dim, &kernel)` (dim 1, 2 or 3: the kernel is normalised in that many "
+     "dimensions); `-cg_kernel NAME` and `-cg_width` in drivers"},
     {"nhl_operator", "FEM x DEM tangent operators",
      "`tl_nhl_operator_create(name, &op)` and `tl_nhl_operator_set`; besides the parameters below, every operator "
      "takes the base parameters `eps`, `directions`, `sliding_kt` and `symmetrise` (tl_nhl_operator.h)"},
@@ -54,10 +64,12 @@ static int by_kind_name(const void *a, const void *b)
   return c ? c : strcmp(x->name, y->name);
 }
 
-/* A number as the catalogue prints it: 1e300 and beyond as infinity. */
+/* A number as the catalogue prints it: 1e300 and beyond as infinity; NaN
+ * (a default) as "required": the caller must give the value. */
 static void number(char *buf, size_t size, double v, int markdown)
 {
-  if (v >= 1e300) snprintf(buf, size, "%s", markdown ? "∞" : "inf");
+  if (isnan(v)) snprintf(buf, size, "required");
+  else if (v >= 1e300) snprintf(buf, size, "%s", markdown ? "∞" : "inf");
   else if (v <= -1e300) snprintf(buf, size, "%s", markdown ? "−∞" : "-inf");
   else snprintf(buf, size, "%.6g", v);
 }
@@ -146,7 +158,8 @@ static TlStatus write_catalogue(FILE *out, int md, size_t *n_types, size_t *n_ki
                  "do not edit by hand: the test `catalogue_current` fails when this file differs from the\n"
                  "program's output.  A type added from outside the library (`Examples/`) registers the same way\n"
                  "and appears in the catalogue of a program that registered it.  Ranges are closed; ∞ marks no\n"
-                 "limit; a unit `—` is a dimensionless number or a switch (0 or 1).\n\n## Kinds\n\n",
+                 "limit; a unit `1` is a dimensionless number or a switch (0 or 1); a default `required` is a value\n"
+                 "the caller must give.\n\n## Kinds\n\n",
             n, nk);
     for (size_t i = 0; i < n; ++i) {
       if (i && strcmp(all[i]->kind, all[i - 1]->kind) == 0) continue;

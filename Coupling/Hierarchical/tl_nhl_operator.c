@@ -13,14 +13,14 @@
 static const char *const KIND = "nhl_operator";
 
 static const TlParam base_params[] = {
-    {"eps", 1e-5, 1e-12, 1e-1, "", "perturbation size of demqo and cto (a reading; the paper gives none)",
+    {"eps", 1e-5, 1e-12, 1e-1, "1", "perturbation size of demqo and cto (a reading; the paper gives none)",
      offsetof(TlNhlOperator, eps)},
-    {"directions", 9, 6, 9, "",
+    {"directions", 9, 6, 9, "1",
      "9: the nine directions of Eq. 30 (4 in 2-D); 6: symmetric increments only (3 in 2-D), rotations by "
      "objectivity", offsetof(TlNhlOperator, directions)},
-    {"sliding_kt", 1, 0, 1, "", "1: sliding contacts keep k_t in uko/ucko/kao (the upper bound as printed); 0: k_t = 0",
+    {"sliding_kt", 1, 0, 1, "1", "1: sliding contacts keep k_t in uko/ucko/kao (the upper bound as printed); 0: k_t = 0",
      offsetof(TlNhlOperator, sliding_kt)},
-    {"symmetrise", 0, 0, 1, "", "1: pstlo symmetrises its stiffness (CHOLMOD); 0: the full matrix (CHOLMOD, refined when not symmetric)",
+    {"symmetrise", 0, 0, 1, "1", "1: pstlo symmetrises its stiffness (CHOLMOD); 0: the full matrix (CHOLMOD, refined when not symmetric)",
      offsetof(TlNhlOperator, symmetrise)},
 };
 enum { N_BASE = (int)(sizeof base_params / sizeof base_params[0]) };

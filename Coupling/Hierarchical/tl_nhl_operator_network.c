@@ -253,7 +253,7 @@ typedef struct {
 } Kao;
 
 static const TlParam kao_params[] = {
-    {"rotations", 1, 0, 1, "",
+    {"rotations", 1, 0, 1, "1",
      "1: each grain's rotation from its own moment balance, neighbours at the macro spin; 0: every grain at the spin",
      offsetof(Kao, rotations)},
 };
@@ -359,7 +359,7 @@ typedef struct {
 } Ucko;
 
 static const TlParam ucko_params[] = {
-    {"reference", 0, 0, 2, "", "operator the coefficients are fitted to: 0 cto (the paper), 1 demqo, 2 pstlo",
+    {"reference", 0, 0, 2, "1", "operator the coefficients are fitted to: 0 cto (the paper), 1 demqo, 2 pstlo",
      offsetof(Ucko, reference)},
 };
 

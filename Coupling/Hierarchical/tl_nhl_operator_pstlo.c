@@ -54,7 +54,7 @@ typedef struct {
 } Pstlo;
 
 static const TlParam pstlo_params[] = {
-    {"solver", 0, 0, 2, "",
+    {"solver", 0, 0, 2, "1",
      "0: CHOLMOD, refined on the symmetric part when the network is not symmetric (LU if that fails); 1: UMFPACK "
      "LU of the full matrix; 2: KLU LU of the full matrix", offsetof(Pstlo, solver)},
 };

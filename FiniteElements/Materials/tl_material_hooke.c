@@ -38,7 +38,7 @@ typedef struct {
 
 static const TlMaterialParam params[] = {
     {"E", 1e8, 1e-300, 1e300, "Pa", "Young's modulus", offsetof(TlHooke, E)},
-    {"nu", 0.0, -0.999999, 0.499999, "", "Poisson's ratio", offsetof(TlHooke, nu)},
+    {"nu", 0.0, -0.999999, 0.499999, "1", "Poisson's ratio", offsetof(TlHooke, nu)},
 };
 
 enum { STATE_GAMMA = 0, STATE_S = 6, STATE_W = 12, STATE_SIZE = 13 };

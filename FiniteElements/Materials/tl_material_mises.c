@@ -31,12 +31,12 @@ typedef struct {
 
 static const TlMaterialParam params[] = {
     {"E", 1e8, 1e-300, 1e300, "Pa", "Young's modulus", offsetof(TlMises, E)},
-    {"nu", 0.3, -0.999999, 0.499999, "", "Poisson's ratio", offsetof(TlMises, nu)},
+    {"nu", 0.3, -0.999999, 0.499999, "1", "Poisson's ratio", offsetof(TlMises, nu)},
     {"sigma_y", 1e5, 0.0, 1e300, "Pa", "initial yield stress (von Mises q)", offsetof(TlMises, sigma_y)},
     {"H", 0.0, -1e300, 1e300, "Pa", "hardening modulus dq/dkappa (negative: softening)", offsetof(TlMises, H)},
     {"sigma_res", 0.0, 0.0, 1e300, "Pa", "residual strength: the yield stress never falls below it",
      offsetof(TlMises, sigma_res)},
-    {"operator", 0.0, 0.0, 1.0, "", "tangent handed to the solid: 0 consistent, 1 elastic (upper bound)",
+    {"operator", 0.0, 0.0, 1.0, "1", "tangent handed to the solid: 0 consistent, 1 elastic (upper bound)",
      offsetof(TlMises, op)},
 };
 

@@ -18,7 +18,7 @@ typedef struct {
 
 static const TlMaterialParam params[] = {
     {"E", 1e8, 1e-300, 1e300, "Pa", "Young's modulus", offsetof(TlNeoHookean, E)},
-    {"nu", 0.3, -0.999999, 0.499999, "", "Poisson's ratio", offsetof(TlNeoHookean, nu)},
+    {"nu", 0.3, -0.999999, 0.499999, "1", "Poisson's ratio", offsetof(TlNeoHookean, nu)},
 };
 
 static TlStatus setup(TlMaterial *m)

@@ -22,7 +22,7 @@ typedef struct {
 
 static const TlMaterialParam params[] = {
     {"E", 1e8, 1e-300, 1e300, "Pa", "Young's modulus", offsetof(TlSaintVenantKirchhoff, E)},
-    {"nu", 0.0, -0.999999, 0.499999, "", "Poisson's ratio", offsetof(TlSaintVenantKirchhoff, nu)},
+    {"nu", 0.0, -0.999999, 0.499999, "1", "Poisson's ratio", offsetof(TlSaintVenantKirchhoff, nu)},
 };
 
 static TlStatus setup(TlMaterial *m)

@@ -10,38 +10,122 @@
 #include "tl_registry.h"
 #include "tl_timer.h"
 
+/* The stepper types whose tables define the options' defaults. */
+static const TlStepperOps *const builtin_steppers[] = {&tl_stepper_newmark_ops, &tl_stepper_central_difference_ops,
+                                                        &tl_stepper_quasi_static_ops};
+enum { N_BUILTIN_STEPPERS = sizeof builtin_steppers / sizeof builtin_steppers[0] };
+
+/* The C type of the integer fields of TlStepperOptions (the parameter
+ * tables store doubles; every other numeric field is a double). */
+static const struct {
+  size_t offset;
+  int is_long;
+} integer_fields[] = {
+    {offsetof(TlStepperOptions, max_iterations), 1}, {offsetof(TlStepperOptions, reuse), 1},
+    {offsetof(TlStepperOptions, accept_loose_after), 1}, {offsetof(TlStepperOptions, keep_factors), 0},
+    {offsetof(TlStepperOptions, line_search), 0},     {offsetof(TlStepperOptions, nonlinear_solver), 0},
+    {offsetof(TlStepperOptions, lumped), 0},          {offsetof(TlStepperOptions, predictor), 0},
+    {offsetof(TlStepperOptions, allow_unstable), 0},  {offsetof(TlStepperOptions, critical_bound), 0},
+    {offsetof(TlStepperOptions, max_cuts), 0},        {offsetof(TlStepperOptions, convergence), 0},
+};
+
+/* -1: a double field; 0: int; 1: long. */
+static int field_kind(size_t offset)
+{
+  for (size_t k = 0; k < sizeof integer_fields / sizeof integer_fields[0]; ++k)
+    if (integer_fields[k].offset == offset) return integer_fields[k].is_long;
+  return -1;
+}
+
+static double field_get(const TlStepperOptions *o, const TlParam *p)
+{
+  const char *at = (const char *)o + p->offset;
+  switch (field_kind(p->offset)) {
+  case 0: return (double)*(const int *)(const void *)at;
+  case 1: return (double)*(const long *)(const void *)at;
+  default: return *(const double *)(const void *)at;
+  }
+}
+
+static void field_put(TlStepperOptions *o, const TlParam *p, double v)
+{
+  char *at = (char *)o + p->offset;
+  switch (field_kind(p->offset)) {
+  case 0: *(int *)(void *)at = (int)v; break;
+  case 1: *(long *)(void *)at = (long)v; break;
+  default: *(double *)(void *)at = v;
+  }
+}
+
 void tl_stepper_options_default(TlStepperOptions *o)
 {
   memset(o, 0, sizeof *o);
   o->solver = NULL;
-  o->beta = 0.25;
-  o->gamma = 0.5;
-  o->rtol = 1e-10;
-  o->atol = 1e-14;
-  o->max_iterations = 30;
-  o->reuse = 1;
-  o->keep_factors = 0;
-  o->line_search = 0;
-  o->nonlinear_solver = TL_NEWTON_KINSOL;
-  o->lumped = 0;
-  o->predictor = TL_PREDICTOR_AUTO;
-  o->allow_unstable = 0;
-  o->blowup = 1e6;
-  o->ramp_time = 0.0;
-  o->max_cuts = 10;
-  o->convergence = TL_CONVERGENCE_RESIDUAL;
-  o->ratio_tol = 1e-3;
-  o->ratio_tol_post = 1e-2;
-  o->accept_loose_after = 0;
-  o->peak_drop = -1.0;
-  o->ratio_diverge = 10.0;
+  for (int k = 0; k < N_BUILTIN_STEPPERS; ++k)
+    for (int j = 0; j < builtin_steppers[k]->n_params; ++j) field_put(o, &builtin_steppers[k]->params[j], builtin_steppers[k]->params[j].def);
+}
+
+static TlStatus find_stepper(const char *type, const TlStepperOps **ops)
+{
+  const TlOpsHeader *h = NULL;
+  TL_CHECK(tl_stepper_register_all());
+  TL_CHECK(tl_registry_find("stepper", type, &h));
+  *ops = (const TlStepperOps *)h;
+  return TL_OK;
+}
+
+static void param_names(const TlStepperOps *ops, char *list, size_t size)
+{
+  size_t len = 0;
+  list[0] = '\0';
+  for (int j = 0; j < ops->n_params && len < size; ++j)
+    len += (size_t)snprintf(list + len, size - len, "%s%s", j ? ", " : "", ops->params[j].name);
+}
+
+/* A value for parameter p: inside its range, whole for an integer field. */
+static TlStatus check_value(const char *type, const TlParam *p, double v)
+{
+  if (!(v >= p->lo && v <= p->hi))
+    TL_ERROR(TL_ERR_ARG, "stepper '%s' setting %s = %g outside [%g, %g]", type, p->name, v, p->lo, p->hi);
+  if (field_kind(p->offset) >= 0 && v != floor(v))
+    TL_ERROR(TL_ERR_ARG, "stepper '%s' setting %s = %g is not an integer", type, p->name, v);
+  return TL_OK;
+}
+
+TlStatus tl_stepper_options_set(TlStepperOptions *o, const char *type, const char *name, double value)
+{
+  const TlStepperOps *ops = NULL;
+  TL_CHECK(find_stepper(type, &ops));
+  const TlParam *p = tl_param_find(ops->params, ops->n_params, name ? name : "");
+  if (!p) {
+    char list[1024];
+    param_names(ops, list, sizeof list);
+    TL_ERROR(TL_ERR_NOT_FOUND, "stepper '%s' has no setting '%s' (settings: %s)", type, name ? name : "(null)", list);
+  }
+  TL_CHECK(check_value(type, p, value));
+  field_put(o, p, value);
+  return TL_OK;
+}
+
+TlStatus tl_stepper_options_get(const TlStepperOptions *o, const char *name, double *value)
+{
+  for (int k = 0; k < N_BUILTIN_STEPPERS; ++k) {
+    const TlParam *p = tl_param_find(builtin_steppers[k]->params, builtin_steppers[k]->n_params, name ? name : "");
+    if (p) return (*value = field_get(o, p)), TL_OK;
+  }
+  TL_ERROR(TL_ERR_NOT_FOUND, "no stepper reads an option '%s'", name ? name : "(null)");
+}
+
+static TlStatus register_stepper(const TlStepperOps *ops)
+{
+  const TlTypeEntry e = {"stepper", ops->header.name, ops->header.description, NULL, ops, ops->params, ops->n_params};
+  TL_CHECK(tl_registry_register(&e));
+  return TL_OK;
 }
 
 TlStatus tl_stepper_register_all(void)
 {
-  TL_CHECK(tl_registry_add(&tl_stepper_newmark_ops.header));
-  TL_CHECK(tl_registry_add(&tl_stepper_central_difference_ops.header));
-  TL_CHECK(tl_registry_add(&tl_stepper_quasi_static_ops.header));
+  for (int k = 0; k < N_BUILTIN_STEPPERS; ++k) TL_CHECK(register_stepper(builtin_steppers[k]));
   TL_CHECK(tl_linear_solver_register_all());
   return TL_OK;
 }
@@ -92,6 +176,8 @@ TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperO
   if (options) st->opt = *options;
   else tl_stepper_options_default(&st->opt);
   TL_CHECK_GOTO(s, check_options(&st->opt), fail);
+  for (int j = 0; j < st->ops->n_params; ++j)
+    TL_CHECK_GOTO(s, check_value(type, &st->ops->params[j], field_get(&st->opt, &st->ops->params[j])), fail);
   size_t n = (size_t)st->n;
   double **vecs[] = {&st->u, &st->v, &st->a, &st->u0, &st->v0, &st->a0, &st->m,
                      &st->f_ext, &st->f_ext0, &st->f_int, &st->work};

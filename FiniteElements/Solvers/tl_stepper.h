@@ -47,12 +47,21 @@
 #ifndef TL_STEPPER_H
 #define TL_STEPPER_H
 
+#include <stddef.h>
+
 #include "tl_checkpoint.h"
 #include "tl_error.h"
 #include "tl_mech_system.h"
 #include "tl_newton.h"
 #include "tl_object.h"
+#include "tl_registry.h"
 
+/* The numeric fields below are described, with their defaults, ranges and
+ * units, by the parameter tables of the stepper types that read them
+ * (TlStepperOps.params, listed by the catalogue): tl_stepper_options_default
+ * builds the defaults from those tables, and tl_stepper_create refuses a
+ * field outside its type's ranges, so the documentation and the behaviour
+ * are one.  The values in brackets are those defaults. */
 typedef struct {
   const char *solver;  /* "cholmod", "klu", "umfpack"; NULL: cholmod if symmetric, else klu */
   double beta, gamma;  /* Newmark [0.25, 0.5] */
@@ -136,7 +145,32 @@ typedef struct {
   TlStatus (*initialise)(TlStepper *st);          /* a at t from u, v */
   TlStatus (*step)(TlStepper *st, double dt);     /* t -> t + dt */
   void (*destroy)(TlStepper *st);
+  /* The TlStepperOptions fields the type reads: TlParam.offset is the
+   * field's offset in TlStepperOptions (int, long or double fields; the
+   * table stores doubles).  Registered with the type. */
+  const TlParam *params;
+  int n_params;
 } TlStepperOps;
+
+/* Entries of the implicit steppers' tables for the Newton settings they
+ * share (read by tl_stepper.c): one definition for both tables. */
+#define TL_STEPPER_NEWTON_PARAMS                                                                                     \
+  {"rtol", 1e-10, 0, 1e300, "1", "Newton: converged when ||R||_inf <= max(atol, rtol x force scale); > 0",          \
+   offsetof(TlStepperOptions, rtol)},                                                                                \
+  {"atol", 1e-14, 0, 1e300, "N", "Newton: absolute floor of that test (residual force)",                           \
+   offsetof(TlStepperOptions, atol)},                                                                                \
+  {"max_iterations", 30, 1, 1e9, "1", "Newton iterations allowed per step (integer)",                              \
+   offsetof(TlStepperOptions, max_iterations)},                                                                      \
+  {"reuse", 1, 1, 1e9, "1", "refactorise the Jacobian every `reuse` Newton iterations; 1: full Newton (integer)",  \
+   offsetof(TlStepperOptions, reuse)},                                                                               \
+  {"keep_factors", 0, 0, 1, "1", "1: keep the factors across steps (modified Newton); 0: refactorise each step",   \
+   offsetof(TlStepperOptions, keep_factors)},                                                                        \
+  {"line_search", 0, 0, 1, "1", "1: KINSOL's line search (nonlinear_solver 0 only)",                              \
+   offsetof(TlStepperOptions, line_search)},                                                                         \
+  {"nonlinear_solver", 0, 0, 1, "1",                                                                               \
+   "0: Newton through KINSOL (test on the residual); 1: SUNNonlinSol_Newton (test on the correction, sparing the "   \
+   "residual at the accepted iterate)",                                                                             \
+   offsetof(TlStepperOptions, nonlinear_solver)}
 
 struct TlStepper {
   const TlStepperOps *ops;
@@ -168,7 +202,17 @@ struct TlStepper {
   void *impl;
 };
 
+/* The defaults: every field at the default of the parameter tables of
+ * the registered steppers (solver NULL). */
 void tl_stepper_options_default(TlStepperOptions *o);
+/* Sets the field `name` of `o` as stepper type `type` reads it: a name
+ * that is not in the type's table is refused with the table's names, a
+ * value outside the range or a fraction for an integer field with the
+ * value and the limit. */
+TlStatus tl_stepper_options_set(TlStepperOptions *o, const char *type, const char *name, double value);
+/* The field `name` of `o` as a double (any stepper's table; NOT_FOUND
+ * otherwise). */
+TlStatus tl_stepper_options_get(const TlStepperOptions *o, const char *name, double *value);
 /* Registers the three steppers (kind "stepper"). */
 TlStatus tl_stepper_register_all(void);
 TlStatus tl_stepper_create(const char *type, TlMechSystem *sys, const TlStepperOptions *options,

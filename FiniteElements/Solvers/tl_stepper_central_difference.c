@@ -84,6 +84,17 @@ static TlStatus cd_step(TlStepper *st, double dt)
 
 static void cd_destroy(TlStepper *st) { (void)st; }
 
+static const TlParam cd_params[] = {
+    {"allow_unstable", 0, 0, 1, "1", "1: run above the critical step 2/omega_max (for tests); 0: refuse it",
+     offsetof(TlStepperOptions, allow_unstable)},
+    {"blowup", 1e6, 1, 1e300, "1",
+     "a kinetic energy beyond blowup x the energy budget stops the run as unstable (> 1)",
+     offsetof(TlStepperOptions, blowup)},
+    {"critical_bound", 0, 0, 1, "1",
+     "1: omega_max^2 from the system's conservative bound; 0: Lanczos on M^-1 K (sharp, from below)",
+     offsetof(TlStepperOptions, critical_bound)},
+};
+
 const TlStepperOps tl_stepper_central_difference_ops = {
     .header = {"stepper", "central_difference", "explicit central difference, lumped mass"},
     .implicit = 0,
@@ -91,4 +102,6 @@ const TlStepperOps tl_stepper_central_difference_ops = {
     .initialise = cd_initialise,
     .step = cd_step,
     .destroy = cd_destroy,
+    .params = cd_params,
+    .n_params = (int)(sizeof cd_params / sizeof cd_params[0]),
 };

@@ -204,6 +204,19 @@ static void newmark_destroy(TlStepper *st)
   tl_free(&st->impl);
 }
 
+static const TlParam newmark_params[] = {
+    {"beta", 0.25, 0, 0.5, "1", "Newmark beta (> 0); 1/4 with gamma 1/2: the average-acceleration rule",
+     offsetof(TlStepperOptions, beta)},
+    {"gamma", 0.5, 0, 1, "1", "Newmark gamma; above 1/2 damps the high modes", offsetof(TlStepperOptions, gamma)},
+    {"predictor", 0, 0, 2, "1",
+     "Newton's start: 0 auto (Taylor when omega_max dt <= 1, else the last displacement), 1 the last "
+     "displacement, 2 Taylor u + dt v + dt^2/2 a",
+     offsetof(TlStepperOptions, predictor)},
+    {"lumped", 0, 0, 1, "1", "1: the lumped mass even where the system has a consistent one",
+     offsetof(TlStepperOptions, lumped)},
+    TL_STEPPER_NEWTON_PARAMS,
+};
+
 const TlStepperOps tl_stepper_newmark_ops = {
     .header = {"stepper", "newmark", "implicit Newmark-beta with Newton iterations (KINSOL or SUNNonlinSol_Newton)"},
     .implicit = 1,
@@ -212,4 +225,6 @@ const TlStepperOps tl_stepper_newmark_ops = {
     .initialise = newmark_initialise,
     .step = newmark_step,
     .destroy = newmark_destroy,
+    .params = newmark_params,
+    .n_params = (int)(sizeof newmark_params / sizeof newmark_params[0]),
 };

@@ -252,6 +252,32 @@ static void qs_destroy(TlStepper *st)
   tl_free(&st->impl);
 }
 
+static const TlParam qs_params[] = {
+    {"ramp_time", 0, 0, 1e300, "s", "load ramp: lambda = min(t / ramp_time, 1); 0: the full load at once",
+     offsetof(TlStepperOptions, ramp_time)},
+    {"max_cuts", 10, 0, 60, "1", "halvings of a failed step before giving up (integer)",
+     offsetof(TlStepperOptions, max_cuts)},
+    {"predictor", 0, 0, 2, "1",
+     "Newton's start: 2 the last increment extrapolated; 0 and 1 the last equilibrium",
+     offsetof(TlStepperOptions, predictor)},
+    {"convergence", 0, 0, 1, "1", "0: the residual's max norm against rtol; 1: the force ratio |F|/|R| of hierarchical FEM x DEM (Desrues et al.)",
+     offsetof(TlStepperOptions, convergence)},
+    {"ratio_tol", 1e-3, 0, 1e300, "1", "force ratio: |F|/|R| before the peak", offsetof(TlStepperOptions, ratio_tol)},
+    {"ratio_tol_post", 1e-2, 0, 1e300, "1", "force ratio: |F|/|R| after the peak",
+     offsetof(TlStepperOptions, ratio_tol_post)},
+    {"accept_loose_after", 0, 0, 1e9, "1",
+     "force ratio: accept within ratio_tol_post after this many iterations before the peak too; 0: never (integer)",
+     offsetof(TlStepperOptions, accept_loose_after)},
+    {"peak_drop", -1, -1e300, 1, "1",
+     "force ratio: relative drop of |R| that marks the peak; negative: only tl_stepper_set_post_peak",
+     offsetof(TlStepperOptions, peak_drop)},
+    {"ratio_diverge", 10, 0, 1e300, "1",
+     "force ratio: halve an increment once |F|/|R| exceeds this factor times its best (from the second iteration); "
+     "0: never",
+     offsetof(TlStepperOptions, ratio_diverge)},
+    TL_STEPPER_NEWTON_PARAMS,
+};
+
 const TlStepperOps tl_stepper_quasi_static_ops = {
     .header = {"stepper", "quasi_static", "quasi-static Newton with load stepping"},
     .implicit = 1,
@@ -259,4 +285,6 @@ const TlStepperOps tl_stepper_quasi_static_ops = {
     .initialise = qs_initialise,
     .step = qs_step,
     .destroy = qs_destroy,
+    .params = qs_params,
+    .n_params = (int)(sizeof qs_params / sizeof qs_params[0]),
 };

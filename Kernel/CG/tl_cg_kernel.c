@@ -1,6 +1,7 @@
 #include "tl_cg_kernel.h"
 
 #include <math.h>
+#include <stddef.h>
 #include "tl_math.h"
 #include "tl_memory.h"
 #include "tl_registry.h"
@@ -140,12 +141,30 @@ const TlCGKernelOps tl_cg_kernel_lucy_ops = {
     {TL_CG_KERNEL_KIND, "lucy", "Lucy polynomial of support c (Eq. 10)"}, 0, lucy_profile,
     lucy_moment, lucy_line};
 
+/* The width c, the argument of tl_cg_kernel_create (no default: the
+ * caller chooses it; NAN marks that in the table). */
+static const TlParam dirac_params[] = {
+    {"width", 0, 0, 0, "m", "the CG width c: 0 by definition (the point-source limit)", offsetof(TlCGKernel, c)}};
+static const TlParam heaviside_params[] = {
+    {"width", NAN, 0, 1e300, "m", "the CG width c (> 0, no default): radius of the ball", offsetof(TlCGKernel, c)}};
+static const TlParam gaussian_params[] = {
+    {"width", NAN, 0, 1e300, "m", "the CG width c (> 0, no default): cut-off radius; standard deviation c/3", offsetof(TlCGKernel, c)}};
+static const TlParam lucy_params[] = {
+    {"width", NAN, 0, 1e300, "m", "the CG width c (> 0, no default): radius of the support", offsetof(TlCGKernel, c)}};
+
+static TlStatus register_kernel(const TlCGKernelOps *ops, const TlParam *params)
+{
+  const TlTypeEntry e = {TL_CG_KERNEL_KIND, ops->header.name, ops->header.description, NULL, ops, params, 1};
+  TL_CHECK(tl_registry_register(&e));
+  return TL_OK;
+}
+
 TlStatus tl_cg_register_all(void)
 {
-  TL_CHECK(tl_registry_add(&tl_cg_kernel_dirac_ops.header));
-  TL_CHECK(tl_registry_add(&tl_cg_kernel_heaviside_ops.header));
-  TL_CHECK(tl_registry_add(&tl_cg_kernel_gaussian_ops.header));
-  TL_CHECK(tl_registry_add(&tl_cg_kernel_lucy_ops.header));
+  TL_CHECK(register_kernel(&tl_cg_kernel_dirac_ops, dirac_params));
+  TL_CHECK(register_kernel(&tl_cg_kernel_heaviside_ops, heaviside_params));
+  TL_CHECK(register_kernel(&tl_cg_kernel_gaussian_ops, gaussian_params));
+  TL_CHECK(register_kernel(&tl_cg_kernel_lucy_ops, lucy_params));
   return TL_OK;
 }
 

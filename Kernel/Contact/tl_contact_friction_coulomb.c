@@ -24,14 +24,14 @@ typedef struct {
 } Coulomb;
 
 static const TlParam params[] = {
-    {"mu", 0.5, 0.0, 1e300, "", "Coulomb friction coefficient (0: no friction)", offsetof(Coulomb, mu)},
+    {"mu", 0.5, 0.0, 1e300, "1", "Coulomb friction coefficient (0: no friction)", offsetof(Coulomb, mu)},
     {"k_t", 0.0, 0.0, 1e300, "N/m/scale",
      "tangential stiffness per unit of the normal part's scale (1 linear: N/m; sqrt(delta reff) hertz: Pa); "
      "0: the normal part's default", offsetof(Coulomb, k_t_given)},
     {"gamma_t", 0.0, 0.0, 1e300, "1/s/scale", "mass-proportional tangential damping, c_T = gamma_t m_eff scale",
      offsetof(Coulomb, gamma_t)},
     {"c_t", 0.0, 0.0, 1e300, "N s/m/scale", "tangential damping, c_T += c_t scale", offsetof(Coulomb, c_t)},
-    {"transport", 0.0, 0.0, 2.0, "",
+    {"transport", 0.0, 0.0, 2.0, "1",
      "time integration of the tangential force (Desrues et al. 2019): 0 project (Eq. 11), 1 rotate (Eq. 24, keeps |f_T| "
      "to second order in the tilt), 2 implicit (Eq. 12)", offsetof(Coulomb, transport_given)},
 };

@@ -45,8 +45,8 @@ static const TlParam params[] = {
     {"gamma_t", -1.0, -1.0, 1e300, "1/s/scale",
      "tangential damping per unit effective mass, LAMMPS gamma_t (times the normal part's scale); < 0: gamma_n / 2",
      offsetof(LammpsHistory, gamma_t_given)},
-    {"mu", 0.5, 0.0, 1e4, "", "Coulomb friction coefficient, LAMMPS xmu (0: no friction)", offsetof(LammpsHistory, mu)},
-    {"dampflag", 1.0, 0.0, 1.0, "", "LAMMPS dampflag: 1 tangential damping on, 0 off (gamma_t = 0)",
+    {"mu", 0.5, 0.0, 1e4, "1", "Coulomb friction coefficient, LAMMPS xmu (0: no friction)", offsetof(LammpsHistory, mu)},
+    {"dampflag", 1.0, 0.0, 1.0, "1", "LAMMPS dampflag: 1 tangential damping on, 0 off (gamma_t = 0)",
      offsetof(LammpsHistory, dampflag)},
 };
 

@@ -24,8 +24,8 @@ typedef struct {
 static const TlParam params[] = {
     {"gamma_t", -1.0, -1.0, 1e300, "1/s/scale",
      "tangential damping per unit effective mass, LAMMPS gamma_t; < 0: gamma_n / 2", offsetof(LammpsViscous, gamma_t_given)},
-    {"mu", 0.5, 0.0, 1e4, "", "Coulomb friction coefficient, LAMMPS xmu (0: no friction)", offsetof(LammpsViscous, mu)},
-    {"dampflag", 1.0, 0.0, 1.0, "", "LAMMPS dampflag: 1 tangential damping on, 0 off (then no tangential force)",
+    {"mu", 0.5, 0.0, 1e4, "1", "Coulomb friction coefficient, LAMMPS xmu (0: no friction)", offsetof(LammpsViscous, mu)},
+    {"dampflag", 1.0, 0.0, 1.0, "1", "LAMMPS dampflag: 1 tangential damping on, 0 off (then no tangential force)",
      offsetof(LammpsViscous, dampflag)},
 };
 

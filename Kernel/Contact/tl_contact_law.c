@@ -154,7 +154,7 @@ static void composed_describe(const TlContactLaw *base, char *text, size_t size)
     for (int i = 0; i < p->ops->n_params; ++i) {
       const TlParam *q = &p->ops->params[i];
       w = snprintf(text + used, size - used, " %s=%g%s%s", q->name, *(const double *)((const char *)p + q->offset),
-                   q->unit[0] ? " " : "", q->unit);
+                   q->unit[0] && strcmp(q->unit, "1") ? " " : "", strcmp(q->unit, "1") ? q->unit : "");
       if (w < 0 || (size_t)w >= size - used) return;
       used += (size_t)w;
     }

@@ -38,10 +38,10 @@ static const TlParam params[] = {
     {"k_n", 0.0, 0.0, 1e300, "Pa", "normal stiffness, F_n = k_n sqrt(reff) delta^1.5 (0: (2/3) E / (1 - nu^2))",
      offsetof(Hertz, k_n_given)},
     {"E", 0.0, 0.0, 1e300, "Pa", "Young's modulus of the grains (gives k_n and the default k_t)", offsetof(Hertz, E)},
-    {"nu", 0.3, -0.999999, 0.499999, "", "Poisson's ratio of the grains", offsetof(Hertz, nu)},
+    {"nu", 0.3, -0.999999, 0.499999, "1", "Poisson's ratio of the grains", offsetof(Hertz, nu)},
     {"gamma_n", 0.0, 0.0, 1e300, "1/(m s)", "viscous normal damping, F_n += sqrt(delta reff) gamma_n m_eff d(delta)/dt",
      offsetof(Hertz, gamma_n)},
-    {"tsuji_restitution", 1.0, 0.0, 1.0, "",
+    {"tsuji_restitution", 1.0, 0.0, 1.0, "1",
      "restitution e of a pair, independent of the impact speed (Tsuji's dashpot alpha(e) sqrt(m_eff K) delta^1/4); "
      "1: none (gamma_n instead)", offsetof(Hertz, restitution)},
 };

@@ -27,7 +27,7 @@ static const TlParam params[] = {
      offsetof(LammpsHertz, k_n)},
     {"gamma_n", 0.0, 0.0, 1e300, "1/(m s)",
      "normal damping, LAMMPS gamma_n: f_n -= sqrt(delta reff) m_eff gamma_n v_n", offsetof(LammpsHertz, gamma_n)},
-    {"limit_damping", 0.0, 0.0, 1.0, "", "1: the normal force is clamped at zero (LAMMPS limit_damping); 0: not",
+    {"limit_damping", 0.0, 0.0, 1.0, "1", "1: the normal force is clamped at zero (LAMMPS limit_damping); 0: not",
      offsetof(LammpsHertz, limit_damping)},
 };
 

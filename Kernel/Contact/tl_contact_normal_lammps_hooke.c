@@ -27,7 +27,7 @@ static const TlParam params[] = {
     {"k_n", 0.0, 0.0, 1e300, "N/m", "normal stiffness, LAMMPS Kn (required, > 0)", offsetof(LammpsHooke, k_n)},
     {"gamma_n", 0.0, 0.0, 1e300, "1/s", "normal damping per unit effective mass, LAMMPS gamma_n: f_n -= m_eff gamma_n v_n",
      offsetof(LammpsHooke, gamma_n)},
-    {"limit_damping", 0.0, 0.0, 1.0, "", "1: the normal force is clamped at zero (LAMMPS limit_damping); 0: not",
+    {"limit_damping", 0.0, 0.0, 1.0, "1", "1: the normal force is clamped at zero (LAMMPS limit_damping); 0: not",
      offsetof(LammpsHooke, limit_damping)},
 };
 

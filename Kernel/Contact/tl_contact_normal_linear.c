@@ -22,7 +22,7 @@ typedef struct {
 
 static const TlParam params[] = {
     {"k_n", 0.0, 0.0, 1e300, "N/m", "normal stiffness (required, > 0)", offsetof(Linear, k_n)},
-    {"restitution", 1.0, -1.0, 1.0, "",
+    {"restitution", 1.0, -1.0, 1.0, "1",
      "restitution e of a pair, giving the damping 2 eta sqrt(k_n m_eff); e = 1 or e <= 0: the explicit damping "
      "c_n + gamma_n m_eff instead", offsetof(Linear, restitution)},
     {"c_n", 0.0, 0.0, 1e300, "N s/m", "explicit normal damping (when the restitution gives none)",

@@ -11,7 +11,7 @@ typedef struct {
 } Rolling;
 
 static const TlParam params[] = {
-    {"mu_roll", 0.1, 0.0, 1e300, "", "rolling friction coefficient: couple mu_roll reff f_n (0: none)",
+    {"mu_roll", 0.1, 0.0, 1e300, "1", "rolling friction coefficient: couple mu_roll reff f_n (0: none)",
      offsetof(Rolling, mu_roll)},
 };
 

@@ -6,10 +6,11 @@
  * (world, particles, contact laws, walls, domains, the grid), coarse
  * graining, the finite elements (meshes, element types, materials, the
  * solid, steppers and solvers), the couplings (surface, volume, bridging
- * domain, FEM x DEM) and the input and output (LAMMPS data and STL files;
- * HDF5 snapshots of particles, meshes and walls with XDMF, time series,
- * checkpoints).  docs/tutorial/ shows a scene of each kind; docs/catalogue.md
- * lists every registered type with its parameters.
+ * domain, FEM x DEM), the input and output (LAMMPS data and STL files,
+ * particles from files; HDF5 snapshots of particles, meshes and walls with
+ * XDMF, time series, checkpoints) and the conveniences of tl_api.h.
+ * docs/tutorial/ shows a scene of each kind; docs/catalogue.md lists every
+ * registered type with its parameters.
  *
  * The headers are C11; from C++ they are included with C linkage.  The
  * standard headers they use come first, outside the extern "C" block, so
@@ -48,6 +49,7 @@ extern "C" {
 /* output */
 #include "tl_io.h"
 #include "tl_lammps_data.h"
+#include "tl_particle_files.h"
 #include "tl_stl.h"
 #include "tl_wall_snapshot.h"
 
@@ -96,6 +98,10 @@ extern "C" {
 #include "tl_nhl_cell.h"
 #include "tl_nhl_material.h"
 #include "tl_nhl_operator.h"
+
+/* the conveniences that compose these (a law with its settings, box walls,
+ * a scene's writer, walls from files, the volume-coupled loop) */
+#include "tl_api.h"
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 #include "tl_api.h"
 
 #include <math.h>
+
+#include "tl_registry.h"
 #include <limits.h>
 #include <stdio.h>
 #include <string.h>
@@ -18,6 +20,8 @@ size_t tl_api_sizeof(const char *type_name)
       {"TlCoupledEnergy", sizeof(TlCoupledEnergy)},
       {"TlEnergies", sizeof(TlEnergies)},
       {"TlWallSetting", sizeof(TlWallSetting)},
+      {"TlVCouplingDiag", sizeof(TlVCouplingDiag)},
+      {"TlVCouplingParams", sizeof(TlVCouplingParams)},
   };
   if (!type_name) return 0;
   for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k)
@@ -58,5 +62,24 @@ TlStatus tl_api_set_fields(const char *what, const TlApiField *table, int n_tabl
       memcpy(at, &l, sizeof l);
     }
   }
+  return TL_OK;
+}
+
+TlStatus tl_api_type_param(const char *kind, const char *name, int k, int *n, const char **pname, double *def,
+                           double *lo, double *hi, const char **unit, const char **help)
+{
+  const TlTypeEntry *e = NULL;
+  TL_CHECK(tl_registry_lookup(kind, name, &e));
+  if (n) *n = e->n_params;
+  if (k < 0) return TL_OK;
+  if (k >= e->n_params)
+    TL_ERROR(TL_ERR_ARG, "%s type '%s' has %d parameters, none of index %d", kind, name, e->n_params, k);
+  const TlParam *p = &e->params[k];
+  if (pname) *pname = p->name;
+  if (def) *def = p->def;
+  if (lo) *lo = p->lo;
+  if (hi) *hi = p->hi;
+  if (unit) *unit = p->unit ? p->unit : "";
+  if (help) *help = p->help ? p->help : "";
   return TL_OK;
 }

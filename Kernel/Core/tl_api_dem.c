@@ -94,14 +94,8 @@ TlStatus tl_api_particle_writer_write_dem(TlParticleWriter *writer, TlDem *dem, 
     tl_dem_stats(dem, &st);
     step = st.steps;
   }
-  const TlParticleView view = {.n = P->n,
-                               .position = P->x,
-                               .radius = P->radius,
-                               .velocity = P->v,
-                               .angular_velocity = P->w,
-                               .force = P->f,
-                               .torque = P->torque,
-                               .species = (const int *)P->species};
+  TlParticleView view;
+  tl_particle_view_of(P, &view); /* every allocated array, ids and species */
   TL_CHECK(tl_particle_writer_write(writer, step, tl_dem_time(dem), &view));
   return TL_OK;
 }

@@ -21,23 +21,13 @@ TlStatus tl_api_mesh_node_set(const TlMesh *mesh, const char *name, size_t *n, c
   return TL_OK;
 }
 
-#define FIELD(name, kind) {#name, kind, offsetof(TlStepperOptions, name)}
-static const TlApiField stepper_fields[] = {
-    FIELD(beta, 0),          FIELD(gamma, 0),         FIELD(rtol, 0),           FIELD(atol, 0),
-    FIELD(max_iterations, 2), FIELD(reuse, 2),        FIELD(keep_factors, 1),   FIELD(line_search, 1),
-    FIELD(nonlinear_solver, 1), FIELD(lumped, 1),     FIELD(predictor, 1),      FIELD(allow_unstable, 1),
-    FIELD(blowup, 0),        FIELD(critical_bound, 1), FIELD(ramp_time, 0),     FIELD(max_cuts, 1),
-};
-#undef FIELD
-
 TlStatus tl_api_stepper_create(const char *type, TlMechSystem *sys, const char *solver, size_t n,
                                const char *const *names, const double *values, TlStepper **st)
 {
   TlStepperOptions o;
   tl_stepper_options_default(&o);
   if (solver && solver[0]) o.solver = solver;
-  TL_CHECK(tl_api_set_fields("stepper", stepper_fields, (int)(sizeof stepper_fields / sizeof stepper_fields[0]), &o, n,
-                             names, values));
+  for (size_t k = 0; k < n; ++k) TL_CHECK(tl_stepper_options_set(&o, type, names[k], values[k]));
   TL_CHECK(tl_stepper_create(type, sys, &o, st));
   return TL_OK;
 }

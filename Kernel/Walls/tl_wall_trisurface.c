@@ -136,11 +136,11 @@ typedef struct {
 } TriSurfaceParams;
 
 static const TlParam tl_wall_trisurface_params[] = {
-    {"corrections", 1.0, 0.0, 1.0, "", "1: the triangle-edge corrections of Algorithm 1; 0: the naive sum",
+    {"corrections", 1.0, 0.0, 1.0, "1", "1: the triangle-edge corrections of Algorithm 1; 0: the naive sum",
      offsetof(TriSurfaceParams, corrections)},
-    {"brute_force", 0.0, 0.0, 1.0, "", "1: test every particle against every triangle (test oracle); 0: the grid",
+    {"brute_force", 0.0, 0.0, 1.0, "1", "1: test every particle against every triangle (test oracle); 0: the grid",
      offsetof(TriSurfaceParams, brute_force)},
-    {"drift", 0.0, 0.0, 1.0, "", "1: advance moves the vertices with their velocities; 0: the owner sets them",
+    {"drift", 0.0, 0.0, 1.0, "1", "1: advance moves the vertices with their velocities; 0: the owner sets them",
      offsetof(TriSurfaceParams, drift)},
     {"feature_angle", TL_TRISURFACE_FEATURE_ANGLE, 0.0, 180.0, "deg",
      "concave folds sharper than this are corners between faces, whose contacts add; flatter ones are folds of one "

@@ -45,6 +45,22 @@ class WallSetting(ctypes.Structure):
     _fields_ = [("name", ctypes.c_char_p), ("value", ctypes.c_double)]
 
 
+class VCouplingZone(ctypes.Structure):
+    _fields_ = [("axis", ctypes.c_int), ("lo", ctypes.c_double), ("hi", ctypes.c_double)]
+
+
+class VCouplingParams(ctypes.Structure):
+    _fields_ = [("zone", VCouplingZone), ("c", ctypes.c_double), ("kernel", ctypes.c_char_p),
+                ("epsilon", ctypes.c_double), ("quad_order", ctypes.c_int), ("per_element", ctypes.c_int)]
+
+
+class VCouplingDiag(ctypes.Structure):
+    _fields_ = [("n_active", ctypes.c_size_t), ("n_entries", ctypes.c_size_t), ("residual_max", ctypes.c_double),
+                ("residual_rms", ctypes.c_double), ("force_fem", ctypes.c_double * 3),
+                ("force_dem", ctypes.c_double * 3), ("eq41", ctypes.c_double), ("work_fem", ctypes.c_double),
+                ("work_dem", ctypes.c_double)]
+
+
 class TalusError(RuntimeError):
     """A Talus call failed.  `status` is the library's TlStatus code,
     `status_name` its name ("invalid argument", ...), and `message` the
@@ -87,6 +103,8 @@ _prototypes = {
     "tl_status_name": (ctypes.c_char_p, [ctypes.c_int]),
     "tl_registry_list": (ctypes.c_size_t, [ctypes.c_char_p, c_char_pp, ctypes.c_size_t]),
     "tl_api_sizeof": (ctypes.c_size_t, [ctypes.c_char_p]),
+    "tl_api_type_param": (S, [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int, c_int_p, c_char_pp, c_double_p,
+                              c_double_p, c_double_p, c_char_pp, c_char_pp]),
     # DEM world
     "tl_dem_create": (S, [handle_p]),
     "tl_dem_destroy": (None, [handle_p]),
@@ -115,6 +133,8 @@ _prototypes = {
     "tl_dem_coordination": (S, [handle, c_double_p, c_double_p]),
     "tl_dem_stats": (None, [handle, ctypes.POINTER(DemStats)]),
     "tl_api_dem_contacts": (S, [handle, ctypes.c_size_t, c_size_p] + [handle] * 5),
+    "tl_dem_add_bond": (S, [handle, ctypes.c_int64, ctypes.c_int64]),
+    "tl_dem_add_particles_from_file": (S, [handle, ctypes.c_char_p, ctypes.c_int, c_size_p]),
     # particles
     "tl_particles_add_species": (S, [handle, ctypes.c_char_p, ctypes.c_double, ctypes.c_double, ctypes.c_double,
                                      c_int_p]),
@@ -142,8 +162,14 @@ _prototypes = {
     "tl_trisurface_destroy": (None, [handle_p]),
     "tl_trisurface_set_vertices": (S, [handle, c_double_p, c_double_p]),
     "tl_wall_trisurface_set_surface": (S, [handle, handle]),
+    "tl_wall_trisurface_set_corrections": (S, [handle, ctypes.c_int]),
+    "tl_wall_trisurface_set_brute_force": (S, [handle, ctypes.c_int]),
+    "tl_wall_trisurface_set_drift": (S, [handle, ctypes.c_int]),
+    "tl_wall_trisurface_set_feature_angle": (S, [handle, ctypes.c_double]),
     "tl_wall_trisurface_surface": (handle, [handle]),
     "tl_api_trisurface_arrays": (None, [handle, handle_p, handle_p, c_size_p, handle_p, c_size_p]),
+    "tl_api_wall_from_file": (S, [ctypes.c_char_p, ctypes.c_double, c_double_p, c_double_p, ctypes.c_int,
+                                  ctypes.c_int, handle_p, c_double_p]),
     # meshes, materials, solids, steppers
     "tl_element_type_find": (S, [ctypes.c_char_p, handle_p]),
     "tl_mesh_create_box": (S, [handle, c_size_p, c_double_p, c_double_p, handle_p]),
@@ -166,6 +192,7 @@ _prototypes = {
     "tl_solid_system": (handle, [handle]),
     "tl_solid_total_mass": (ctypes.c_double, [handle]),
     "tl_solid_dofs_to_nodes": (None, [handle, c_double_p, c_double_p]),
+    "tl_solid_reactions": (S, [handle, ctypes.c_double, c_double_p, c_double_p, c_double_p]),
     "tl_api_stepper_create": (S, [ctypes.c_char_p, handle, ctypes.c_char_p, ctypes.c_size_t, c_char_pp, c_double_p,
                                   handle_p]),
     "tl_api_stepper_state": (None, [handle, c_double_p, c_size_p, handle_p, handle_p, handle_p]),
@@ -191,6 +218,12 @@ _prototypes = {
     "tl_coupled_loop_time": (ctypes.c_double, [handle]),
     "tl_api_coupled_loop_arrays": (None, [handle, handle_p, handle_p, handle_p]),
     "tl_api_coupled_loop_wall_force": (None, [handle, c_double_p]),
+    # volume coupling
+    "tl_api_vcoupled_create": (S, [handle, handle, ctypes.POINTER(VCouplingParams), ctypes.c_char_p, handle_p]),
+    "tl_api_vcoupled_stepper": (handle, [handle]),
+    "tl_api_vcoupled_u_nodes": (c_double_p, [handle]),
+    "tl_api_vcoupled_diag": (None, [handle, ctypes.POINTER(VCouplingDiag), c_double_p]),
+    "tl_api_vcoupled_destroy": (None, [handle_p]),
 }
 for _name, (_res, _args) in _prototypes.items():
     _f = getattr(lib, _name)
@@ -225,7 +258,8 @@ def named_settings(settings):
 
 # The plain-data structs mirrored above must match the library's.
 for _cls, _cname in ((Vec3, "TlVec3"), (DemEnergy, "TlDemEnergy"), (DemStats, "TlDemStats"),
-                     (CoupledEnergy, "TlCoupledEnergy"), (Energies, "TlEnergies"), (WallSetting, "TlWallSetting")):
+                     (CoupledEnergy, "TlCoupledEnergy"), (Energies, "TlEnergies"), (WallSetting, "TlWallSetting"),
+                     (VCouplingDiag, "TlVCouplingDiag"), (VCouplingParams, "TlVCouplingParams")):
     _size = lib.tl_api_sizeof(_cname.encode())
     if _size != ctypes.sizeof(_cls):
         raise ImportError(f"{path}: {_cname} is {_size} bytes in the library, {ctypes.sizeof(_cls)} in the "

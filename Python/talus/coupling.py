@@ -1,5 +1,6 @@
-"""The surface coupling of a DEM world and a solid (tl_scoupling.h) and
-the coupled time loop (tl_coupled_loop.h).
+"""The surface coupling of a DEM world and a solid (tl_scoupling.h), the
+coupled time loop (tl_coupled_loop.h) and the volume-coupled loop
+(tl_api_vcoupled_*, tl_vcoupling.h).
 
     sc = SurfaceCoupling(solid, exclude=["ymin"], width=0.0)
     sc.add_to(world, law=0)          # before world.setup()
@@ -107,3 +108,52 @@ class CoupledLoop(_lib.Handle):
     def positions(self):
         """Current node positions X + u (n_nodes, 3), m (a copy)."""
         return self.solid.mesh.nodes + self.u
+
+
+class VolumeCoupledLoop(_lib.Handle):
+    """A world's particles and a solid coupled through their volume
+    (TlVCoupling: Arlequin weights over the zone, a penalty tying the
+    particles' homogenised displacement to the elements'), stepped in
+    lock-step: after creation every world.step(n) also steps the solid by
+    the world's dt and applies the coupling forces to both.
+
+    Create it after the particles are in the world and before
+    world.setup(), over a Solid made with setup=False (material and
+    supports given): it sets the solid up and makes its own stepper
+    (`stepper`, default central_difference, at rest at t = 0).
+    zone = (axis, lo, hi): particle weight 1 below lo, 0 above hi along the
+    axis (0 x, 1 y, 2 z), in m; width: CG width c in m (0: the classical
+    Eq. 19); kernel: a CG kernel for c > 0; penalty in Pa/m^2."""
+
+    def __init__(self, world, solid, zone, penalty, width=0.0, kernel="lucy", quad_order=4, per_element=False,
+                 stepper="central_difference"):
+        self.world, self.solid = world, solid
+        self._init_handle("tl_api_vcoupled_destroy", borrowed=(world, solid))
+        self._kernel = cstr(kernel)  # the library keeps the name
+        p = _lib.VCouplingParams(_lib.VCouplingZone(int(zone[0]), float(zone[1]), float(zone[2])), float(width),
+                                 self._kernel, float(penalty), int(quad_order), int(bool(per_element)))
+        call("tl_api_vcoupled_create", world._h, solid._h, ctypes.byref(p), cstr(stepper), ctypes.byref(self._h))
+        from .fem import Stepper
+        st = Stepper.__new__(Stepper)  # the loop's own stepper, borrowed: freed with the loop
+        st.solid = solid
+        st._h = ctypes.c_void_p(lib.tl_api_vcoupled_stepper(self._h))
+        st._owner = self
+        self.stepper = st
+
+    @property
+    def u(self):
+        """Node displacements (n_nodes, 3) at the world's time: a read-only view of the loop's array."""
+        a = lib.tl_api_vcoupled_u_nodes(self._h)
+        return view(ctypes.cast(a, ctypes.c_void_p).value, self.solid.mesh.n_nodes, 3, 0, self, readonly=True)
+
+    def diag(self):
+        """The last step's coupling account: force_fem and force_dem (the
+        sums of the nodal and of the particle coupling forces, N), eq41
+        (|force_fem + force_dem| over the sum of |nodal forces|), the
+        largest eq41 so far, work_fem and work_dem (J), the coupled nodes
+        and Pi's entries."""
+        d, worst = _lib.VCouplingDiag(), ctypes.c_double()
+        lib.tl_api_vcoupled_diag(self._h, ctypes.byref(d), ctypes.byref(worst))
+        return {"force_fem": np.array(d.force_fem[:]), "force_dem": np.array(d.force_dem[:]), "eq41": d.eq41,
+                "eq41_max": worst.value, "work_fem": d.work_fem, "work_dem": d.work_dem, "n_active": d.n_active,
+                "n_entries": d.n_entries, "residual_max": d.residual_max}

@@ -114,6 +114,45 @@ class Wall(_lib.Handle):
         call("tl_wall_trisurface_set_surface", w._h, s)  # the wall owns the surface, also on failure
         return w
 
+    @classmethod
+    def from_file(cls, path, scale=1.0, rotation=None, shift=(0, 0, 0), repair=True, require_closed=False,
+                  **params):
+        """A triangulated wall from an STL (ASCII or binary) or Gmsh surface
+        file, placed as x <- rotation (scale x) + shift: scale 1e-3 for a
+        file in millimetres, rotation a 3 x 3 rotation matrix (None: none),
+        shift in m.  A defective surface is repaired (repair=True) or
+        refused naming the facet; require_closed refuses an open one.
+        `report` tells what repair found and did.  Parameters of the type
+        "trisurface" (corrections, feature_angle, ...) as for Wall()."""
+        rot = None
+        if rotation is not None:
+            rot = np.ascontiguousarray(rotation, dtype=np.float64).reshape(9)
+        sh = np.ascontiguousarray(shift, dtype=np.float64).reshape(3)
+        rep = (ctypes.c_double * 9)()
+        h = ctypes.c_void_p()
+        call("tl_api_wall_from_file", cstr(path), float(scale),
+             None if rot is None else rot.ctypes.data_as(_lib.c_double_p), sh.ctypes.data_as(_lib.c_double_p),
+             int(bool(repair)), int(bool(require_closed)), ctypes.byref(h), rep)
+        w = cls.__new__(cls)
+        w._init_handle("tl_wall_destroy")
+        w._h = h
+        w.type = "trisurface"
+        keys = ("vertices_merged", "triangles_removed", "triangles_flipped", "vertices_split", "nonmanifold_edges",
+                "holes", "boundary_edges", "closed")
+        w.report = {k: int(rep[i]) for i, k in enumerate(keys)}
+        w.report["closed"] = bool(w.report["closed"])
+        w.report["volume"] = rep[8]
+        for k, v in params.items():
+            setter = {"corrections": "tl_wall_trisurface_set_corrections",
+                      "brute_force": "tl_wall_trisurface_set_brute_force",
+                      "feature_angle": "tl_wall_trisurface_set_feature_angle",
+                      "drift": "tl_wall_trisurface_set_drift"}.get(k)
+            if setter is None:
+                raise _lib.TalusError(1, "invalid argument", f"Wall.from_file has no setting '{k}' (settings: "
+                                      "corrections, brute_force, feature_angle, drift)")
+            call(setter, w._h, float(v) if k == "feature_angle" else int(v))
+        return w
+
     def _surface_arrays(self):
         if self.type != "trisurface":  # its own type name: a trisurface wall made by the coupling too
             raise _lib.TalusError(10, "unsupported", f"a wall of type {self.type} has no vertices")
@@ -262,6 +301,22 @@ class World(_lib.Handle):
         self.reserve(self.n + x.shape[0])
         idx = [self.add_particle(x[k], v[k], r[k], species) for k in range(x.shape[0])]
         return self.id[idx].copy()
+
+    def add_particles_from_file(self, path, species=-1):
+        """Adds the particles of a LAMMPS data file (atom_style sphere or
+        granular) or of a Talus HDF5 particle snapshot (told by the file's
+        first bytes): positions, radii, velocities.  species >= 0 gives every
+        particle that species; -1 takes it from the file (LAMMPS type t is
+        species t - 1), each must exist in the world.  Masses follow from
+        the species' density; the world numbers the particles itself.
+        Returns how many were added."""
+        n = ctypes.c_size_t()
+        call("tl_dem_add_particles_from_file", self._h, cstr(path), int(species), ctypes.byref(n))
+        return n.value
+
+    def add_bond(self, id_a, id_b):
+        """A bond between the particles of ids id_a and id_b (for a bonded law)."""
+        call("tl_dem_add_bond", self._h, int(id_a), int(id_b))
 
     def remove_particle(self, index):
         """Removes particle `index`; the last particle moves into its slot."""

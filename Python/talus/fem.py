@@ -118,6 +118,16 @@ class Solid(_lib.Handle):
     def setup(self):
         call("tl_solid_setup", self._h)
 
+    def reactions(self, stepper, static=True):
+        """The reaction forces at the constrained node components at the
+        stepper's state (n_nodes, dim; 0 elsewhere): f_int(u) - f_ext, plus
+        M a unless static."""
+        t, n, u, v, a = stepper._state()
+        out = np.zeros((self.mesh.n_nodes, self.mesh.dim))
+        call("tl_solid_reactions", self._h, float(t), ctypes.cast(u, _lib.c_double_p),
+             None if static else ctypes.cast(a, _lib.c_double_p), out.ctypes.data_as(_lib.c_double_p))
+        return out
+
     def fix(self, node_set, mask=7):
         call("tl_solid_fix", self._h, cstr(node_set), int(mask))
 
@@ -126,16 +136,14 @@ class Solid(_lib.Handle):
         return lib.tl_solid_total_mass(self._h)
 
 
-STEPPER_OPTIONS = ("beta", "gamma", "rtol", "atol", "max_iterations", "reuse", "keep_factors", "line_search",
-                   "nonlinear_solver", "lumped", "predictor", "allow_unstable", "blowup", "critical_bound",
-                   "ramp_time", "max_cuts")
-
-
 class Stepper(_lib.Handle):
     """A registered time stepper over a solid (`talus.types("stepper")`:
     newmark, central_difference, quasi_static) with the library's default
-    options and the numeric ones given (STEPPER_OPTIONS, e.g.
-    keep_factors=1, rtol=1e-8) and a linear solver by name.  The state
+    options and the numeric ones given, each a parameter of the type
+    (`talus.parameters("stepper", type)`: e.g. keep_factors=1, rtol=1e-8
+    for newmark, blowup for central_difference; another name, a value out
+    of range or a fraction for an integer is refused) and a linear solver
+    by name.  The state
     starts at rest at t = 0."""
 
     def __init__(self, solid, type="newmark", solver=None, **options):

@@ -57,3 +57,29 @@ def test_state_errors():
 def _beam():
     mesh = talus.Mesh.box("hex8", (1, 2, 1), (0, 0, 0), (1, 2, 1))
     return talus.Solid(mesh, talus.Material("hooke", E=1e6, nu=0.3, density=1000.0), fix={"ymin": 7})
+
+
+def test_stepper_options_are_the_types_parameters():
+    import math
+    newmark = {p["name"]: p for p in talus.parameters("stepper", "newmark")}
+    assert newmark["beta"]["default"] == 0.25 and newmark["beta"]["hi"] == 0.5 and newmark["beta"]["unit"] == "1"
+    assert newmark["max_iterations"]["default"] == 30 and newmark["atol"]["unit"] == "N"
+    assert "blowup" not in newmark and "blowup" in [p["name"] for p in talus.parameters("stepper", "central_difference")]
+    width = talus.parameters("cg_kernel", "lucy")[0]
+    assert width["name"] == "width" and width["unit"] == "m" and math.isnan(width["default"])   # no default
+    with pytest.raises(talus.TalusError) as err:
+        talus.parameters("stepper", "no_such_stepper")
+    assert "no_such_stepper" in err.value.message and "newmark" in err.value.message
+    solid = _beam()
+    with pytest.raises(talus.TalusError) as err:
+        talus.Stepper(solid, "central_difference", beta=0.3)          # a setting the type does not read
+    assert "'beta'" in err.value.message and "blowup" in err.value.message
+    with pytest.raises(talus.TalusError) as err:
+        talus.Stepper(solid, "newmark", beta=0.7)                      # outside the table's range
+    assert "beta = 0.7 outside [0, 0.5]" in err.value.message
+    with pytest.raises(talus.TalusError) as err:
+        talus.Stepper(solid, "newmark", max_iterations=2.5)            # an integer field
+    assert "max_iterations = 2.5 is not an integer" in err.value.message
+    st = talus.Stepper(solid, "quasi_static", ramp_time=0.5, max_cuts=3)
+    st.step(1.0)
+    assert st.time == 1.0

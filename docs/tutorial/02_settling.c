@@ -22,50 +22,30 @@ static TlStatus run(const char *dir, double *ke_ratio, double *load_ratio)
     TlVec3 x = tl_v3((i % 5 + 0.5) * L / 5 + jx, (i / 5 % 5 + 0.5) * L / 5 + jy, 0.01 + (i / 25) * 2.4 * r);
     TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, 0), tl_species_sample_radius(&P->species_table[sand], &seed), sand, NULL));
   }
-  TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create("linear", "coulomb", NULL, NULL, &law));
-  TL_CHECK(tl_contact_law_set(law, "k_n", 2000));
-  TL_CHECK(tl_contact_law_set(law, "restitution", 0.3));
-  TL_CHECK(tl_contact_law_set(law, "mu", 0.4));
-  TL_CHECK(tl_contact_law_setup(law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
+  const TlSetting sand_law[] = {{"k_n", 2000}, {"restitution", 0.3}, {"mu", 0.4}}; /* N/m, 1, 1 */
+  TL_CHECK(tl_api_dem_add_law(dem, "linear", "coulomb", NULL, NULL, 3, sand_law, NULL)); /* law 0 */
   TlTriSurface *floor_surface; /* 8 x 8 squares, four triangles each, normal +z */
   TL_CHECK(tl_trisurface_create_rectangle(0, 0, L, L, 0, 8, 8, 2, &floor_surface));
   TlWall *w;
   TL_CHECK(tl_wall_trisurface_create(floor_surface, &w));
   TL_CHECK(tl_dem_add_wall(dem, w, 0));
-  const TlVec3 side[4][2] = {{{0, 0, 0}, {1, 0, 0}}, {{L, 0, 0}, {-1, 0, 0}}, {{0, 0, 0}, {0, 1, 0}}, {{0, L, 0}, {0, -1, 0}}};
-  for (int k = 0; k < 4; ++k) {
-    TL_CHECK(tl_wall_plane_create(side[k][0], side[k][1], &w));
-    TL_CHECK(tl_dem_add_wall(dem, w, 0));
-  }
-  TlDomain box; /* the scene's box: where the planes are drawn */
-  TL_CHECK(tl_domain_init_open(&box, tl_v3(0, 0, 0), tl_v3(L, L, 0.1)));
-  TL_CHECK(tl_dem_set_domain(dem, &box));
+  /* the scene's box, with planes of law 0 on its four sides (ParaView draws them over the box) */
+  TL_CHECK(tl_api_dem_set_box_walls(dem, tl_v3(0, 0, 0), tl_v3(L, L, 0.1), "xmin xmax ymin ymax", 0));
   TL_CHECK(tl_dem_set_timestep(dem, 1e-4, 0));
   TL_CHECK(tl_dem_setup(dem));
 
-  TlParticleWriter *pw;
-  TlWallWriter *ww;
+  TlSceneWriter *out; /* particles.xmf (with ids and species), walls.xmf (the floor and the four sides) */
   TlTimeSeries *ts;
-  char csv[4096];
-  snprintf(csv, sizeof csv, "%s/settling", dir);
   const TlColumn cols[] = {{"t", "s"}, {"kinetic", "J"}, {"wall_load", "N"}, {"weight", "N"}};
-  TL_CHECK(tl_particle_writer_create(dir, "particles", &pw));
-  TL_CHECK(tl_wall_writer_create(dir, "walls", &ww));
-  TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 4, cols, &ts));
+  TL_CHECK(tl_api_scene_writer_create(dir, dem, NULL, NULL, NULL, &out));
+  TL_CHECK(tl_api_timeseries_create(dir, "settling", 4, cols, &ts));
   double weight = 0, load = 0;
   for (size_t i = 0; i < P->n; ++i) weight += P->mass[i] * g;
   TlDemEnergy en;
   TL_CHECK(tl_dem_energy(dem, &en));
   const double e0 = en.gravitational;
   for (long step = 0; step <= 20000; ++step) {
-    if (step % 500 == 0) {
-      TlParticleView view;
-      tl_particle_view_of(P, &view); /* with ids and species */
-      TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
-      TL_CHECK(tl_wall_writer_write_dem(ww, step, dem)); /* the floor and the four sides */
-    }
+    if (step % 500 == 0) TL_CHECK(tl_api_scene_writer_write(out, step));
     load = 0;
     for (size_t k = 0; k < tl_dem_n_walls(dem); ++k) load -= tl_dem_wall(dem, k)->force.z;
     TL_CHECK(tl_dem_energy(dem, &en));
@@ -76,8 +56,7 @@ static TlStatus run(const char *dir, double *ke_ratio, double *load_ratio)
   *ke_ratio = (en.kinetic_translational + en.kinetic_rotational) / (e0 - en.gravitational);
   *load_ratio = load / weight;
   TL_CHECK(tl_timeseries_close(&ts));
-  tl_wall_writer_destroy(&ww);
-  tl_particle_writer_destroy(&pw);
+  tl_api_scene_writer_destroy(&out);
   tl_dem_destroy(&dem);
   return TL_OK;
 }

@@ -10,26 +10,16 @@
 static TlStatus run(const char *dir, double *tip_ratio, double *worst, double *reaction_ratio)
 {
   const double L = 2.0, b = 0.1, E = 2e11, rho = 7850, g = 9.81; /* m, m, Pa, kg/m^3, m/s^2 */
-  const size_t n[3] = {2, 20, 2};
-  const double lo[3] = {-b / 2, 0, -b / 2}, hi[3] = {b / 2, L, b / 2};
   TlMesh *mesh;
   TlMaterial *steel;
   TlSolid *beam;
-  TL_CHECK(tl_mesh_create_box(&tl_element_hex27, n, lo, hi, &mesh));
-  TL_CHECK(tl_material_create("hooke", &steel)); /* Poisson's ratio 0: beam theory's section */
-  TL_CHECK(tl_material_set(steel, "E", E));
-  TL_CHECK(tl_material_set(steel, "nu", 0.0));
-  TL_CHECK(tl_material_set(steel, "density", rho));
-  TL_CHECK(tl_material_setup(steel));
-  TL_CHECK(tl_solid_create(mesh, &beam));
-  TL_CHECK(tl_solid_set_material(beam, NULL, steel));
-  TL_CHECK(tl_solid_fix(beam, "ymin", 7)); /* x, y and z of the clamped end */
+  TL_CHECK(tl_mesh_create_box(&tl_element_hex27, (size_t[]){2, 20, 2}, (double[]){-b / 2, 0, -b / 2}, (double[]){b / 2, L, b / 2}, &mesh));
+  TL_CHECK(tl_material_create_hooke(E, 0.0, rho, &steel)); /* Poisson's ratio 0: beam theory's section */
+  TL_CHECK(tl_api_solid_create(mesh, steel, "ymin", &beam)); /* x, y and z of the end y = 0 clamped */
   TL_CHECK(tl_solid_add_gravity(beam, tl_v3(0, 0, -g)));
   TL_CHECK(tl_solid_setup(beam));
-  TlStepperOptions opt;
-  tl_stepper_options_default(&opt);
-  TlStepper *st;
-  TL_CHECK(tl_stepper_create("quasi_static", tl_solid_system(beam), &opt, &st));
+  TlStepper *st; /* the default options (NULL): docs/catalogue.md lists them */
+  TL_CHECK(tl_stepper_create("quasi_static", tl_solid_system(beam), NULL, &st));
   TL_CHECK(tl_stepper_set_state(st, 0.0, NULL, NULL));
   TL_CHECK(tl_stepper_step(st, 1.0));
 
@@ -39,11 +29,9 @@ static TlStatus run(const char *dir, double *tip_ratio, double *worst, double *r
   tl_solid_output_destroy(&out);
   /* beam theory: w(y) = q y^2 (6 L^2 - 4 L y + y^2) / (24 E I) + q (L y - y^2 / 2) / (kappa G A) */
   const double q = rho * g * b * b, I = b * b * b * b / 12, kGA = 5.0 / 6.0 * E / 2 * b * b;
-  char csv[4096];
-  snprintf(csv, sizeof csv, "%s/deflection", dir);
   const TlColumn cols[] = {{"y", "m"}, {"w_fem", "m"}, {"w_theory", "m"}};
   TlTimeSeries *ts;
-  TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 3, cols, &ts));
+  TL_CHECK(tl_api_timeseries_create(dir, "deflection", 3, cols, &ts));
   double w_tip = 0, w_tip_theory = 0;
   *worst = 0;
   for (size_t a = 0; a < mesh->n_nodes; ++a) { /* the nodes on the beam's axis */
@@ -73,7 +61,7 @@ static TlStatus run(const char *dir, double *tip_ratio, double *worst, double *r
 
 int main(int argc, char **argv)
 {
-  double tip, worst, reaction;
+  double tip = NAN, worst = NAN, reaction = NAN; /* set by run */
   if (tl_initialize() || run(argc > 1 ? argv[1] : "out_beam", &tip, &worst, &reaction)) {
     fprintf(stderr, "error: %s\n", tl_error_message());
     return 1;

@@ -5,27 +5,19 @@
  * load the beam through its SCoupling elements (Dirac limit, c = 0).
  * Checks: the force on the beam is minus the force on the grain at every
  * step, the coupled energy (grain + beam) is kept, the beam bends under the
- * grain.  Output: particles.xmf, beam.xmf, walls.xmf (the beam's surface as
- * the grain sees it), sliding.csv. */
+ * grain.  Output: particles.xmf, beam.xmf, walls.xmf, sliding.csv. */
 #include "talus.h"
 
 static TlStatus run(const char *dir, double *balance, double *drift, double *tip_ratio)
 {
   const double r = 0.1, k_n = 2e7, v0 = 3.0, g = 9.81; /* m, N/m, m/s, m/s^2 */
-  const size_t n[3] = {2, 12, 2};
-  const double lo[3] = {-0.4, 0, -0.4}, hi[3] = {0.4, 4.8, 0.4};
   TlMesh *mesh;
   TlMaterial *rubber;
   TlSolid *beam;
-  TL_CHECK(tl_mesh_create_box(&tl_element_hex8, n, lo, hi, &mesh));
+  TL_CHECK(tl_mesh_create_box(&tl_element_hex8, (size_t[]){2, 12, 2}, (double[]){-0.4, 0, -0.4}, (double[]){0.4, 4.8, 0.4}, &mesh));
   TL_CHECK(tl_material_create_hooke(1e8, 0.0, 1309.0, &rubber)); /* E (Pa), nu, density (kg/m^3) */
-  TL_CHECK(tl_solid_create(mesh, &beam));
-  TL_CHECK(tl_solid_set_material(beam, NULL, rubber));
-  TL_CHECK(tl_solid_fix(beam, "ymin", 7));
+  TL_CHECK(tl_api_solid_create(mesh, rubber, "ymin", &beam)); /* clamped at y = 0 */
   TL_CHECK(tl_solid_setup(beam));
-  TlSCoupling *sc; /* every boundary face but the clamped end */
-  const char *clamped[] = {"ymin"};
-  TL_CHECK(tl_scoupling_create_boundary(beam, 1, clamped, NULL, &sc));
 
   TlDem *dem;
   TL_CHECK(tl_dem_create(&dem));
@@ -35,68 +27,37 @@ static TlStatus run(const char *dir, double *balance, double *drift, double *tip
   TL_CHECK(tl_particles_add_species(P, "steel", 2e4, r, r, &steel));
   const double m = 2e4 * 4.0 / 3.0 * TL_PI * r * r * r; /* kg */
   TL_CHECK(tl_dem_add_particle(dem, tl_v3(0, 0.4, 0.4 + r - m * g / k_n), tl_v3(0, v0, 0), r, steel, NULL));
-  TlContactLaw *law;
-  TL_CHECK(tl_contact_law_create("linear", NULL, NULL, NULL, &law));
-  TL_CHECK(tl_contact_law_set(law, "k_n", k_n));
-  TL_CHECK(tl_contact_law_setup(law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  TL_CHECK(tl_scoupling_add_to_dem(sc, dem, 0)); /* the beam's surface becomes a wall of law 0 */
+  TL_CHECK(tl_api_dem_add_law(dem, "linear", NULL, NULL, NULL, 1, (TlSetting[]){{"k_n", k_n}}, NULL));
   TL_CHECK(tl_dem_set_timestep(dem, 0.02 * TL_PI * sqrt(m / k_n), 0));
-  TL_CHECK(tl_dem_setup(dem));
-  TlStepperOptions so;
-  tl_stepper_options_default(&so);
-  TlStepper *st;
-  TL_CHECK(tl_stepper_create("central_difference", tl_solid_system(beam), &so, &st));
-  TL_CHECK(tl_stepper_set_state(st, 0.0, NULL, NULL));
-  TlCoupledLoop *loop; /* one FEM step per DEM step */
-  TL_CHECK(tl_coupled_loop_create(dem, beam, st, 1, &sc, NULL, &loop));
+  TlSCoupledLoop *sc; /* the beam's surface but the clamped end becomes a wall of law 0; one FE step per DEM step */
+  TL_CHECK(tl_api_scoupled_create(dem, beam, "ymin", 0, "central_difference", &sc));
+  TlCoupledLoop *loop = tl_api_scoupled_loop(sc);
 
-  TlParticleWriter *pw;
-  TlSolidOutput *bw;
-  TlWallWriter *ww;
+  TlSceneWriter *out; /* particles.xmf, walls.xmf (the beam's surface as the grain sees it), beam.xmf */
   TlTimeSeries *ts;
-  char csv[4096];
-  snprintf(csv, sizeof csv, "%s/sliding", dir);
-  const TlColumn cols[] = {{"t", "s"}, {"y", "m"}, {"tip_w", "m"}, {"energy", "J"}};
-  TL_CHECK(tl_particle_writer_create(dir, "particles", &pw));
-  TL_CHECK(tl_solid_output_create(beam, dir, "beam", &bw));
-  TL_CHECK(tl_wall_writer_create(dir, "walls", &ww));
-  TL_CHECK(tl_timeseries_create(csv, TL_TIMESERIES_CSV, 4, cols, &ts));
+  TL_CHECK(tl_api_scene_writer_create(dir, dem, beam, tl_api_scoupled_stepper(sc), "beam", &out));
+  TL_CHECK(tl_api_timeseries_create(dir, "sliding", 4, (TlColumn[]){{"t", "s"}, {"y", "m"}, {"tip_w", "m"}, {"energy", "J"}}, &ts));
   TlCoupledEnergy e;
   TL_CHECK(tl_coupled_loop_energy(loop, &e));
   const double e0 = e.total, ke0 = 0.5 * m * v0 * v0;
-  double tip_min = 0;
-  *balance = *drift = 0;
+  double tip_min = *balance = *drift = 0;
   for (long step = 1; P->x[0].y < 4.0; ++step) {
     TL_CHECK(tl_coupled_loop_step(loop));
-    const double *F = tl_coupled_loop_forces(loop), *u = tl_coupled_loop_u_nodes(loop);
-    TlVec3 sum = tl_coupled_loop_wall_force(loop); /* on the grain; the beam's nodes get minus it */
-    for (size_t a = 0; a < mesh->n_nodes; ++a) sum = tl_v3_add(sum, tl_v3(F[3 * a], F[3 * a + 1], F[3 * a + 2]));
-    *balance = fmax(*balance, tl_v3_norm(sum) / (m * g));
+    *balance = fmax(*balance, tl_v3_norm(tl_api_coupled_loop_imbalance(loop, mesh->n_nodes)) / (m * g)); /* Eq. 41 */
     TL_CHECK(tl_coupled_loop_energy(loop, &e));
     *drift = fmax(*drift, fabs(e.total - e0) / ke0);
-    const double tip = u[3 * (mesh->n_nodes - 1) + 2]; /* the last node is at the free end */
+    const double tip = tl_coupled_loop_u_nodes(loop)[3 * (mesh->n_nodes - 1) + 2]; /* the last node: free end */
     tip_min = fmin(tip_min, tip);
     double row[4] = {tl_coupled_loop_time(loop), P->x[0].y, tip, e.total};
     if (step % 20 == 0) TL_CHECK(tl_timeseries_append(ts, row));
-    if (step % 500 == 0) {
-      TlParticleView view;
-      tl_particle_view_of(P, &view); /* with ids and species */
-      TL_CHECK(tl_particle_writer_write(pw, step, tl_dem_time(dem), &view));
-      TL_CHECK(tl_solid_output_write(bw, step, tl_dem_time(dem), st->u, st->v));
-      TL_CHECK(tl_wall_writer_write_dem(ww, step, dem));
-    }
+    if (step % 500 == 0) TL_CHECK(tl_api_scene_writer_write(out, step));
   }
   /* against the static deflection under the grain's weight at the free end, m g L^3 / (3 E I) */
   *tip_ratio = -tip_min / (m * g * pow(4.8, 3) / (3 * 1e8 * pow(0.8, 4) / 12));
   TL_CHECK(tl_timeseries_close(&ts));
-  tl_wall_writer_destroy(&ww);
-  tl_solid_output_destroy(&bw);
-  tl_particle_writer_destroy(&pw);
-  tl_coupled_loop_destroy(&loop);
-  tl_stepper_destroy(&st);
+  tl_api_scene_writer_destroy(&out);
+  tl_api_scoupled_destroy(&sc);
   tl_dem_destroy(&dem);
-  tl_scoupling_destroy(&sc);
   tl_solid_destroy(&beam);
   tl_material_destroy(&rubber);
   tl_mesh_destroy(&mesh);
