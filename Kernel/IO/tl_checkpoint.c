@@ -487,6 +487,21 @@ TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMe
   return TL_OK;
 }
 
+size_t tl_checkpoint_memory_count(const TlCheckpointMemory *mem) { return mem ? mem->n : 0; }
+
+TlStatus tl_checkpoint_memory_entry(TlCheckpointMemory *mem, size_t k, TlCheckpointEntry *entry)
+{
+  if (!mem || k >= mem->n)
+    TL_ERROR(TL_ERR_ARG, "%s: entry %zu of %zu", tl_ckpt_memory_name, k, mem ? mem->n : (size_t)0);
+  static const char kinds[] = {'d', 'i', 'b', 's'};
+  TlCkptEntry *e = &mem->entries[k];
+  entry->path = e->path;
+  entry->kind = kinds[e->kind];
+  entry->n = e->n;
+  entry->data = e->data;
+  return TL_OK;
+}
+
 /* ---------------------------------------------------------------- sections */
 typedef struct {
   char *name;

@@ -153,5 +153,18 @@ TlStatus tl_checkpoint_memory_save(TlCheckpointMemory *mem, const TlCheckpointOp
 TlStatus tl_checkpoint_memory_load(const TlCheckpointMemory *mem, const TlCheckpointOps *ops, void *object);
 /* dst = a copy of src. */
 TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMemory *src);
+/* The datasets of a memory checkpoint, in the order written: for a test that
+ * alters stored values in place and loads them again (the fuzz harness of
+ * the loaders; no HDF5 between the edit and the module's checks).  kind is
+ * 'd' (n doubles), 'i' (n int64), 'b' (n bytes) or 's' (a string of n - 1
+ * characters); data stays valid until mem is written again. */
+typedef struct {
+  const char *path;
+  char kind;
+  size_t n;
+  void *data;
+} TlCheckpointEntry;
+size_t tl_checkpoint_memory_count(const TlCheckpointMemory *mem);
+TlStatus tl_checkpoint_memory_entry(TlCheckpointMemory *mem, size_t k, TlCheckpointEntry *entry);
 
 #endif
