@@ -1,7 +1,9 @@
 #include "tl_checkpoint.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "tl_hdf5_util.h"
@@ -546,6 +548,23 @@ TlStatus tl_checkpoint_add(TlCheckpoint *cp, const char *name, const TlCheckpoin
   return TL_OK;
 }
 
+/* Fault injection for the kill-during-write self-tests: with
+ * TALUS_CHECKPOINT_KILL_AT=n in the environment, the n-th checkpoint this
+ * process writes is killed (SIGKILL) once its sections are written and
+ * flushed to the temporary file, before the rename: what a power cut or an
+ * OOM kill leaves. */
+static void tl_ckpt_maybe_kill(const TlCheckpointWriter *w)
+{
+  static long saves;
+  const char *at = getenv("TALUS_CHECKPOINT_KILL_AT");
+  ++saves;
+  if (!at || atol(at) != saves) return;
+  H5Fflush(w->file.id, H5F_SCOPE_GLOBAL);
+  fprintf(stderr, "TALUS_CHECKPOINT_KILL_AT=%s: killed while writing checkpoint %ld (%s)\n", at, saves, w->file.temp);
+  fflush(NULL);
+  raise(SIGKILL);
+}
+
 TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double time, int64_t step)
 {
   TlCheckpointWriter *w;
@@ -570,6 +589,7 @@ TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double tim
     }
   }
   tl_free(&names);
+  tl_ckpt_maybe_kill(w);
   TL_CHECK(tl_checkpoint_writer_commit(&w));
   return TL_OK;
 fail:

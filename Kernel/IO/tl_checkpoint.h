@@ -123,7 +123,10 @@ void tl_checkpoint_destroy(TlCheckpoint **checkpoint);
 /* Adds a section: `name` is its group in the file (unique, no '/'), object
  * is what ops->save/load receive.  The object must outlive the checkpoint. */
 TlStatus tl_checkpoint_add(TlCheckpoint *cp, const char *name, const TlCheckpointOps *ops, void *object);
-/* Writes every section, plus the time and step, atomically to path. */
+/* Writes every section, plus the time and step, atomically to path.  With
+ * TALUS_CHECKPOINT_KILL_AT=n in the environment the n-th save of the process
+ * kills it (SIGKILL) after its data reached the temporary file and before
+ * the rename: the kill-during-write self-tests. */
 TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double time, int64_t step);
 /* Restores every section from path; every added section must be present
  * with the same type.  time and step may be NULL. */
