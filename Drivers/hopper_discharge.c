@@ -25,12 +25,24 @@
  * particles_<i>_*.h5 + .xmf (ParaView, -snapshots per orifice).  Plot:
  * SelfTests/hopper_discharge/plot_hopper.py <output_dir>.  Last line:
  * summary: n=... rho_b=... W_1=... C=... k=... C_k_fixed=... (C for k = 1.5)
- * mass_balance_error=... */
+ * mass_balance_error=...
+ *
+ * Restart: -checkpoint_every n writes <output_dir>/checkpoint.h5 every n
+ * steps (counted over the whole run: the settling, then each discharge in
+ * turn; in the settling at the first 1000-step block at or after each
+ * multiple): the options, the world with its walls and contacts, the run's
+ * stage and step, the settled packing every discharge starts from, the
+ * results of the discharges done, and in a discharge its table, its snapshot
+ * series and its samples of m(t).  -restart <file> rebuilds the scene from
+ * the same options, loads the file and continues bit for bit; -stop_step n
+ * ends the run with a checkpoint at step n (in the settling: the first block
+ * end at or after it). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "talus.h"
+#include "tl_options_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_particle_snapshot.h"
 #include "tl_stl.h"
@@ -44,7 +56,8 @@ typedef struct {
   double d_min, d_max, density, E, mu, restitution, radius, t_settle, t_discharge, dt_fraction, lid_speed;
   double orifice[MAX_ORIFICES]; /* in mean diameters */
   int n_orifices, threads;
-  const char *out, *stl;
+  long checkpoint_every, stop_step;
+  const char *out, *stl, *restart;
 } Settings;
 
 static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
@@ -81,6 +94,12 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   s->threads = (int)th;
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/hopper_discharge", "output folder", &s->out));
   TL_CHECK(tl_output_dir_check(s->out));
+  TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
+                              "write <output_dir>/checkpoint.h5 every n steps of the run (settling, then the "
+                              "discharges; 0: never)", &s->checkpoint_every));
+  TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
+  TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000,
+                              "stop with a checkpoint at this step of the run (0: run to the end)", &s->stop_step));
   TL_CHECK(tl_options_finish(*o, stdout));
   if (!(s->d_max >= s->d_min)) TL_ERROR(TL_ERR_ARG, "-d_max %g is smaller than -d_min %g", s->d_max, s->d_min);
   double dm = 0.5 * (s->d_min + s->d_max);
@@ -234,15 +253,131 @@ typedef struct {
   int clogged;
 } Discharge;
 
-/* One discharge from the settled state (x, v, radius of n grains). */
-static TlStatus discharge(const Settings *s, int index, double D, const char *stl, double top, size_t n, const TlVec3 *x,
-                          const TlVec3 *v, const double *radius, Discharge *out)
+/* Where the run is, checkpointed with it: the stage (0 the settling, 1 + i
+ * discharge i), the step to continue with in it, the steps of the stages
+ * done; the settled packing and its figures; the results of the discharges
+ * done; in a discharge, its samples of m(t) and its accumulators. */
+typedef struct {
+  const Settings *s;
+  int64_t stage, k, done_steps, ns;
+  size_t n_settled, cap;
+  double rho_b, kinetic, total, removed, last_change, last_out;
+  TlVec3 *x, *v;
+  double *radius, *tt, *mm;
+  Discharge res[MAX_ORIFICES];
+  int stopped;
+} Hopper;
+
+enum { H_INTS = 5, H_REALS = 6, H_RESULT = 6 };
+
+static TlStatus hopper_save(const void *object, TlCheckpointWriter *w, const char *group)
 {
+  const Hopper *h = object;
+  const int64_t iv[H_INTS] = {h->stage, h->k, h->done_steps, h->ns, (int64_t)h->n_settled};
+  const double rv[H_REALS] = {h->rho_b, h->kinetic, h->total, h->removed, h->last_change, h->last_out};
+  double res[H_RESULT * MAX_ORIFICES];
+  for (int i = 0; i < MAX_ORIFICES; ++i) {
+    const Discharge *d = &h->res[i];
+    const double a[H_RESULT] = {d->W, d->t_flow, d->mass_out, d->mass_left, d->balance_error, (double)d->clogged};
+    memcpy(res + H_RESULT * i, a, sizeof a);
+  }
+  TL_CHECK(tl_checkpoint_write_int64s(w, group, "position", H_INTS, iv));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "figures", H_REALS, rv));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "results", H_RESULT * MAX_ORIFICES, res));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "sample_t", (size_t)h->ns, h->tt));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "sample_m", (size_t)h->ns, h->mm));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "settled_x", 3 * h->n_settled, (const double *)h->x));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "settled_v", 3 * h->n_settled, (const double *)h->v));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "settled_radius", h->n_settled, h->radius));
+  return TL_OK;
+}
+
+/* Every value checked before the run uses it (a checkpoint is input). */
+static TlStatus hopper_load(void *object, TlCheckpointReader *r, const char *group)
+{
+  Hopper *h = object;
+  const Settings *s = h->s;
+  int64_t iv[H_INTS];
+  double rv[H_REALS], res[H_RESULT * MAX_ORIFICES];
+  TL_CHECK(tl_checkpoint_read_int64s(r, group, "position", H_INTS, iv));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "position[0] (stage)", iv[0], 0, s->n_orifices));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "position[1] (step)", iv[1], 0, INT64_MAX / 4));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "position[2] (steps done)", iv[2], 0, INT64_MAX / 4));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "position[3] (samples)", iv[3], 0, 100000000));
+  TL_CHECK(tl_checkpoint_check_count(r, group, "position[4] (settled grains)", iv[4], iv[0] > 0 ? s->n : 0, s->n));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "figures", H_REALS, rv));
+  /* the bulk density is undefined (NaN) for a bed too low for its core */
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "figures", H_REALS - 1, rv + 1));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "results", H_RESULT * MAX_ORIFICES, res));
+  for (int i = 0; i < H_RESULT * MAX_ORIFICES; ++i)
+    if (!(i % H_RESULT == 0 && isnan(res[i]))) /* W is undefined without a steady flow */
+      TL_CHECK(tl_checkpoint_check_finite(r, group, "results", 1, &res[i]));
+  const size_t ns = (size_t)iv[3], n = (size_t)iv[4];
+  if (ns > h->cap) {
+    TL_CHECK(tl_realloc(&h->tt, ns, sizeof *h->tt));
+    TL_CHECK(tl_realloc(&h->mm, ns, sizeof *h->mm));
+    h->cap = ns;
+  }
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "sample_t", ns, h->tt));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "sample_m", ns, h->mm));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "sample_t", ns, h->tt));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "sample_m", ns, h->mm));
+  if (n != h->n_settled) {
+    TL_CHECK(tl_realloc(&h->x, n ? n : 1, sizeof *h->x));
+    TL_CHECK(tl_realloc(&h->v, n ? n : 1, sizeof *h->v));
+    TL_CHECK(tl_realloc(&h->radius, n ? n : 1, sizeof *h->radius));
+    h->n_settled = n;
+  }
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "settled_x", 3 * n, (double *)h->x));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "settled_v", 3 * n, (double *)h->v));
+  TL_CHECK(tl_checkpoint_read_doubles(r, group, "settled_radius", n, h->radius));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "settled_x", 3 * n, (const double *)h->x));
+  TL_CHECK(tl_checkpoint_check_finite(r, group, "settled_v", 3 * n, (const double *)h->v));
+  TL_CHECK(tl_checkpoint_check_positive(r, group, "settled_radius", n, h->radius, 0));
+  h->stage = iv[0], h->k = iv[1], h->done_steps = iv[2], h->ns = iv[3];
+  h->rho_b = rv[0], h->kinetic = rv[1], h->total = rv[2], h->removed = rv[3], h->last_change = rv[4];
+  h->last_out = rv[5];
+  for (int i = 0; i < MAX_ORIFICES; ++i) {
+    const double *a = res + H_RESULT * i;
+    h->res[i] = (Discharge){a[0], a[1], a[2], a[3], a[4], a[5] != 0.0};
+  }
+  return TL_OK;
+}
+
+static const TlCheckpointOps hopper_checkpoint_ops = {
+    .header = {"checkpoint", "hopper_discharge_v1", "stage, step, settled packing and results of hopper_discharge"},
+    .save = hopper_save,
+    .load = hopper_load,
+};
+
+/* At a step where the run may checkpoint (cum: the step of the whole run):
+ * a checkpoint at each multiple of -checkpoint_every crossed since the last
+ * chance (prev), and at -stop_step, which ends the run. */
+static TlStatus maybe_checkpoint(Hopper *h, const TlCheckpoint *cp, double t, int64_t prev, int64_t cum)
+{
+  const Settings *s = h->s;
+  const long ce = s->checkpoint_every;
+  h->stopped = s->stop_step > 0 && cum >= s->stop_step;
+  if ((ce > 0 && cum / ce > prev / ce) || h->stopped) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/checkpoint.h5", s->out);
+    TL_CHECK(tl_checkpoint_save(cp, path, t, cum));
+  }
+  return TL_OK;
+}
+
+/* One discharge from the settled state (h->x, v, radius); from the
+ * checkpoint `restart` when given (its stage is this discharge). */
+static TlStatus discharge(Hopper *h, TlOptions *o, int index, double D, const char *stl, double top,
+                          const char *restart, Discharge *out)
+{
+  const Settings *s = h->s;
+  const size_t n = h->n_settled;
   TlDem *dem = NULL;
   TlWall *lid = NULL;
   TlParticleWriter *writer = NULL;
   TlTimeSeries *ts = NULL;
-  double *tt = NULL, *mm = NULL;
+  TlCheckpoint *cp = NULL;
   TlStatus st = TL_OK;
   TlSurfaceReport rep;
   TL_CHECK_GOTO(st, make_world(s, stl, top, &dem, &lid, &rep), done);
@@ -251,7 +386,7 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
   TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s->density, 0.5 * s->d_min, 0.5 * s->d_max, &sp), done);
   TL_CHECK_GOTO(st, tl_particles_reserve(P, n), done);
   double total = 0.0;
-  for (size_t i = 0; i < n; ++i) TL_CHECK_GOTO(st, tl_dem_add_particle(dem, x[i], v[i], radius[i], sp, NULL), done);
+  for (size_t i = 0; i < n; ++i) TL_CHECK_GOTO(st, tl_dem_add_particle(dem, h->x[i], h->v[i], h->radius[i], sp, NULL), done);
   for (size_t i = 0; i < P->n; ++i) total += P->mass[i];
   TL_CHECK_GOTO(st, tl_wall_plane_set_velocity(lid, tl_v3(0, 0, -s->lid_speed)), done);
   double dt = 0.0;
@@ -267,17 +402,42 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
   const long steps = (long)ceil(s->t_discharge / dt);
   const long snap_every = s->snapshots > 0 ? (long)fmax(1.0, (double)steps / (double)s->snapshots) : 0;
   const double z_remove = -4.0 * s->d_max;
-  size_t cap = (size_t)(steps / every) + 4, ns = 0;
-  TL_CHECK_GOTO(st, tl_calloc(&tt, cap, sizeof *tt), done);
-  TL_CHECK_GOTO(st, tl_calloc(&mm, cap, sizeof *mm), done);
-  double removed = 0.0, last_change = 0.0, last_out = -1.0;
+  size_t cap = (size_t)(steps / every) + 4;
+  if (cap > h->cap) {
+    TL_CHECK_GOTO(st, tl_realloc(&h->tt, cap, sizeof *h->tt), done);
+    TL_CHECK_GOTO(st, tl_realloc(&h->mm, cap, sizeof *h->mm), done);
+    h->cap = cap;
+  }
+  h->k = 0, h->ns = 0, h->total = total, h->removed = 0.0, h->last_change = 0.0, h->last_out = -1.0;
+  TL_CHECK_GOTO(st, tl_checkpoint_create(&cp), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "hopper", &hopper_checkpoint_ops, h), done);
+  TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "table", &tl_timeseries_checkpoint_ops, ts), done);
+  if (writer) TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "snapshots", &tl_particle_writer_checkpoint_ops, writer), done);
+  if (restart) {
+    TL_CHECK_GOTO(st, tl_checkpoint_load(cp, restart, NULL, NULL), done);
+    if ((size_t)h->ns > cap || h->total != total) {
+      st = tl_error_set(TL_ERR_FORMAT, __FILE__, __LINE__, "checkpoint %s: %lld samples (at most %zu) and a mass of "
+                        "%.17g kg (this scene %.17g kg) do not fit this discharge", restart, (long long)h->ns, cap,
+                        h->total, total);
+      goto done;
+    }
+    tl_printf("restarted from %s at step %lld of discharge %d\n", restart, (long long)h->k, index);
+  }
   TlProgress prog;
   char label[64];
   snprintf(label, sizeof label, "discharge D = %.3g mm", 1e3 * D);
   tl_progress_init(&prog, label, (double)steps);
   out->clogged = 0;
-  long k = 0;
+  const long k0 = (long)h->k;
+  long k = k0;
   for (;; ++k) {
+    if (k > k0) {
+      h->k = k;
+      TL_CHECK_GOTO(st, maybe_checkpoint(h, cp, tl_dem_time(dem), h->done_steps + k - 1, h->done_steps + k), done);
+      if (h->stopped) goto done;
+    }
     if (k % every == 0) {
       /* discharged: removed, or centre below the orifice plane */
       double inside = 0.0;
@@ -286,10 +446,10 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
       double t = tl_dem_time(dem), mout = total - inside;
       double row[3] = {t, mout, (double)P->n};
       TL_CHECK_GOTO(st, tl_timeseries_append(ts, row), done);
-      if (ns < cap) tt[ns] = t, mm[ns] = mout, ++ns;
-      if (mout > last_out) last_out = mout, last_change = t;
+      if ((size_t)h->ns < cap) h->tt[h->ns] = t, h->mm[h->ns] = mout, ++h->ns;
+      if (mout > h->last_out) h->last_out = mout, h->last_change = t;
       if (mout >= 0.9 * total) break;
-      if (t - last_change > 0.2) { /* no grain out for 0.2 s: an arch blocks the orifice */
+      if (t - h->last_change > 0.2) { /* no grain out for 0.2 s: an arch blocks the orifice */
         out->clogged = 1;
         break;
       }
@@ -303,13 +463,16 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
     TL_CHECK_GOTO(st, tl_dem_step(dem, 1), done);
     for (size_t i = P->n; i-- > 0;)
       if (P->x[i].z < z_remove) {
-        removed += P->mass[i];
+        h->removed += P->mass[i];
         TL_CHECK_GOTO(st, tl_dem_remove_particle(dem, i), done);
       }
     if (k % 500 == 0) tl_progress_update(&prog, (double)k);
   }
   tl_progress_finish(&prog);
+  h->k = k;
   /* steady part: between 15% and 60% of the mass out */
+  const size_t ns = (size_t)h->ns;
+  const double *tt = h->tt, *mm = h->mm;
   size_t i0 = 0, i1 = 0;
   while (i0 < ns && mm[i0] < 0.15 * total) ++i0;
   i1 = i0;
@@ -321,15 +484,14 @@ static TlStatus discharge(const Settings *s, int index, double D, const char *st
   out->mass_out = total - left;
   out->mass_left = left;
   /* every grain is in the world or was removed */
-  out->balance_error = fabs(left + removed - total) / total;
+  out->balance_error = fabs(left + h->removed - total) / total;
 done:
+  tl_checkpoint_destroy(&cp);
   if (ts) {
     TlStatus sc = tl_timeseries_close(&ts);
     if (st == TL_OK) st = sc;
   }
   tl_particle_writer_destroy(&writer);
-  tl_free(&tt);
-  tl_free(&mm);
   tl_dem_destroy(&dem);
   return st;
 }
@@ -346,8 +508,8 @@ static TlStatus run(int argc, char **argv)
   }
   TlDem *dem = NULL;
   TlSurfaceMesh *fill = NULL, *hop = NULL;
-  double *sites = NULL, *radius = NULL;
-  TlVec3 *x = NULL, *v = NULL;
+  double *sites = NULL;
+  TlCheckpoint *cp = NULL;
   FILE *rates = NULL;
   const double dm = 0.5 * (s.d_min + s.d_max), g = 9.81;
   TL_CHECK_GOTO(st, tl_output_dir_prepare(s.out), done);
@@ -381,62 +543,97 @@ static TlStatus run(int argc, char **argv)
     tl_printf(" %g mm%s", 1e3 * s.orifice[k] * dm, k + 1 == s.n_orifices ? "\n" : ",");
     tl_surface_mesh_destroy(&hop);
   }
-  /* settle on the lid */
-  TlWall *lid = NULL;
-  TlSurfaceReport rep;
-  TL_CHECK_GOTO(st, make_world(&s, stl[0], top, &dem, &lid, &rep), done);
-  tl_printf("hopper surface: %s, closed %d, repaired (%zu vertices merged, %zu triangles removed, %zu flipped, %zu holes)\n",
-            stl[0], rep.closed, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped, rep.holes);
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp), done);
-  TL_CHECK_GOTO(st, tl_particles_reserve(P, (size_t)s.n), done);
-  uint64_t rng = 2026;
-  for (long i = 0; i < s.n; ++i) {
-    double r = tl_species_sample_radius(&P->species_table[sp], &rng);
-    TlVec3 xi = tl_v3(sites[3 * i], sites[3 * i + 1], sites[3 * i + 2]);
-    TlVec3 vi = tl_v3(0.05 * (tl_random_uniform(&rng) - 0.5), 0.05 * (tl_random_uniform(&rng) - 0.5), 0.0);
-    TL_CHECK_GOTO(st, tl_dem_add_particle(dem, xi, vi, r, sp, NULL), done);
+  Hopper h;
+  memset(&h, 0, sizeof h);
+  h.s = &s;
+  if (s.restart[0]) {
+    /* the stage first: it says what to rebuild */
+    TlCheckpoint *head = NULL;
+    st = tl_checkpoint_create(&head);
+    if (st == TL_OK) st = tl_checkpoint_add(head, "options", &tl_options_checkpoint_ops, o);
+    if (st == TL_OK) st = tl_checkpoint_add(head, "hopper", &hopper_checkpoint_ops, &h);
+    if (st == TL_OK) st = tl_checkpoint_load(head, s.restart, NULL, NULL);
+    tl_checkpoint_destroy(&head);
+    if (st != TL_OK) goto done;
   }
-  double dt = 0.0;
-  TL_CHECK_GOTO(st, timestep(&s, dem, &dt), done);
-  TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
-  long settle_steps = (long)ceil(s.t_settle / dt);
-  tl_printf("hopper_discharge: %ld grains, d in [%g, %g] m, k_n = %g N/m, dt = %g s, settling %ld steps\n", s.n, s.d_min,
-            s.d_max, s.E * dm, dt, settle_steps);
-  TlProgress prog;
-  tl_progress_init(&prog, "settle", (double)settle_steps);
-  for (long k = 0; k < settle_steps; k += 1000) {
-    TL_CHECK_GOTO(st, tl_dem_step(dem, settle_steps - k < 1000 ? settle_steps - k : 1000), done);
-    tl_progress_update(&prog, (double)k);
+  const int64_t first_stage = h.stage;
+  double rho_b = h.rho_b, kinetic = h.kinetic;
+  size_t n = h.n_settled;
+  if (h.stage == 0) {
+    /* settle on the lid */
+    TlWall *lid = NULL;
+    TlSurfaceReport rep;
+    TL_CHECK_GOTO(st, make_world(&s, stl[0], top, &dem, &lid, &rep), done);
+    tl_printf("hopper surface: %s, closed %d, repaired (%zu vertices merged, %zu triangles removed, %zu flipped, %zu holes)\n",
+              stl[0], rep.closed, rep.vertices_merged, rep.triangles_removed, rep.triangles_flipped, rep.holes);
+    TlParticles *P = tl_dem_particles(dem);
+    int sp;
+    TL_CHECK_GOTO(st, tl_particles_add_species(P, "grains", s.density, 0.5 * s.d_min, 0.5 * s.d_max, &sp), done);
+    TL_CHECK_GOTO(st, tl_particles_reserve(P, (size_t)s.n), done);
+    uint64_t rng = 2026;
+    for (long i = 0; i < s.n; ++i) {
+      double r = tl_species_sample_radius(&P->species_table[sp], &rng);
+      TlVec3 xi = tl_v3(sites[3 * i], sites[3 * i + 1], sites[3 * i + 2]);
+      TlVec3 vi = tl_v3(0.05 * (tl_random_uniform(&rng) - 0.5), 0.05 * (tl_random_uniform(&rng) - 0.5), 0.0);
+      TL_CHECK_GOTO(st, tl_dem_add_particle(dem, xi, vi, r, sp, NULL), done);
+    }
+    double dt = 0.0;
+    TL_CHECK_GOTO(st, timestep(&s, dem, &dt), done);
+    TL_CHECK_GOTO(st, tl_dem_setup(dem), done);
+    long settle_steps = (long)ceil(s.t_settle / dt);
+    tl_printf("hopper_discharge: %ld grains, d in [%g, %g] m, k_n = %g N/m, dt = %g s, settling %ld steps\n", s.n, s.d_min,
+              s.d_max, s.E * dm, dt, settle_steps);
+    TL_CHECK_GOTO(st, tl_checkpoint_create(&cp), done);
+    TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "options", &tl_options_checkpoint_ops, o), done);
+    TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem), done);
+    TL_CHECK_GOTO(st, tl_checkpoint_add(cp, "hopper", &hopper_checkpoint_ops, &h), done);
+    if (s.restart[0]) {
+      TL_CHECK_GOTO(st, tl_checkpoint_load(cp, s.restart, NULL, NULL), done);
+      tl_printf("restarted from %s at step %lld of the settling\n", s.restart, (long long)h.k);
+    }
+    TlProgress prog;
+    tl_progress_init(&prog, "settle", (double)settle_steps);
+    for (long k = (long)h.k; k < settle_steps; k += 1000) {
+      const long b = settle_steps - k < 1000 ? settle_steps - k : 1000;
+      TL_CHECK_GOTO(st, tl_dem_step(dem, b), done);
+      tl_progress_update(&prog, (double)k);
+      h.k = k + b;
+      TL_CHECK_GOTO(st, maybe_checkpoint(&h, cp, tl_dem_time(dem), k, h.k), done);
+      if (h.stopped) break;
+    }
+    tl_progress_finish(&prog);
+    tl_checkpoint_destroy(&cp);
+    if (h.stopped) goto stopped;
+    TlDemEnergy en;
+    TL_CHECK_GOTO(st, tl_dem_energy(dem, &en), done);
+    /* bulk density: grains whose centre lies in the core of the bed (2 d_max
+     * from the walls and from the bed's bottom and top) */
+    double bed_top = 0.0, mass_core = 0.0;
+    for (size_t i = 0; i < P->n; ++i) bed_top = fmax(bed_top, P->x[i].z + P->radius[i]);
+    double rc = s.radius - 2 * s.d_max, zc0 = 2 * s.d_max, zc1 = bed_top - 2 * s.d_max;
+    for (size_t i = 0; i < P->n; ++i) {
+      TlVec3 p = P->x[i];
+      if (p.x * p.x + p.y * p.y < rc * rc && p.z > zc0 && p.z < zc1) mass_core += P->mass[i];
+    }
+    rho_b = zc1 > zc0 ? mass_core / (TL_PI * rc * rc * (zc1 - zc0)) : NAN;
+    kinetic = en.kinetic_translational + en.kinetic_rotational;
+    tl_printf("settled: bed height %.4g m, bulk density %.4g kg/m^3 (packing fraction %.3f), kinetic energy %.3g J\n", bed_top,
+              rho_b, rho_b / s.density, kinetic);
+    n = P->n;
+    TL_CHECK_GOTO(st, tl_calloc(&h.x, n, sizeof *h.x), done);
+    TL_CHECK_GOTO(st, tl_calloc(&h.v, n, sizeof *h.v), done);
+    TL_CHECK_GOTO(st, tl_calloc(&h.radius, n, sizeof *h.radius), done);
+    memcpy(h.x, P->x, n * sizeof *h.x);
+    memcpy(h.v, P->v, n * sizeof *h.v);
+    memcpy(h.radius, P->radius, n * sizeof *h.radius);
+    h.n_settled = n;
+    h.rho_b = rho_b, h.kinetic = kinetic;
+    h.done_steps = settle_steps, h.stage = 1, h.k = 0;
+    tl_dem_destroy(&dem);
   }
-  tl_progress_finish(&prog);
-  TlDemEnergy en;
-  TL_CHECK_GOTO(st, tl_dem_energy(dem, &en), done);
-  /* bulk density: grains whose centre lies in the core of the bed (2 d_max
-   * from the walls and from the bed's bottom and top) */
-  double bed_top = 0.0, mass_core = 0.0;
-  for (size_t i = 0; i < P->n; ++i) bed_top = fmax(bed_top, P->x[i].z + P->radius[i]);
-  double rc = s.radius - 2 * s.d_max, zc0 = 2 * s.d_max, zc1 = bed_top - 2 * s.d_max;
-  for (size_t i = 0; i < P->n; ++i) {
-    TlVec3 p = P->x[i];
-    if (p.x * p.x + p.y * p.y < rc * rc && p.z > zc0 && p.z < zc1) mass_core += P->mass[i];
-  }
-  double rho_b = zc1 > zc0 ? mass_core / (TL_PI * rc * rc * (zc1 - zc0)) : NAN;
-  double kinetic = en.kinetic_translational + en.kinetic_rotational;
-  tl_printf("settled: bed height %.4g m, bulk density %.4g kg/m^3 (packing fraction %.3f), kinetic energy %.3g J\n", bed_top,
-            rho_b, rho_b / s.density, kinetic);
-  size_t n = P->n;
-  TL_CHECK_GOTO(st, tl_calloc(&x, n, sizeof *x), done);
-  TL_CHECK_GOTO(st, tl_calloc(&v, n, sizeof *v), done);
-  TL_CHECK_GOTO(st, tl_calloc(&radius, n, sizeof *radius), done);
-  memcpy(x, P->x, n * sizeof *x);
-  memcpy(v, P->v, n * sizeof *v);
-  memcpy(radius, P->radius, n * sizeof *radius);
-  tl_dem_destroy(&dem);
 
   /* discharges */
-  Discharge res[MAX_ORIFICES];
+  Discharge *res = h.res;
   double worst_balance = 0.0, Dv[MAX_ORIFICES], W25[MAX_ORIFICES];
   int n_fit = 0;
   snprintf(path, sizeof path, "%s/rates.csv", s.out);
@@ -449,10 +646,15 @@ static TlStatus run(int argc, char **argv)
           rho_b, g);
   for (int k = 0; k < s.n_orifices; ++k) {
     double D = s.orifice[k] * dm;
-    TL_CHECK_GOTO(st, discharge(&s, k, D, stl[k], top, n, x, v, radius, &res[k]), done);
+    if (k + 1 >= h.stage) {
+      const int resume = s.restart[0] && first_stage == k + 1;
+      TL_CHECK_GOTO(st, discharge(&h, o, k, D, stl[k], top, resume ? s.restart : NULL, &res[k]), done);
+      if (h.stopped) goto stopped;
+      h.done_steps += h.k, h.stage = k + 2, h.k = 0, h.ns = 0;
+      tl_printf("orifice D = %.4g mm (%.3g d): W = %.5g kg/s over %.3g s of steady flow, %.4g kg out, %.4g kg left%s\n", 1e3 * D,
+                s.orifice[k], res[k].W, res[k].t_flow, res[k].mass_out, res[k].mass_left, res[k].clogged ? ", CLOGGED" : "");
+    }
     worst_balance = fmax(worst_balance, res[k].balance_error);
-    tl_printf("orifice D = %.4g mm (%.3g d): W = %.5g kg/s over %.3g s of steady flow, %.4g kg out, %.4g kg left%s\n", 1e3 * D,
-              s.orifice[k], res[k].W, res[k].t_flow, res[k].mass_out, res[k].mass_left, res[k].clogged ? ", CLOGGED" : "");
     fprintf(rates, "%.9g,%.9g,%.9g,%d,%.6g\n", D, s.orifice[k], res[k].W, res[k].clogged, res[k].t_flow);
     if (isfinite(res[k].W) && res[k].W > 0.0) Dv[n_fit] = D, W25[n_fit] = pow(res[k].W, 0.4), ++n_fit;
   }
@@ -499,15 +701,31 @@ static TlStatus run(int argc, char **argv)
   tl_summary_real(&sum, "mass_balance_error", worst_balance);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
   st = tl_summary_print(&sum, stdout);
+  goto done;
+stopped:
+  tl_printf("stopped after step %lld (-stop_step): %s/checkpoint.h5 continues the run with -restart\n",
+            (long long)(h.done_steps + h.k), s.out);
+  {
+    TlSummary part;
+    tl_summary_init(&part);
+    tl_summary_int(&part, "n", s.n);
+    tl_summary_int(&part, "steps", (long)(h.done_steps + h.k));
+    tl_summary_string(&part, "stopped", "true");
+    tl_summary_real(&part, "wall", tl_wtime() - wall0);
+    st = tl_summary_print(&part, stdout);
+  }
 done:
+  tl_checkpoint_destroy(&cp);
+  tl_free(&h.x);
+  tl_free(&h.v);
+  tl_free(&h.radius);
+  tl_free(&h.tt);
+  tl_free(&h.mm);
   if (rates) fclose(rates);
   tl_dem_destroy(&dem);
   tl_surface_mesh_destroy(&fill);
   tl_surface_mesh_destroy(&hop);
   tl_free(&sites);
-  tl_free(&x);
-  tl_free(&v);
-  tl_free(&radius);
   tl_options_destroy(&o);
   return st;
 }

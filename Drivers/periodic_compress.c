@@ -44,15 +44,20 @@
  * for LAMMPS).  Last line:
  * summary: n=... pressure=... packing_fraction=... coordination=... wall=...
  *
- * Restart (-protocol servo): -checkpoint_every n writes
- * <output_dir>/checkpoint.h5 every n steps (a multiple of -control_every;
- * the world, the cell and its contacts, the table, the options and the
- * servo's state); -restart <file> rebuilds the gas from the same options,
- * loads the file and continues bit for bit; -stop_step n ends the run after
- * step n with a checkpoint (to make one to restart from). */
+ * Restart: -checkpoint_every n writes <output_dir>/checkpoint.h5 every n
+ * steps (the world, the cell and its contacts, the table, the options, and
+ * the protocol's state: the servo's loop step, or the scripts' phase, cycle,
+ * and place in their loops with the figures the summary reports); -restart
+ * <file> rebuilds the world from the same options (from the frictionless
+ * packing file when the checkpoint is in the friction stage), loads the file
+ * and continues bit for bit; -stop_step n ends the run after step n with a
+ * checkpoint (to make one to restart from).  Servo: both multiples of
+ * -control_every; scripts: at the first check (every -control_every or
+ * -halt_every steps) at or after the step. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "talus.h"
 #include "tl_papers.h"
@@ -164,20 +169,17 @@ static TlStatus options(int argc, char **argv, TlOptions **o, Settings *s)
   TL_CHECK(tl_options_get_string(*o, "-output_dir", "results/periodic_compress", "output folder", &s->out));
   TL_CHECK(tl_output_dir_check(s->out));
   TL_CHECK(tl_options_get_int(*o, "-checkpoint_every", 0, 0, 1000000000,
-                              "[servo] write <output_dir>/checkpoint.h5 every n steps, a multiple of -control_every "
-                              "(0: never)", &s->checkpoint_every));
-  TL_CHECK(tl_options_get_string(*o, "-restart", "", "[servo] continue from this checkpoint file (same options)",
-                                 &s->restart));
+                              "write <output_dir>/checkpoint.h5 every n steps (servo: a multiple of -control_every; "
+                              "scripts: at the first check at or after each multiple of n; 0: never)",
+                              &s->checkpoint_every));
+  TL_CHECK(tl_options_get_string(*o, "-restart", "", "continue from this checkpoint file (same options)", &s->restart));
   TL_CHECK(tl_options_get_int(*o, "-stop_step", 0, 0, 1000000000,
-                              "[servo] stop after this step, a multiple of -control_every, with a checkpoint (0: run "
-                              "to convergence or -t_end)", &s->stop_step));
-  if (scripts && (s->checkpoint_every > 0 || s->restart[0] || s->stop_step > 0))
-    TL_ERROR(TL_ERR_UNSUPPORTED, "-checkpoint_every, -restart and -stop_step need -protocol servo: the scripts' "
-             "preparation (-protocol scripts) has no checkpoints");
-  if (s->checkpoint_every % s->control_every != 0)
+                              "stop with a checkpoint after this step (servo: a multiple of -control_every; scripts: "
+                              "at the first check at or after it; 0: run to the end)", &s->stop_step));
+  if (!scripts && s->checkpoint_every % s->control_every != 0)
     TL_ERROR(TL_ERR_ARG, "-checkpoint_every %ld is not a multiple of -control_every %ld (the servo's cadence)",
              s->checkpoint_every, s->control_every);
-  if (s->stop_step % s->control_every != 0)
+  if (!scripts && s->stop_step % s->control_every != 0)
     TL_ERROR(TL_ERR_ARG, "-stop_step %ld is not a multiple of -control_every %ld (the servo's cadence)", s->stop_step,
              s->control_every);
   return tl_options_finish(*o, stdout);
@@ -215,15 +217,128 @@ static double mean_volume(const Settings *s, double d0)
 
 /* ------------------------------------------------------------ the run state */
 
+/* The phases of -protocol scripts, in order. */
+enum { PH_PUSH, PH_CYCLES, PH_SETTLE, PH_UNDAMPED, PH_SETTLE_UNDAMPED, PH_FRICTIONLESS, PH_FRICTION_DAMPED,
+       PH_FRICTION_SETTLE, PH_FRICTION_UNDAMPED, PH_FRICTION_SETTLE_UNDAMPED, PH_DONE };
+
+/* A -protocol scripts run.  Everything below `dem` up to `frictionless` is
+ * the run's position (the phase and where its loops are) and what its
+ * summary reports, checkpointed with the world and the table: a restart
+ * continues at the same point of the same loops. */
 typedef struct {
   const Settings *s;
   TlDem *dem;
   TlTimeSeries *ts;
-  double vol_grains, rate, c_visc; /* c_visc: the viscous coefficient in force, N s/m */
-  long steps;                      /* steps done by every world of the run */
+  TlCheckpoint *cp;
+  char cp_path[4200];
+  int stopped; /* -stop_step reached: a checkpoint was written, the run ends */
+  int64_t phase, cycle, in_compress; /* in_compress: the cycle's relaxation is done */
+  int64_t k;                         /* steps done by the current advance or compression */
+  int64_t since_row;                 /* compression: steps since its last table row */
+  int64_t compress_started, compress_done;
+  int64_t settle_started, chunk, at_rest; /* settle: its chunks so far, at rest after the last */
+  int64_t steps;                          /* steps done by every world of the run */
+  int64_t cycles_reaching, rest_damped, rest;
+  double ke;                        /* settle: the kinetic energy after the previous chunk */
+  double pr;                        /* compression: the pressure at its last check */
+  double vol_grains, rate, c_visc;  /* c_visc: the viscous coefficient in force, N s/m */
   /* the first halt of a compression: the pressure there and at the check before */
   double halt_pressure, halt_pressure_before;
+  double p_frictionless, phi_frictionless;
+  char frictionless[4096]; /* the frictionless packing file the friction stage starts from */
 } Run;
+
+enum { RUN_INTS = 16, RUN_REALS = 10 };
+
+static void run_ints(const Run *r, int64_t v[RUN_INTS])
+{
+  const int64_t a[RUN_INTS] = {r->phase,      r->cycle,       r->in_compress,     r->k,           r->since_row,
+                               r->compress_started, r->compress_done, r->settle_started, r->chunk, r->at_rest,
+                               r->steps,      r->cycles_reaching, r->rest_damped, r->rest,        0, 0};
+  memcpy(v, a, sizeof a);
+}
+
+static void run_reals(const Run *r, double v[RUN_REALS])
+{
+  const double a[RUN_REALS] = {r->ke,          r->pr,        r->vol_grains,           r->rate,
+                               r->c_visc,      r->halt_pressure, r->halt_pressure_before, r->p_frictionless,
+                               r->phi_frictionless, 0.0};
+  memcpy(v, a, sizeof a);
+}
+
+static TlStatus scripts_save(const void *object, TlCheckpointWriter *w, const char *group)
+{
+  const Run *r = object;
+  int64_t iv[RUN_INTS];
+  double rv[RUN_REALS];
+  run_ints(r, iv);
+  run_reals(r, rv);
+  TL_CHECK(tl_checkpoint_write_int64s(w, group, "position", RUN_INTS, iv));
+  TL_CHECK(tl_checkpoint_write_doubles(w, group, "figures", RUN_REALS, rv));
+  TL_CHECK(tl_checkpoint_write_string(w, group, "frictionless", r->frictionless));
+  return TL_OK;
+}
+
+/* Every value checked against what the run's loops can reach before any is
+ * used (a checkpoint is input like any other). */
+static TlStatus scripts_load(void *object, TlCheckpointReader *rd, const char *group)
+{
+  Run *r = object;
+  const Settings *s = r->s;
+  int64_t iv[RUN_INTS];
+  double rv[RUN_REALS];
+  char *path = NULL;
+  TL_CHECK(tl_checkpoint_read_int64s(rd, group, "position", RUN_INTS, iv));
+  TL_CHECK(tl_checkpoint_read_doubles(rd, group, "figures", RUN_REALS, rv));
+  static const char *const inames[] = {"phase",  "cycle", "in_compress", "k", "since_row", "compress_started",
+                                       "compress_done", "settle_started", "chunk", "at_rest", "steps",
+                                       "cycles_reaching", "rest_damped", "rest", "spare", "spare"};
+  const int64_t big = INT64_MAX / 4;
+  int64_t longest = s->push_steps;
+  const long lengths[] = {s->relax_steps, s->compress_steps, s->chunk_steps, s->friction_damped_steps};
+  for (int i = 0; i < 4; ++i) longest = lengths[i] > longest ? lengths[i] : longest;
+  const int64_t hi[RUN_INTS] = {PH_DONE - 1, s->cycles, 1, longest, big, 1, 1, 1, s->max_chunks, 1,
+                                big, s->cycles, 1, 1, 0, 0};
+  char name[64];
+  for (int i = 0; i < RUN_INTS; ++i) {
+    snprintf(name, sizeof name, "position[%d] (%s)", i, inames[i]);
+    TL_CHECK(tl_checkpoint_check_count(rd, group, name, iv[i], 0, hi[i]));
+  }
+  static const char *const rnames[] = {"ke", "pressure", "grain volume", "strain rate", "viscous coefficient",
+                                       "halt_pressure", "halt_pressure_before", "pressure_frictionless",
+                                       "packing_fraction_frictionless", "spare"};
+  for (int i = 0; i < RUN_REALS; ++i) {
+    if ((i == 5 || i == 6) && isnan(rv[i])) continue; /* no compression has halted yet */
+    snprintf(name, sizeof name, "figures[%d] (%s)", i, rnames[i]);
+    TL_CHECK(tl_checkpoint_check_finite(rd, group, name, 1, &rv[i]));
+  }
+  if (!(rv[2] > 0.0)) TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': %s/figures[2] (grain volume) = %g must be > 0",
+                               tl_checkpoint_reader_path(rd), group, rv[2]);
+  if (rv[4] != 0.0 && rv[4] != s->viscous)
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': %s/figures[4] (viscous coefficient) = %g is neither 0 nor -viscous %g",
+             tl_checkpoint_reader_path(rd), group, rv[4], s->viscous);
+  TL_CHECK(tl_checkpoint_read_string(rd, group, "frictionless", &path));
+  const size_t len = strlen(path);
+  if (len >= sizeof r->frictionless || (iv[0] >= PH_FRICTION_DAMPED && len == 0)) {
+    tl_free(&path);
+    TL_ERROR(TL_ERR_FORMAT, "checkpoint '%s': %s/frictionless holds %zu characters (a path of 1 to %zu needed from "
+             "the friction stage on)", tl_checkpoint_reader_path(rd), group, len, sizeof r->frictionless - 1);
+  }
+  memcpy(r->frictionless, path, len + 1);
+  tl_free(&path);
+  r->phase = iv[0], r->cycle = iv[1], r->in_compress = iv[2], r->k = iv[3], r->since_row = iv[4];
+  r->compress_started = iv[5], r->compress_done = iv[6], r->settle_started = iv[7], r->chunk = iv[8];
+  r->at_rest = iv[9], r->steps = iv[10], r->cycles_reaching = iv[11], r->rest_damped = iv[12], r->rest = iv[13];
+  r->ke = rv[0], r->pr = rv[1], r->vol_grains = rv[2], r->rate = rv[3], r->c_visc = rv[4];
+  r->halt_pressure = rv[5], r->halt_pressure_before = rv[6], r->p_frictionless = rv[7], r->phi_frictionless = rv[8];
+  return TL_OK;
+}
+
+static const TlCheckpointOps scripts_checkpoint_ops = {
+    .header = {"checkpoint", "periodic_compress_scripts_v1", "phase and loop position of periodic_compress -protocol scripts"},
+    .save = scripts_save,
+    .load = scripts_load,
+};
 
 static TlStatus viscous_hook(void *ctx, TlDem *dem)
 {
@@ -256,16 +371,35 @@ static TlStatus log_row(Run *r, int stage, double pr)
   return tl_timeseries_append(r->ts, row);
 }
 
-/* n steps in blocks of control_every, a table row before each block. */
+/* After every block of steps: a checkpoint when the step count crossed a
+ * multiple of -checkpoint_every, or reached -stop_step (then the run ends).
+ * It is written at the end of an iteration of the loop doing the steps, so a
+ * restart continues with the next iteration. */
+static TlStatus after_block(Run *r, int64_t before)
+{
+  const Settings *s = r->s;
+  const long ce = s->checkpoint_every;
+  r->stopped = s->stop_step > 0 && r->steps >= s->stop_step;
+  if ((ce > 0 && r->steps / ce > before / ce) || r->stopped)
+    TL_CHECK(tl_checkpoint_save(r->cp, r->cp_path, tl_dem_time(r->dem), r->steps));
+  return TL_OK;
+}
+
+/* n steps in blocks of control_every, a table row before each block; from
+ * step r->k of them (a restart). */
 static TlStatus advance(Run *r, long n, int stage)
 {
-  for (long k = 0; k < n;) {
-    long b = n - k < r->s->control_every ? n - k : r->s->control_every;
+  while (r->k < n) {
+    long b = n - r->k < r->s->control_every ? n - r->k : r->s->control_every;
     TL_CHECK(log_row(r, stage, pressure_of(r->dem)));
+    const int64_t before = r->steps;
     TL_CHECK(tl_dem_step(r->dem, b));
-    k += b;
+    r->k += b;
     r->steps += b;
+    TL_CHECK(after_block(r, before));
+    if (r->stopped) return TL_OK;
   }
+  r->k = 0;
   return TL_OK;
 }
 
@@ -277,31 +411,37 @@ static TlStatus compress(Run *r, int *reached)
   const Settings *s = r->s;
   TlDomain *D = tl_dem_domain(r->dem);
   *reached = 0;
-  double pr = pressure_of(r->dem);
-  if (pr >= s->pressure) {
-    *reached = 1;
-    return TL_OK;
+  if (!r->compress_started) {
+    r->pr = pressure_of(r->dem);
+    if (r->pr >= s->pressure) {
+      *reached = 1;
+      return TL_OK;
+    }
+    TL_CHECK(tl_domain_set_h_rate(D, tl_m3_scale(D->h, -s->erate)));
+    r->rate = -s->erate;
+    r->k = 0, r->since_row = s->control_every, r->compress_done = 0, r->compress_started = 1;
   }
-  TL_CHECK(tl_domain_set_h_rate(D, tl_m3_scale(D->h, -s->erate)));
-  r->rate = -s->erate;
-  long k = 0, since_row = s->control_every;
-  while (k < s->compress_steps) {
-    if (since_row >= s->control_every) {
-      TL_CHECK(log_row(r, STAGE_DEFORM, pr));
-      since_row = 0;
+  while (!r->compress_done && r->k < s->compress_steps) {
+    if (r->since_row >= s->control_every) {
+      TL_CHECK(log_row(r, STAGE_DEFORM, r->pr));
+      r->since_row = 0;
     }
     long b = s->halt_every;
-    if (b > s->compress_steps - k) b = s->compress_steps - k;
+    if (b > s->compress_steps - r->k) b = s->compress_steps - r->k;
+    const int64_t steps_before = r->steps;
     TL_CHECK(tl_dem_step(r->dem, b));
-    k += b, r->steps += b, since_row += b;
-    const double before = pr;
-    pr = pressure_of(r->dem);
-    if (pr >= s->pressure) {
-      *reached = 1;
-      if (isnan(r->halt_pressure)) r->halt_pressure = pr, r->halt_pressure_before = before;
-      break;
+    r->k += b, r->steps += b, r->since_row += b;
+    const double before = r->pr;
+    r->pr = pressure_of(r->dem);
+    if (r->pr >= s->pressure) {
+      r->compress_done = 1;
+      if (isnan(r->halt_pressure)) r->halt_pressure = r->pr, r->halt_pressure_before = before;
     }
+    TL_CHECK(after_block(r, steps_before));
+    if (r->stopped) return TL_OK;
   }
+  *reached = (int)r->compress_done;
+  r->k = 0, r->compress_started = r->compress_done = 0;
   r->rate = 0.0;
   TL_CHECK(tl_domain_set_h_rate(D, tl_m3_zero()));
   return TL_OK;
@@ -309,19 +449,26 @@ static TlStatus compress(Run *r, int *reached)
 
 /* Chunks of -chunk_steps (at most -max_chunks) until the kinetic energy is
  * below -ke_rest, or (stop_on_rise) no longer decreases. */
-static TlStatus settle(Run *r, int stage, int stop_on_rise, int *at_rest)
+static TlStatus settle(Run *r, int stage, int stop_on_rise, int64_t *at_rest)
 {
   const Settings *s = r->s;
   const TlParticles *P = tl_dem_particles(r->dem);
-  double ke = kinetic_of(P);
-  *at_rest = ke < s->ke_rest;
-  for (long c = 0; c < s->max_chunks && !*at_rest; ++c) {
-    TL_CHECK(advance(r, s->chunk_steps, stage));
-    double ke1 = kinetic_of(P);
-    *at_rest = ke1 < s->ke_rest;
-    if (stop_on_rise && !(ke1 < ke)) break;
-    ke = ke1;
+  if (!r->settle_started) {
+    r->ke = kinetic_of(P);
+    r->at_rest = r->ke < s->ke_rest;
+    r->chunk = 0, r->settle_started = 1;
   }
+  while (r->chunk < s->max_chunks && !r->at_rest) {
+    TL_CHECK(advance(r, s->chunk_steps, stage));
+    if (r->stopped) return TL_OK;
+    double ke1 = kinetic_of(P);
+    r->at_rest = ke1 < s->ke_rest;
+    ++r->chunk;
+    if (stop_on_rise && !(ke1 < r->ke)) break;
+    r->ke = ke1;
+  }
+  *at_rest = r->at_rest;
+  r->settle_started = 0;
   return TL_OK;
 }
 
@@ -385,11 +532,29 @@ static void configure(TlDem *dem, const Settings *s)
 
 /* ------------------------------------------------------- -protocol scripts */
 
-static TlStatus run_scripts(Settings *s, double wall0)
+/* The world of the friction stage: the frictionless packing file read back
+ * (its contacts carry no tangential history: the scripts' read of the data
+ * file) with the law of -contact/-friction. */
+static TlStatus friction_world(Settings *s, const char *path, TlDem **out)
+{
+  TL_CHECK(tl_dem_create(out));
+  TlDem *dem = *out;
+  TL_CHECK(tl_dem_packing_load(dem, path, s->density, NULL));
+  TL_CHECK(tl_dem_add_law(dem, s->law, NULL));
+  s->law = NULL;
+  TL_CHECK(tl_particles_enable_coupling_force(tl_dem_particles(dem)));
+  configure(dem, s);
+  TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
+  TL_CHECK(tl_dem_setup(dem));
+  return TL_OK;
+}
+
+/* The world of the compaction: the random insertion, the frictionless law. */
+static TlStatus compaction_world(const Settings *s, TlDem **out)
 {
   const double d0 = 0.5 * (s->d_min + s->d_max), L = s->box_d0 * d0;
-  TlDem *dem;
-  TL_CHECK(tl_dem_create(&dem));
+  TL_CHECK(tl_dem_create(out));
+  TlDem *dem = *out;
   TlParticles *P = tl_dem_particles(dem);
   int sp;
   TL_CHECK(tl_particles_add_species(P, "gouge", s->density, 0.5 * s->d_min, 0.5 * s->d_max, &sp));
@@ -398,7 +563,6 @@ static TlStatus run_scripts(Settings *s, double wall0)
   TL_CHECK(tl_dem_set_domain(dem, &dom));
   uint64_t rng = (uint64_t)s->seed * 0x9e3779b97f4a7c15ULL + 1;
   TL_CHECK(insert_overlapping(s, dem, sp, L, &rng));
-  const size_t n = P->n;
   /* compaction law: the normal part of the gouge law, friction off (or
    * -mu_compaction) */
   double kn, gn;
@@ -417,99 +581,223 @@ static TlStatus run_scripts(Settings *s, double wall0)
                                 s->mu_compaction > 0.0 ? 5 : 2};
     TL_CHECK(tl_contact_law_build(&spec, &law_c));
   }
-  TL_CHECK(tl_dem_add_law(dem, law_c, NULL));
+  st = tl_dem_add_law(dem, law_c, NULL);
+  if (st != TL_OK) {
+    tl_contact_law_destroy(&law_c);
+    return tl_error_trace(st, __FILE__, __LINE__);
+  }
   TL_CHECK(tl_particles_enable_coupling_force(P));
   configure(dem, s);
   /* the random insertion overlaps grains up to -max_initial_overlap on purpose */
   TL_CHECK(tl_dem_set_max_initial_overlap(dem, fmax(TL_DEM_MAX_INITIAL_OVERLAP, fmin(1.0, s->max_overlap))));
   TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
   TL_CHECK(tl_dem_setup(dem));
-  long n_small, n_large;
-  count_sizes(s, P, &n_small, &n_large);
-  tl_printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
-            "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
-            n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
-  Run r = {s, dem, NULL, grain_volume(P), 0.0, 0.0, 0, NAN, NAN};
-  TL_CHECK(open_table(s, &r.ts));
-  set_viscous(&r, s->viscous);
-  TL_CHECK(advance(&r, s->push_steps, STAGE_PUSH));
-  int reached = 0;
-  long cycles_reaching = 0;
-  for (long c = 0; c < s->cycles; ++c) {
-    TL_CHECK(advance(&r, s->relax_steps, STAGE_RELAX));
-    TL_CHECK(compress(&r, &reached));
-    cycles_reaching += reached;
-    tl_printf("cycle %ld: pressure %.6g Pa%s, packing fraction %.4f, step %ld\n", c + 1, pressure_of(dem),
-              reached ? " (target reached)" : "", r.vol_grains / tl_domain_volume(tl_dem_domain(dem)), r.steps);
+  return TL_OK;
+}
+
+/* The checkpoint's sections, on the world of the current stage. */
+static TlStatus make_checkpoint(Run *r, TlOptions *o)
+{
+  tl_checkpoint_destroy(&r->cp);
+  TL_CHECK(tl_checkpoint_create(&r->cp));
+  TL_CHECK(tl_checkpoint_add(r->cp, "options", &tl_options_checkpoint_ops, o));
+  TL_CHECK(tl_checkpoint_add(r->cp, "dem", &tl_dem_checkpoint_ops, r->dem));
+  TL_CHECK(tl_checkpoint_add(r->cp, "table", &tl_timeseries_checkpoint_ops, r->ts));
+  TL_CHECK(tl_checkpoint_add(r->cp, "scripts", &scripts_checkpoint_ops, r));
+  return TL_OK;
+}
+
+/* The relax + compress cycles, from cycle r->cycle. */
+static TlStatus cycles(Run *r)
+{
+  const Settings *s = r->s;
+  while (r->cycle < s->cycles) {
+    if (!r->in_compress) {
+      TL_CHECK(advance(r, s->relax_steps, STAGE_RELAX));
+      if (r->stopped) return TL_OK;
+      r->in_compress = 1;
+    }
+    int reached;
+    TL_CHECK(compress(r, &reached));
+    if (r->stopped) return TL_OK;
+    r->cycles_reaching += reached;
+    r->in_compress = 0;
+    const long c = (long)r->cycle++;
+    tl_printf("cycle %ld: pressure %.6g Pa%s, packing fraction %.4f, step %ld\n", c + 1, pressure_of(r->dem),
+              reached ? " (target reached)" : "", r->vol_grains / tl_domain_volume(tl_dem_domain(r->dem)), (long)r->steps);
     fflush(stdout);
   }
-  int rest_damped, rest;
-  TL_CHECK(settle(&r, STAGE_SETTLE, 0, &rest_damped));
-  set_viscous(&r, 0.0);
-  TL_CHECK(advance(&r, s->chunk_steps, STAGE_UNDAMPED));
-  TL_CHECK(settle(&r, STAGE_UNDAMPED, 1, &rest));
-  const double p_frictionless = pressure_of(dem);
-  const double phi_frictionless = r.vol_grains / tl_domain_volume(tl_dem_domain(dem));
+  return TL_OK;
+}
+
+/* The frictionless packing written; the world of the friction stage. */
+static TlStatus frictionless_end(Run *r, Settings *s, TlOptions *o)
+{
+  TlDem *dem = r->dem;
+  const TlParticles *P = tl_dem_particles(dem);
+  r->p_frictionless = pressure_of(dem);
+  r->phi_frictionless = r->vol_grains / tl_domain_volume(tl_dem_domain(dem));
   tl_printf("frictionless packing after %ld steps: pressure %.6g Pa, packing fraction %.4f, kinetic energy %.3g J\n",
-            r.steps, p_frictionless, phi_frictionless, kinetic_of(P));
+            (long)r->steps, r->p_frictionless, r->phi_frictionless, kinetic_of(P));
   TlParticleWriter *writer;
   TL_CHECK(tl_particle_writer_create(s->out, "packing_frictionless", &writer));
   const char *file;
-  TL_CHECK(tl_dem_packing_write(dem, writer, r.steps, &file));
-  char path[4096];
-  snprintf(path, sizeof path, "%s", file);
+  TlStatus st = tl_dem_packing_write(dem, writer, r->steps, &file);
+  if (st == TL_OK && strlen(file) >= sizeof r->frictionless)
+    st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "packing path '%s' longer than %zu characters", file,
+                      sizeof r->frictionless - 1);
+  if (st == TL_OK) snprintf(r->frictionless, sizeof r->frictionless, "%s", file);
   tl_particle_writer_destroy(&writer);
-  if (s->friction_stage) {
-    /* friction on: a new world from the frictionless packing (its contacts
-     * carry no tangential history: the scripts' read of the data file) */
-    tl_dem_destroy(&dem);
-    TL_CHECK(tl_dem_create(&dem));
-    TL_CHECK(tl_dem_packing_load(dem, path, s->density, NULL));
-    P = tl_dem_particles(dem);
-    TL_CHECK(tl_dem_add_law(dem, s->law, NULL));
-    s->law = NULL;
-    TL_CHECK(tl_particles_enable_coupling_force(P));
-    configure(dem, s);
-    TL_CHECK(tl_dem_set_timestep(dem, s->dt, 0));
-    TL_CHECK(tl_dem_setup(dem));
-    r.dem = dem;
-    set_viscous(&r, s->viscous);
-    TL_CHECK(advance(&r, s->friction_damped_steps, STAGE_FRICTION_DAMPED));
-    TL_CHECK(settle(&r, STAGE_FRICTION_DAMPED, 0, &rest_damped));
-    set_viscous(&r, 0.0);
-    TL_CHECK(advance(&r, s->chunk_steps, STAGE_FRICTION_UNDAMPED));
-    TL_CHECK(settle(&r, STAGE_FRICTION_UNDAMPED, 1, &rest));
+  TL_CHECK(st);
+  if (!s->friction_stage) return TL_OK;
+  tl_dem_destroy(&r->dem);
+  TL_CHECK(friction_world(s, r->frictionless, &r->dem));
+  TL_CHECK(make_checkpoint(r, o));
+  return TL_OK;
+}
+
+static TlStatus copy_stream(FILE *out, void *ctx)
+{
+  FILE *in = fopen((const char *)ctx, "rb");
+  if (!in) TL_ERROR(TL_ERR_IO, "cannot read '%s'", (const char *)ctx);
+  char buf[65536];
+  size_t n;
+  int ok = 1;
+  while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0) ok = fwrite(buf, 1, n, out) == n;
+  ok = ok && !ferror(in);
+  fclose(in);
+  if (!ok) TL_ERROR(TL_ERR_IO, "cannot copy '%s'", (const char *)ctx);
+  return TL_OK;
+}
+
+/* A restart of the friction stage into another -output_dir: the frictionless
+ * packing (its .h5 and the .xmf naming it) is copied there, so the folder
+ * holds every output of the run; the friction stage then reads the copy. */
+static TlStatus copy_frictionless(Run *r, const Settings *s)
+{
+  const char *slash = strrchr(r->frictionless, '/');
+  const char *base = slash ? slash + 1 : r->frictionless;
+  char to[8300], from_xmf[4200], to_xmf[4200];
+  snprintf(to, sizeof to, "%s/%s", s->out, base);
+  if (strlen(to) >= sizeof r->frictionless) TL_ERROR(TL_ERR_ARG, "path '%s' too long", to);
+  if (access(to, R_OK) != 0) { /* not restarted in the folder that holds it */
+    snprintf(from_xmf, sizeof from_xmf, "%.*spacking_frictionless.xmf", (int)(base - r->frictionless), r->frictionless);
+    snprintf(to_xmf, sizeof to_xmf, "%s/packing_frictionless.xmf", s->out);
+    TL_CHECK(tl_atomic_write(to, copy_stream, r->frictionless));
+    if (access(from_xmf, R_OK) == 0) TL_CHECK(tl_atomic_write(to_xmf, copy_stream, from_xmf));
   }
+  snprintf(r->frictionless, sizeof r->frictionless, "%s", to);
+  return TL_OK;
+}
+
+static TlStatus scripts_body(Run *r, Settings *s, TlOptions *o, double wall0)
+{
+  const double d0 = 0.5 * (s->d_min + s->d_max), L = s->box_d0 * d0;
+  snprintf(r->cp_path, sizeof r->cp_path, "%s/checkpoint.h5", s->out);
+  if (s->restart[0]) {
+    /* where the run is first: it says which world to build */
+    TlCheckpoint *head = NULL;
+    TlStatus st = tl_checkpoint_create(&head);
+    if (st == TL_OK) st = tl_checkpoint_add(head, "options", &tl_options_checkpoint_ops, o);
+    if (st == TL_OK) st = tl_checkpoint_add(head, "scripts", &scripts_checkpoint_ops, r);
+    if (st == TL_OK) st = tl_checkpoint_load(head, s->restart, NULL, NULL);
+    tl_checkpoint_destroy(&head);
+    TL_CHECK(st);
+  }
+  const int friction = r->phase >= PH_FRICTION_DAMPED;
+  if (friction) TL_CHECK(copy_frictionless(r, s));
+  if (friction) TL_CHECK(friction_world(s, r->frictionless, &r->dem));
+  else TL_CHECK(compaction_world(s, &r->dem));
+  TlDem *dem = r->dem;
+  TlParticles *P = tl_dem_particles(dem);
+  const size_t n = P->n;
+  long n_small, n_large;
+  count_sizes(s, P, &n_small, &n_large);
+  if (!s->restart[0]) {
+    r->vol_grains = grain_volume(P);
+    tl_printf("periodic_compress -protocol scripts: %zu grains (%ld of d = %g m, %ld of d = %g m) in a %.4g m box "
+              "(%.3g d0) at solid fraction %.4f, target %g Pa, dt %g s\n",
+              n, n_small, s->d_min, n_large, s->d_max, L, s->box_d0, grain_volume(P) / (L * L * L), s->pressure, s->dt);
+  }
+  TL_CHECK(open_table(s, &r->ts));
+  TL_CHECK(make_checkpoint(r, o));
+  if (s->restart[0]) {
+    TL_CHECK(tl_checkpoint_load(r->cp, s->restart, NULL, NULL));
+    if (friction) TL_CHECK(copy_frictionless(r, s)); /* the load restored the path the checkpoint names */
+    tl_printf("restarted from %s at step %lld (phase %lld), t = %.9g s\n", s->restart, (long long)r->steps,
+              (long long)r->phase, tl_dem_time(dem));
+  }
+  set_viscous(r, r->c_visc);
+  while (r->phase < PH_DONE && !r->stopped) {
+    switch (r->phase) {
+    case PH_PUSH: TL_CHECK(advance(r, s->push_steps, STAGE_PUSH)); break;
+    case PH_CYCLES: TL_CHECK(cycles(r)); break;
+    case PH_SETTLE: TL_CHECK(settle(r, STAGE_SETTLE, 0, &r->rest_damped)); break;
+    case PH_UNDAMPED: TL_CHECK(advance(r, s->chunk_steps, STAGE_UNDAMPED)); break;
+    case PH_SETTLE_UNDAMPED: TL_CHECK(settle(r, STAGE_UNDAMPED, 1, &r->rest)); break;
+    case PH_FRICTIONLESS: TL_CHECK(frictionless_end(r, s, o)); break;
+    case PH_FRICTION_DAMPED: TL_CHECK(advance(r, s->friction_damped_steps, STAGE_FRICTION_DAMPED)); break;
+    case PH_FRICTION_SETTLE: TL_CHECK(settle(r, STAGE_FRICTION_DAMPED, 0, &r->rest_damped)); break;
+    case PH_FRICTION_UNDAMPED: TL_CHECK(advance(r, s->chunk_steps, STAGE_FRICTION_UNDAMPED)); break;
+    case PH_FRICTION_SETTLE_UNDAMPED: TL_CHECK(settle(r, STAGE_FRICTION_UNDAMPED, 1, &r->rest)); break;
+    }
+    if (r->stopped) break;
+    /* the next phase, and what changes on entering it */
+    ++r->phase;
+    if (r->phase == PH_UNDAMPED || r->phase == PH_FRICTION_UNDAMPED) set_viscous(r, 0.0);
+    if (r->phase == PH_FRICTION_DAMPED) {
+      if (!s->friction_stage) r->phase = PH_DONE;
+      else set_viscous(r, s->viscous);
+    }
+  }
+  dem = r->dem;
+  P = tl_dem_particles(dem);
+  if (r->stopped) {
+    TL_CHECK(tl_timeseries_close(&r->ts));
+    tl_printf("stopped after step %lld (-stop_step): %s continues the run with -restart\n", (long long)r->steps,
+              r->cp_path);
+    TlSummary sum;
+    tl_summary_init(&sum);
+    tl_summary_int(&sum, "n", (long)n);
+    tl_summary_int(&sum, "steps", (long)r->steps);
+    tl_summary_string(&sum, "stopped", "true");
+    tl_summary_real(&sum, "wall", tl_wtime() - wall0);
+    return tl_summary_print(&sum, stdout);
+  }
+  const int rest = (int)r->rest;
   const double pr = pressure_of(dem);
-  TL_CHECK(log_row(&r, s->friction_stage ? STAGE_FRICTION_UNDAMPED : STAGE_UNDAMPED, pr));
-  TL_CHECK(tl_timeseries_close(&r.ts));
+  TL_CHECK(log_row(r, s->friction_stage ? STAGE_FRICTION_UNDAMPED : STAGE_UNDAMPED, pr));
+  TL_CHECK(tl_timeseries_close(&r->ts));
+  TlParticleWriter *writer;
   TL_CHECK(tl_particle_writer_create(s->out, "packing", &writer));
-  TL_CHECK(tl_dem_packing_write(dem, writer, r.steps, NULL));
+  TlStatus st = tl_dem_packing_write(dem, writer, r->steps, NULL);
   tl_particle_writer_destroy(&writer);
+  TL_CHECK(st);
+  char path[4096];
   snprintf(path, sizeof path, "%s/packing.data", s->out);
   TL_CHECK(tl_dem_packing_write_lammps(dem, s->density, path));
   double z, imbalance;
   TL_CHECK(tl_dem_coordination(dem, &z, NULL));
   TL_CHECK(tl_dem_max_force_imbalance(dem, &imbalance));
   const TlDomain *D = tl_dem_domain(dem);
-  const double phi = r.vol_grains / tl_domain_volume(D), side = cbrt(tl_domain_volume(D)), ke = kinetic_of(P);
+  const double phi = r->vol_grains / tl_domain_volume(D), side = cbrt(tl_domain_volume(D)), ke = kinetic_of(P);
   tl_printf("%s after %ld steps: pressure %.6g Pa (target %g), packing fraction %.4f, coordination %.3f, largest Δ_n "
             "%.3g, kinetic energy %.3g J, cell %.6g m = %.4f d0\n",
-            rest ? "at rest" : "not at rest", r.steps, pr, s->pressure, phi, z, imbalance, ke, side, side / d0);
+            rest ? "at rest" : "not at rest", (long)r->steps, pr, s->pressure, phi, z, imbalance, ke, side, side / d0);
   TlSummary sum;
   tl_summary_init(&sum);
   tl_summary_int(&sum, "n", (long)n);
   tl_summary_int(&sum, "n_small", n_small);
   tl_summary_int(&sum, "n_large", n_large);
-  tl_summary_int(&sum, "steps", r.steps);
-  tl_summary_int(&sum, "cycles_reaching", cycles_reaching);
-  if (!isnan(r.halt_pressure)) {
-    tl_summary_real(&sum, "halt_pressure", r.halt_pressure);
-    tl_summary_real(&sum, "halt_pressure_before", r.halt_pressure_before);
+  tl_summary_int(&sum, "steps", (long)r->steps);
+  tl_summary_int(&sum, "cycles_reaching", (long)r->cycles_reaching);
+  if (!isnan(r->halt_pressure)) {
+    tl_summary_real(&sum, "halt_pressure", r->halt_pressure);
+    tl_summary_real(&sum, "halt_pressure_before", r->halt_pressure_before);
   }
   tl_summary_int(&sum, "at_rest", rest);
-  tl_summary_real(&sum, "pressure_frictionless", p_frictionless);
-  tl_summary_real(&sum, "packing_fraction_frictionless", phi_frictionless);
+  tl_summary_real(&sum, "pressure_frictionless", r->p_frictionless);
+  tl_summary_real(&sum, "packing_fraction_frictionless", r->phi_frictionless);
   tl_summary_real(&sum, "pressure", pr);
   tl_summary_real(&sum, "packing_fraction", phi);
   tl_summary_real(&sum, "coordination", z);
@@ -517,9 +805,21 @@ static TlStatus run_scripts(Settings *s, double wall0)
   tl_summary_real(&sum, "kinetic", ke);
   tl_summary_real(&sum, "cell_d0", side / d0);
   tl_summary_real(&sum, "wall", tl_wtime() - wall0);
-  TlStatus s_sum = tl_summary_print(&sum, stdout);
-  tl_dem_destroy(&dem);
-  return s_sum;
+  return tl_summary_print(&sum, stdout);
+}
+
+static TlStatus run_scripts(Settings *s, TlOptions *o, double wall0)
+{
+  Run r;
+  memset(&r, 0, sizeof r);
+  r.s = s;
+  r.c_visc = s->viscous;
+  r.halt_pressure = r.halt_pressure_before = NAN;
+  TlStatus st = scripts_body(&r, s, o, wall0);
+  tl_checkpoint_destroy(&r.cp);
+  if (r.ts) (void)tl_timeseries_close(&r.ts);
+  tl_dem_destroy(&r.dem);
+  return st;
 }
 
 /* --------------------------------------------------------- -protocol servo */
@@ -749,7 +1049,7 @@ static TlStatus run(int argc, char **argv)
     st = tl_error_set(TL_ERR_ARG, __FILE__, __LINE__, "-d_max %g is smaller than -d_min %g", s.d_max, s.d_min);
   if (st == TL_OK) st = tl_output_dir_prepare(s.out);
   if (st == TL_OK) st = check_pressure(&s);
-  if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, wall0) : run_servo(&s, o, wall0);
+  if (st == TL_OK) st = s.protocol == PROTOCOL_SCRIPTS ? run_scripts(&s, o, wall0) : run_servo(&s, o, wall0);
   tl_contact_law_destroy(&s.law);
   tl_options_destroy(&o);
   return st;

@@ -74,6 +74,11 @@ TlStatus tl_hgrid_build(TlHGrid *g, const TlDomain *domain, size_t n, const TlVe
     double *c = &s.x;
     for (int k = 0; k < 3; ++k)
       if (domain->periodic[k]) c[k] -= floor(c[k]);
+    /* a finite position can still overflow in cell lengths (x = -1e308 in a
+     * 1 cm cell): an infinite extent would enlarge the cells forever */
+    if (!tl_v3_isfinite(s))
+      TL_ERROR(TL_ERR_NUMERIC, "grid: particle %zu at (%g, %g, %g) m is (%g, %g, %g) cell lengths from the origin, "
+               "beyond the range of a double", i, x[i].x, x[i].y, x[i].z, s.x, s.y, s.z);
     g->reduced[i] = s;
     lo.x = fmin(lo.x, s.x); lo.y = fmin(lo.y, s.y); lo.z = fmin(lo.z, s.z);
     hi.x = fmax(hi.x, s.x); hi.y = fmax(hi.y, s.y); hi.z = fmax(hi.z, s.z);
@@ -130,6 +135,9 @@ TlStatus tl_hgrid_build(TlHGrid *g, const TlDomain *domain, size_t n, const TlVe
       double face = tl_domain_face_distance(domain, k);
       double span = domain->periodic[k] ? 1.0 : fmax(tl_v3_get(hi, k) - tl_v3_get(lo, k), 0.0);
       ext[k] = span * face;
+      if (!isfinite(ext[k]))
+        TL_ERROR(TL_ERR_NUMERIC, "grid: the particles span %g cell lengths of %g m along direction %d, beyond the range "
+                 "of a double", span, face, k);
       if (domain->periodic[k] && face < 2.0 * Lv->cell_size && face < 2.0 * (2.0 * g->max_radius + skin))
         TL_ERROR(TL_ERR_ARG, "periodic direction %d: cell width %g is less than twice the interaction range %g",
                  k, face, 2.0 * g->max_radius + skin);

@@ -1,7 +1,9 @@
 #include "tl_checkpoint.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "tl_hdf5_util.h"
@@ -487,6 +489,21 @@ TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMe
   return TL_OK;
 }
 
+size_t tl_checkpoint_memory_count(const TlCheckpointMemory *mem) { return mem ? mem->n : 0; }
+
+TlStatus tl_checkpoint_memory_entry(TlCheckpointMemory *mem, size_t k, TlCheckpointEntry *entry)
+{
+  if (!mem || k >= mem->n)
+    TL_ERROR(TL_ERR_ARG, "%s: entry %zu of %zu", tl_ckpt_memory_name, k, mem ? mem->n : (size_t)0);
+  static const char kinds[] = {'d', 'i', 'b', 's'};
+  TlCkptEntry *e = &mem->entries[k];
+  entry->path = e->path;
+  entry->kind = kinds[e->kind];
+  entry->n = e->n;
+  entry->data = e->data;
+  return TL_OK;
+}
+
 /* ---------------------------------------------------------------- sections */
 typedef struct {
   char *name;
@@ -531,6 +548,23 @@ TlStatus tl_checkpoint_add(TlCheckpoint *cp, const char *name, const TlCheckpoin
   return TL_OK;
 }
 
+/* Fault injection for the kill-during-write self-tests: with
+ * TALUS_CHECKPOINT_KILL_AT=n in the environment, the n-th checkpoint this
+ * process writes is killed (SIGKILL) once its sections are written and
+ * flushed to the temporary file, before the rename: what a power cut or an
+ * OOM kill leaves. */
+static void tl_ckpt_maybe_kill(const TlCheckpointWriter *w)
+{
+  static long saves;
+  const char *at = getenv("TALUS_CHECKPOINT_KILL_AT");
+  ++saves;
+  if (!at || atol(at) != saves) return;
+  H5Fflush(w->file.id, H5F_SCOPE_GLOBAL);
+  fprintf(stderr, "TALUS_CHECKPOINT_KILL_AT=%s: killed while writing checkpoint %ld (%s)\n", at, saves, w->file.temp);
+  fflush(NULL);
+  raise(SIGKILL);
+}
+
 TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double time, int64_t step)
 {
   TlCheckpointWriter *w;
@@ -555,6 +589,7 @@ TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double tim
     }
   }
   tl_free(&names);
+  tl_ckpt_maybe_kill(w);
   TL_CHECK(tl_checkpoint_writer_commit(&w));
   return TL_OK;
 fail:

@@ -123,7 +123,10 @@ void tl_checkpoint_destroy(TlCheckpoint **checkpoint);
 /* Adds a section: `name` is its group in the file (unique, no '/'), object
  * is what ops->save/load receive.  The object must outlive the checkpoint. */
 TlStatus tl_checkpoint_add(TlCheckpoint *cp, const char *name, const TlCheckpointOps *ops, void *object);
-/* Writes every section, plus the time and step, atomically to path. */
+/* Writes every section, plus the time and step, atomically to path.  With
+ * TALUS_CHECKPOINT_KILL_AT=n in the environment the n-th save of the process
+ * kills it (SIGKILL) after its data reached the temporary file and before
+ * the rename: the kill-during-write self-tests. */
 TlStatus tl_checkpoint_save(const TlCheckpoint *cp, const char *path, double time, int64_t step);
 /* Restores every section from path; every added section must be present
  * with the same type.  time and step may be NULL. */
@@ -153,5 +156,18 @@ TlStatus tl_checkpoint_memory_save(TlCheckpointMemory *mem, const TlCheckpointOp
 TlStatus tl_checkpoint_memory_load(const TlCheckpointMemory *mem, const TlCheckpointOps *ops, void *object);
 /* dst = a copy of src. */
 TlStatus tl_checkpoint_memory_copy(TlCheckpointMemory *dst, const TlCheckpointMemory *src);
+/* The datasets of a memory checkpoint, in the order written: for a test that
+ * alters stored values in place and loads them again (the fuzz harness of
+ * the loaders; no HDF5 between the edit and the module's checks).  kind is
+ * 'd' (n doubles), 'i' (n int64), 'b' (n bytes) or 's' (a string of n - 1
+ * characters); data stays valid until mem is written again. */
+typedef struct {
+  const char *path;
+  char kind;
+  size_t n;
+  void *data;
+} TlCheckpointEntry;
+size_t tl_checkpoint_memory_count(const TlCheckpointMemory *mem);
+TlStatus tl_checkpoint_memory_entry(TlCheckpointMemory *mem, size_t k, TlCheckpointEntry *entry);
 
 #endif
