@@ -37,6 +37,15 @@ static TlStatus surface_alloc(size_t nv, size_t nt, double **x, size_t **t)
 
 static const double *vtx(const TlSurfaceArrays *s, size_t i) { return s->x + 3 * i; }
 
+static void surface_corners(const void *ctx, size_t t, TlVec3 c[3])
+{
+  const TlSurfaceArrays *s = ctx;
+  for (int k = 0; k < 3; ++k) {
+    const double *p = vtx(s, s->tri[3 * t + k]);
+    c[k] = tl_v3(p[0], p[1], p[2]);
+  }
+}
+
 static void sub3(const double *a, const double *b, double *out)
 {
   for (int k = 0; k < 3; ++k) out[k] = a[k] - b[k];
@@ -148,7 +157,7 @@ TlStatus tl_surface_check(const TlSurfaceArrays *s, double *volume, double *area
     vol += dot3(vtx(s, c[0]), n) / 6.0; /* divergence theorem */
   }
   TL_CHECK(check_edges(s));
-  if (!(vol > 0.0))
+  if (tl_volume_sign(s->n_triangles, surface_corners, s) != 1) /* the exact sign, not vol's */
     TL_ERROR(TL_ERR_ARG, "the surface encloses a volume %g m^3: it must be positive (triangles "
              "counter-clockwise seen from outside); this surface is inside out", vol);
 #if TALUS_WITH_CGAL

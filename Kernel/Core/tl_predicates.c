@@ -634,3 +634,62 @@ int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p)
 int tl_predicates_are_exact(void) { return 1; }
 
 int tl_predicates_use_cgal(void) { return TALUS_WITH_CGAL; }
+
+/* The sign of the enclosed volume.  The double sum is taken about the centre
+ * of the corners' bounding box (small terms); each term carries at most 16u
+ * of its permanent (the orient3d bound above, differences included) and the
+ * running sum of n terms (n - 1)u of the sum of their magnitudes, so
+ * (16 + 2n) DBL_EPSILON times the sum of the permanents bounds the error
+ * with a factor of two to spare.  Within that bound the sum about the origin
+ * is taken exactly: each term x0 . (x1 x x2) is six products of three
+ * doubles, four components each; for a closed surface it has the same
+ * value as the sum about any other point. */
+int tl_volume_sign(size_t n_triangles, void (*corners)(const void *ctx, size_t t, TlVec3 c[3]), const void *ctx)
+{
+  if (n_triangles == 0) return 0;
+  TlVec3 lo = {INFINITY, INFINITY, INFINITY}, hi = {-INFINITY, -INFINITY, -INFINITY}, c[3];
+  for (size_t t = 0; t < n_triangles; ++t) {
+    corners(ctx, t, c);
+    for (int k = 0; k < 3; ++k) {
+      lo = tl_v3(fmin(lo.x, c[k].x), fmin(lo.y, c[k].y), fmin(lo.z, c[k].z));
+      hi = tl_v3(fmax(hi.x, c[k].x), fmax(hi.y, c[k].y), fmax(hi.z, c[k].z));
+    }
+  }
+  const TlVec3 o = tl_v3(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z));
+  double sum = 0.0, permanent = 0.0;
+  for (size_t t = 0; t < n_triangles; ++t) {
+    corners(ctx, t, c);
+    const TlVec3 a = tl_v3_sub(c[0], o), b = tl_v3_sub(c[1], o), d = tl_v3_sub(c[2], o);
+    sum += a.x * (b.y * d.z - b.z * d.y) + a.y * (b.z * d.x - b.x * d.z) + a.z * (b.x * d.y - b.y * d.x);
+    permanent += fabs(a.x) * (fabs(b.y * d.z) + fabs(b.z * d.y)) + fabs(a.y) * (fabs(b.z * d.x) + fabs(b.x * d.z)) +
+                 fabs(a.z) * (fabs(b.x * d.y) + fabs(b.y * d.x));
+  }
+  const double bound = (16.0 + 2.0 * (double)n_triangles) * DBL_EPSILON * permanent;
+  if (sum > bound) return 1;
+  if (sum < -bound) return -1;
+  TlBigExpansion v = {0, 0, NULL};
+  int ok = 1;
+  for (size_t t = 0; t < n_triangles && ok; ++t) {
+    corners(ctx, t, c);
+    const double x0[3] = {c[0].x, c[0].y, c[0].z}, x1[3] = {c[1].x, c[1].y, c[1].z}, x2[3] = {c[2].x, c[2].y, c[2].z};
+    for (int k = 0; k < 3 && ok; ++k) {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      for (int s = 0; s < 2 && ok; ++s) { /* + x0_k x1_k1 x2_k2, - x0_k x1_k2 x2_k1 */
+        double p, e, pp, pe, ep, ee;
+        tl_two_product(x1[s ? k2 : k1], x2[s ? k1 : k2], &p, &e);
+        const double f = s ? -x0[k] : x0[k];
+        tl_two_product(f, p, &pp, &pe);
+        tl_two_product(f, e, &ep, &ee);
+        ok = big_grow(&v, ee) && big_grow(&v, ep) && big_grow(&v, pe) && big_grow(&v, pp);
+      }
+    }
+    if (ok && v.n > 64) big_compress(&v);
+  }
+  int sign = -2;
+  if (ok) {
+    big_compress(&v);
+    sign = v.n == 0 ? 0 : (v.c[v.n - 1] > 0.0 ? 1 : -1);
+  }
+  free(v.c);
+  return sign;
+}

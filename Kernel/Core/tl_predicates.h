@@ -30,6 +30,7 @@
 #ifndef TL_PREDICATES_H
 #define TL_PREDICATES_H
 
+#include <stddef.h>
 #include "tl_math.h"
 
 /* Sign (+1, 0, -1) of det[b - a, c - a, d - a]: +1 when d lies on the side of
@@ -95,6 +96,14 @@ int tl_triangle_region(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p);
  * -2 if that allocation fails. */
 int tl_dot3_sign_filtered(TlVec3 v, TlVec3 u, TlVec3 p, int *exact_stage);
 int tl_edge_side_filtered(TlVec3 a, TlVec3 b, TlVec3 c, TlVec3 p, int *exact_stage);
+/* Exact sign of the sum over the triangles of det(c0, c1, c2), six times the
+ * volume a closed, consistently oriented surface encloses: 1 when its
+ * triangles turn counter-clockwise seen from outside (normals out), -1 inside
+ * out, 0 for zero volume; -2 if memory ran out.  corners(ctx, t, c) gives
+ * triangle t's corners.  A floating-point filter decides unless the sum lies
+ * within its round-off bound; then expansions.  (The coordinates' products
+ * must neither overflow nor underflow.) */
+int tl_volume_sign(size_t n_triangles, void (*corners)(const void *ctx, size_t t, TlVec3 c[3]), const void *ctx);
 /* 1: tl_orient3d is exact (both paths are). */
 int tl_predicates_are_exact(void);
 /* 1 when tl_orient3d goes through CGAL (built with TALUS_WITH_CGAL). */

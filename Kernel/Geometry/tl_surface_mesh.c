@@ -150,6 +150,17 @@ int tl_surface_mesh_is_closed(const TlSurfaceMesh *m)
   return closed;
 }
 
+static void tl_surface_mesh_corners(const void *ctx, size_t t, TlVec3 c[3])
+{
+  const TlSurfaceMesh *m = ctx;
+  for (int k = 0; k < 3; ++k) c[k] = m->x[m->tri[t][k]];
+}
+
+int tl_surface_mesh_volume_sign(const TlSurfaceMesh *m)
+{
+  return tl_volume_sign(m->n_triangles, tl_surface_mesh_corners, m);
+}
+
 TlStatus tl_surface_mesh_volume(const TlSurfaceMesh *m, double *volume)
 {
   if (!m || !volume) TL_ERROR(TL_ERR_ARG, "tl_surface_mesh_volume: NULL argument");

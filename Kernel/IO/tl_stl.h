@@ -121,6 +121,10 @@ int tl_surface_mesh_is_closed(const TlSurfaceMesh *m);
  * point out.  Meaningful for closed surfaces only (refused otherwise, the
  * boundary edge named). */
 TlStatus tl_surface_mesh_volume(const TlSurfaceMesh *m, double *volume);
+/* The exact sign of that volume (tl_volume_sign): 1 normals out, -1 inside
+ * out, 0 none; -2 if memory ran out.  For a closed, consistently oriented
+ * surface; decisions take this, not the sign of the rounded volume. */
+int tl_surface_mesh_volume_sign(const TlSurfaceMesh *m);
 /* Area of the surface, and its bounding box (lo, hi may be NULL). */
 double tl_surface_mesh_area(const TlSurfaceMesh *m);
 void tl_surface_mesh_bounds(const TlSurfaceMesh *m, TlVec3 *lo, TlVec3 *hi);

@@ -64,7 +64,7 @@ TlStatus tl_wall_trisurface_from_file(const char *path, const TlWallPlacement *p
     double v = 0.0;
     TlSurfaceRepairOptions o;
     tl_surface_repair_options_default(&o);
-    if (tl_surface_mesh_is_closed(m) && tl_surface_mesh_volume(m, &v) == TL_OK) o.outward = v >= 0.0;
+    if (tl_surface_mesh_is_closed(m) && tl_surface_mesh_volume(m, &v) == TL_OK) o.outward = tl_surface_mesh_volume_sign(m) >= 0;
     tl_error_clear();
     TL_CHECK_GOTO(status, tl_surface_mesh_repair(m, &o, &r), done);
   }
