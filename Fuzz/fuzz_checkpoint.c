@@ -14,48 +14,18 @@
  * The good checkpoint is made at start-up. */
 #include <string.h>
 
+#include "fuzz_checkpoint_world.h"
 #include "fuzz_common.h"
 #include "tl_contact_law.h"
 #include "tl_dem.h"
 
-static TlStatus build(TlDem **out)
-{
-  TlDem *dem = NULL;
-  TL_CHECK(tl_dem_create(&dem));
-  const double L = 0.01;
-  TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -0.002), tl_v3(L, L, 0.03), per));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK(tl_particles_add_species(P, "glass", 2500, 0.0014, 0.0016, &sp));
-  for (int k = 0; k < 8; ++k) {
-    TlVec3 x = tl_v3((k % 2 + 0.5) * L / 2, (k / 2 % 2 + 0.5) * L / 2, 0.0016 + 0.0033 * (k / 4));
-    TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, -0.1), 0.0015, sp, NULL));
-  }
-  TlContactLaw *law = NULL;
-  TL_CHECK(tl_contact_law_create("linear", "coulomb", "constant", "constant", &law));
-  TL_CHECK(tl_contact_law_set(law, "k_n", 200.0));
-  TL_CHECK(tl_contact_law_set(law, "mu", 0.4));
-  TL_CHECK(tl_contact_law_setup(law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
-  TlWall *floor_ = NULL;
-  TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &floor_));
-  TL_CHECK(tl_dem_add_wall(dem, floor_, 0));
-  TL_CHECK(tl_dem_set_timestep(dem, 4e-5, 0));
-  TL_CHECK(tl_dem_setup(dem));
-  *out = dem;
-  return TL_OK;
-}
 
 /* A file: through the seal, HDF5 and the reader into the module. */
 static TlStatus load_file(const char *path)
 {
   TlDem *dem = NULL;
   TlCheckpoint *cp = NULL;
-  TlStatus s = build(&dem);
+  TlStatus s = fuzz_checkpoint_world(&dem);
   if (s == TL_OK) s = tl_checkpoint_create(&cp);
   if (s == TL_OK) s = tl_checkpoint_add(cp, "dem", &tl_dem_checkpoint_ops, dem);
   if (s == TL_OK) s = tl_checkpoint_load(cp, path, NULL, NULL);
@@ -68,7 +38,7 @@ static TlStatus load_file(const char *path)
 static TlStatus load_memory(const TlCheckpointMemory *mem)
 {
   TlDem *dem = NULL;
-  TlStatus s = build(&dem);
+  TlStatus s = fuzz_checkpoint_world(&dem);
   if (s == TL_OK) s = tl_checkpoint_memory_load(mem, &tl_dem_checkpoint_ops, dem);
   if (s == TL_OK) s = tl_dem_step(dem, 3);
   tl_dem_destroy(&dem);
@@ -87,7 +57,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
   (void)argc, (void)argv;
   tl_fuzz_init();
   TlDem *dem = NULL;
-  if (build(&dem) != TL_OK || tl_dem_step(dem, 200) != TL_OK || tl_checkpoint_memory_create(&good) != TL_OK ||
+  if (fuzz_checkpoint_world(&dem) != TL_OK || tl_dem_step(dem, 200) != TL_OK || tl_checkpoint_memory_create(&good) != TL_OK ||
       tl_checkpoint_memory_create(&edited) != TL_OK ||
       tl_checkpoint_memory_save(good, &tl_dem_checkpoint_ops, dem) != TL_OK || tl_checkpoint_memory_count(good) == 0)
     abort();

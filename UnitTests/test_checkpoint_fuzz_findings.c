@@ -17,39 +17,8 @@
 #include "tl_checkpoint.h"
 #include "tl_dem.h"
 #include "tl_test.h"
+#include "../Fuzz/fuzz_checkpoint_world.h" /* the harness's own world */
 
-/* The world of the harness: 8 particles in a periodic box on a floor. */
-static TlStatus build(TlDem **out)
-{
-  TlDem *dem = NULL;
-  TL_CHECK(tl_dem_create(&dem));
-  const double L = 0.01;
-  TlDomain dom;
-  int per[3] = {1, 1, 0};
-  TL_CHECK(tl_domain_init_periodic_box(&dom, tl_v3(0, 0, -0.002), tl_v3(L, L, 0.03), per));
-  TL_CHECK(tl_dem_set_domain(dem, &dom));
-  TlParticles *P = tl_dem_particles(dem);
-  int sp;
-  TL_CHECK(tl_particles_add_species(P, "glass", 2500, 0.0014, 0.0016, &sp));
-  for (int k = 0; k < 8; ++k) {
-    TlVec3 x = tl_v3((k % 2 + 0.5) * L / 2, (k / 2 % 2 + 0.5) * L / 2, 0.0016 + 0.0033 * (k / 4));
-    TL_CHECK(tl_dem_add_particle(dem, x, tl_v3(0, 0, -0.1), 0.0015, sp, NULL));
-  }
-  TlContactLaw *law = NULL;
-  TL_CHECK(tl_contact_law_create("linear", "coulomb", "constant", "constant", &law));
-  TL_CHECK(tl_contact_law_set(law, "k_n", 200.0));
-  TL_CHECK(tl_contact_law_set(law, "mu", 0.4));
-  TL_CHECK(tl_contact_law_setup(law));
-  TL_CHECK(tl_dem_add_law(dem, law, NULL));
-  tl_dem_set_gravity(dem, tl_v3(0, 0, -9.81));
-  TlWall *floor_ = NULL;
-  TL_CHECK(tl_wall_plane_create(tl_v3(0, 0, 0), tl_v3(0, 0, 1), &floor_));
-  TL_CHECK(tl_dem_add_wall(dem, floor_, 0));
-  TL_CHECK(tl_dem_set_timestep(dem, 4e-5, 0));
-  TL_CHECK(tl_dem_setup(dem));
-  *out = dem;
-  return TL_OK;
-}
 
 /* Sets element k of the double entry at path; 0 when there is none. */
 static int set_double(TlCheckpointMemory *mem, const char *path, size_t k, double v)
@@ -70,7 +39,7 @@ static int set_double(TlCheckpointMemory *mem, const char *path, size_t k, doubl
 static TlStatus load_and_step(const TlCheckpointMemory *mem, char *msg, size_t len)
 {
   TlDem *dem = NULL;
-  TlStatus s = build(&dem);
+  TlStatus s = fuzz_checkpoint_world(&dem);
   if (s == TL_OK) s = tl_checkpoint_memory_load(mem, &tl_dem_checkpoint_ops, dem);
   if (s == TL_OK) s = tl_dem_step(dem, 3);
   snprintf(msg, len, "%s", s == TL_OK ? "" : tl_error_message());
@@ -85,7 +54,7 @@ int main(void)
   tl_log_set_level(TL_LOG_ERROR);
   TlDem *dem = NULL;
   TlCheckpointMemory *good = NULL, *edited = NULL;
-  TL_TEST_STATUS(build(&dem), TL_OK);
+  TL_TEST_STATUS(fuzz_checkpoint_world(&dem), TL_OK);
   if (!dem) return tl_test_report();
   TL_TEST_STATUS(tl_dem_step(dem, 200), TL_OK);
   TL_TEST_STATUS(tl_checkpoint_memory_create(&good), TL_OK);

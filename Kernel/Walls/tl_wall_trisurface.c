@@ -17,10 +17,9 @@ static const TlWallOps tl_wall_trisurface_ops;
 
 static TlWallTriSurface *tl_as_trisurface(TlWall *w) { return (TlWallTriSurface *)w; }
 
-/* The type's own check that a wall handed to its accessors is one of its
- * kind (the only comparison of ops tables: a downcast guard, not a
- * dispatch). */
-static int tl_wall_is_trisurface(const TlWall *w) { return w && w->ops == &tl_wall_trisurface_ops; }
+/* The type's own check, by its registered name, that a wall handed to its
+ * accessors is one of its kind (a downcast guard, not a dispatch). */
+static int tl_wall_is_trisurface(const TlWall *w) { return w && strcmp(tl_type_name(w), "trisurface") == 0; }
 
 TlTriSurface *tl_wall_trisurface_surface(TlWall *w)
 {
